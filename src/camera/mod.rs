@@ -1,0 +1,1 @@
+//! Cameras: perspective, orthographic, environment (one file per plugin).

@@ -1,0 +1,1 @@
+//! Pixel filters: box, gaussian, mitchell, triangle, sinc, catmullrom, blackmanharris.

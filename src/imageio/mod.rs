@@ -1,0 +1,1 @@
+//! Image outputs and inputs: PNG, TGA, OpenEXR.

@@ -1,0 +1,1 @@
+//! Surface integrators: path and directlighting.

@@ -1,0 +1,1 @@
+//! Light sources: area, point, spot, distant, infinite.

@@ -1,0 +1,1 @@
+//! Materials and their BSDFs (one file per material).

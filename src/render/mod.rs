@@ -1,0 +1,1 @@
+//! Render sessions: seeded sample streams over the frame, splatting into the film, halt rules.

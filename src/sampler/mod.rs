@@ -1,0 +1,1 @@
+//! Samplers: random, lowdiscrepancy, sobol; every value derived from (seed, stream, pixel, sample).

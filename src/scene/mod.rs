@@ -1,0 +1,1 @@
+//! Building a renderable Scene from a SceneDescription: only what the description references.

@@ -1,0 +1,1 @@
+//! Shapes: meshes, PLY, quadrics, heightfield (one file per shape).

@@ -1,0 +1,1 @@
+//! Textures: constant, imagemap, scale, mix, add, subtract, checkerboard, uv, blackbody.

@@ -1,0 +1,1 @@
+//! Tonemapping kernels (reinhard, linear, autolinear, contrast, maxwhite), colour spaces, gamma and clamping.
