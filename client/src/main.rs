@@ -23,6 +23,15 @@ struct Cli {
 enum Command {
     /// Parse a scene and print a summary, or its SceneDescription as JSON.
     Parse(cmd::parse::Args),
+    /// Benchmarks.
+    #[command(subcommand)]
+    Bench(BenchCommand),
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Parse speed and peak memory on a generated mesh scene.
+    Parse(cmd::bench_parse::Args),
 }
 
 fn main() -> ExitCode {
@@ -30,6 +39,7 @@ fn main() -> ExitCode {
     init_logging(&cli.log);
     let result = match cli.command {
         Command::Parse(a) => cmd::parse::run(a),
+        Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
     };
     match result {
         Ok(code) => code,
