@@ -193,7 +193,8 @@ fn strings_escapes_comments_and_typed_values() {
         "# header\nWorldBegin # trailing comment\n\
          Shape \"plymesh\" \"string filename\" \"a \\\"b\\\"\\tc.ply\" # x\n\
            \"bool smooth\" \"true\" \"integer n\" [1 -2 +3] \"spectrum s\" [400 0.5 500 0.7]\n\
-           \"spectrum f\" \"file.spd\" \"vector v\" [0 0 1] \"normal N\" [0 1 0]\nWorldEnd\n",
+           \"spectrum f\" \"file.spd\" \"vector v\" [0 0 1] \"normal N\" [0 1 0]\n\
+           \"float a\" [1 # comment inside an array\n 2]\nWorldEnd\n",
     );
     let p = &d.shapes[0].entity.params;
     assert_eq!(p.string("filename"), Some("a \"b\"\tc.ply"));
@@ -201,6 +202,7 @@ fn strings_escapes_comments_and_typed_values() {
     assert_eq!(p.ints("n"), Some(&[1, -2, 3][..]));
     assert_eq!(p.vector("v"), Some([0.0, 0.0, 1.0]));
     assert_eq!(p.normal("N"), Some([0.0, 1.0, 0.0]));
+    assert_eq!(p.floats("a"), Some(&[1.0, 2.0][..]));
     assert!(matches!(p.spectrum("s"), Some(lxs::SpectrumValue::Numbers(v)) if v.len() == 4));
     assert!(matches!(p.spectrum("f"), Some(lxs::SpectrumValue::File(f)) if f == "file.spd"));
     assert_eq!(
