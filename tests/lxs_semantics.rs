@@ -269,3 +269,58 @@ fn another_builder_sees_every_statement() {
     lxs::parse_with(text.as_bytes(), "t.lxs", &ParseOptions::default(), &mut c).unwrap();
     assert_eq!((c.shapes, c.statements), (2, 5));
 }
+
+#[test]
+fn texture_references_bind_like_luxrender_despite_shadowing() {
+    let d = parse(
+        "WorldBegin\n\
+         Texture \"t\" \"color\" \"constant\" \"color value\" [1 0 0]\n\
+         Material \"matte\" \"texture Kd\" \"t\"\n\
+         AttributeBegin\n\
+          Texture \"t\" \"color\" \"constant\" \"color value\" [0 1 0]\n\
+          Material \"matte\" \"texture Kd\" \"t\"\n\
+          AreaLightSource \"area\" \"texture L\" \"t\"\n\
+          Shape \"disk\"\n\
+         AttributeEnd\n\
+         Material \"matte\" \"texture Kd\" \"t\"\n\
+         WorldEnd\n",
+    );
+    let bound = |params: &lxs::ParamSet| {
+        let name = params
+            .texture("Kd")
+            .or_else(|| params.texture("L"))
+            .unwrap();
+        d.named_textures[&(lxs::TextureType::Color, name.to_string())]
+    };
+    assert_eq!(
+        d.named_textures[&(lxs::TextureType::Color, "t".to_string())],
+        1
+    );
+    assert_eq!(bound(&d.materials[0].entity.params), 0);
+    assert_eq!(bound(&d.materials[1].entity.params), 1);
+    assert_eq!(bound(&d.materials[2].entity.params), 0);
+    assert_eq!(
+        bound(&d.shapes[0].area_light.as_ref().unwrap().entity.params),
+        1
+    );
+    assert_eq!(d.materials[0].entity.params.texture("Kd"), Some("t@0"));
+    assert!(d.warnings.iter().any(|w| w.message.contains("redefined")));
+}
+
+#[test]
+fn mix_material_references_bind_in_scope() {
+    let d = parse(
+        "WorldBegin\n\
+         MakeNamedMaterial \"a\" \"string type\" [\"matte\"]\n\
+         MakeNamedMaterial \"b\" \"string type\" [\"glass\"]\n\
+         MakeNamedMaterial \"m\" \"string type\" [\"mix\"] \"string namedmaterial1\" [\"a\"] \"string namedmaterial2\" [\"b\"]\n\
+         MakeNamedMaterial \"a\" \"string type\" [\"metal\"]\n\
+         WorldEnd\n",
+    );
+    let mix = d.named_material("m").unwrap();
+    let first = mix.entity.params.string("namedmaterial1").unwrap();
+    assert_eq!(first, "a@0");
+    assert_eq!(d.named_material(first).unwrap().entity.kind, "matte");
+    assert_eq!(mix.entity.params.string("namedmaterial2"), Some("b"));
+    assert_eq!(d.named_material("a").unwrap().entity.kind, "metal");
+}

@@ -7,6 +7,7 @@
 
 mod refs;
 mod state;
+mod texrefs;
 mod world;
 pub mod xform;
 
@@ -33,6 +34,10 @@ pub struct DescriptionBuilder {
     objects_by_name: HashMap<String, usize>,
     /// Lights declared inside object definitions, instanced with each ObjectInstance.
     object_lights: HashMap<usize, Vec<super::description::LightDesc>>,
+    /// Texture references with the texture each was bound to.
+    tex_refs: Vec<(texrefs::Owner, texrefs::Binding)>,
+    /// `namedmaterialN` references: (material, parameter, item, bound material).
+    mat_refs: Vec<(usize, usize, usize, usize)>,
 }
 
 fn wrong_block(loc: &Loc, msg: impl Into<String>) -> LxsError {
@@ -58,11 +63,15 @@ impl DescriptionBuilder {
             current_object: None,
             objects_by_name: HashMap::new(),
             object_lights: HashMap::new(),
+            tex_refs: Vec::new(),
+            mat_refs: Vec::new(),
         }
     }
 
     /// The finished description.
     pub fn finish(mut self) -> SceneDescription {
+        texrefs::bind_aliases(&mut self.desc, &self.tex_refs);
+        texrefs::bind_material_aliases(&mut self.desc, &self.mat_refs);
         if self.desc.light_groups.is_empty() {
             self.desc.light_groups.push("default".to_string());
         }
@@ -530,8 +539,8 @@ impl SceneBuilder for DescriptionBuilder {
 
     fn area_light_source(&mut self, e: Entity) -> LxsResult<()> {
         self.world_only("AreaLightSource", &e.loc)?;
-        self.check_texture_refs(&e.params, None, &e.loc)?;
-        self.gs.area_light = Some(std::rc::Rc::new(e));
+        let bindings = self.texture_refs(&e.params, None)?;
+        self.gs.area_light = Some(std::rc::Rc::new((e, bindings)));
         Ok(())
     }
 
