@@ -7,6 +7,7 @@
 pub mod buffer;
 pub mod error;
 pub mod outlier;
+pub mod output;
 pub mod params;
 
 pub use buffer::{check_size, BufferType, Film, MAX_AXIS, MAX_PIXELS, PIXEL_VALUES};
