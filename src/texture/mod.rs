@@ -129,7 +129,7 @@ pub fn param_loc(params: &ParamSet, name: &str, fallback: &Loc) -> Loc {
         .params
         .iter()
         .rev()
-        .find(|p| p.name == name)
+        .find(|p| p.name == name && !p.loc.file.is_empty())
         .map(|p| p.loc.clone())
         .unwrap_or_else(|| fallback.clone())
 }
