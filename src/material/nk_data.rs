@@ -1,6 +1,8 @@
 //! Complex refractive index tables of LuxRender's named metals (`metal` material `name`):
 //! wavelengths in nm with n and k (SOPRA data as shipped with LuxRender), and the reader for
 //! `.nk` files (SOPRA format, or "luxpop" lines of Ångström, n, k with `;` comments).
+//! The tables keep LuxRender's digits as published.
+#![allow(clippy::excessive_precision, clippy::approx_constant)]
 
 #[rustfmt::skip]
 pub const SOPRA_WL: [f32; 56] = [
@@ -195,7 +197,11 @@ fn parse_sopra(text: &str) -> Result<NkTable, String> {
         return Err("bad SOPRA header".into());
     }
     // eV and cm^-1 run from high to low wavelength: the file's first value is the last one.
-    let (first, last) = if unit == 1 || unit == 3 { (b, a) } else { (a, b) };
+    let (first, last) = if unit == 1 || unit == 3 {
+        (b, a)
+    } else {
+        (a, b)
+    };
     let mut rows = Vec::with_capacity(count);
     for _ in 0..count {
         let v = nums(lines.next().ok_or("truncated SOPRA data")?);

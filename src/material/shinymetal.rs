@@ -4,10 +4,10 @@
 //! Thin-film parameters are not modelled.
 
 use super::bsdf::Lobes;
+use super::bxdf::avg;
 use super::bxdf::fresnel::approx_conductor;
 use super::bxdf::microfacet::{Blinn, MicrofacetReflection};
 use super::bxdf::specular::SpecularReflection;
-use super::bxdf::avg;
 use super::metal::roughness_pair;
 use super::{Builder, MaterialError};
 use crate::geometry::SurfaceInteraction;

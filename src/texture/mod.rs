@@ -279,7 +279,11 @@ impl<'a> TextureSet<'a> {
         let node = self.build(tdesc);
         self.building.pop();
         let node = Arc::new(node?);
-        tracing::debug!("built {} texture \"{name}\" ({})", type_name(ty), tdesc.entity.kind);
+        tracing::debug!(
+            "built {} texture \"{name}\" ({})",
+            type_name(ty),
+            tdesc.entity.kind
+        );
         self.built.insert(key, node.clone());
         Ok(node)
     }

@@ -14,8 +14,10 @@ pub(crate) fn loc(line: u32) -> Loc {
 }
 
 pub(crate) fn si_at(u: f32, v: f32, p: Vec3A) -> SurfaceInteraction {
-    let mut si = SurfaceInteraction::default();
-    si.uv = Vec2::new(u, v);
+    let mut si = SurfaceInteraction {
+        uv: Vec2::new(u, v),
+        ..Default::default()
+    };
     si.it.p = p;
     si.it.n = Vec3A::Z;
     si.shading.n = Vec3A::Z;
@@ -68,7 +70,8 @@ fn tex_ref(name: &str) -> ParamValue {
 fn color_of(set: &mut TextureSet, name: &str) -> ColorTex {
     let mut ps = ParamSet::new();
     ps.add("Kd", tex_ref(name));
-    set.color_param(&ps, "Kd", Rgb::BLACK).expect("texture builds")
+    set.color_param(&ps, "Kd", Rgb::BLACK)
+        .expect("texture builds")
 }
 
 fn float_of(set: &mut TextureSet, name: &str) -> FloatTex {
@@ -92,7 +95,11 @@ fn checkerboard_2d_and_3d() {
         "c3",
         TextureType::Float,
         "checkerboard",
-        vec![("dimension", ParamValue::Integer(vec![3])), ("tex1", f(0.25)), ("tex2", f(0.75))],
+        vec![
+            ("dimension", ParamValue::Integer(vec![3])),
+            ("tex1", f(0.25)),
+            ("tex2", f(0.75)),
+        ],
     );
     let mut set = TextureSet::new(&d, TextureCtx::default());
     let c2 = float_of(&mut set, "c2");
@@ -128,26 +135,78 @@ fn checkerboard_3d_uses_the_texture_transform() {
 fn arithmetic_textures_and_parameter_forms() {
     let mut d = SceneDescription::default();
     let c = |r, g, b| ParamValue::Color(vec![[r, g, b]]);
-    add_tex(&mut d, "a", TextureType::Color, "constant", vec![("value", c(0.2, 0.4, 0.6))]);
-    add_tex(&mut d, "half", TextureType::Float, "constant", vec![("value", f(0.5))]);
-    add_tex(&mut d, "sc", TextureType::Color, "scale", vec![("tex1", tex_ref("a")), ("tex2", f(2.0))]);
-    add_tex(&mut d, "ad", TextureType::Color, "add", vec![("tex1", tex_ref("a")), ("tex2", c(0.1, 0.1, 0.1))]);
-    add_tex(&mut d, "sb", TextureType::Color, "subtract", vec![("tex1", tex_ref("a")), ("tex2", f(0.1))]);
+    add_tex(
+        &mut d,
+        "a",
+        TextureType::Color,
+        "constant",
+        vec![("value", c(0.2, 0.4, 0.6))],
+    );
+    add_tex(
+        &mut d,
+        "half",
+        TextureType::Float,
+        "constant",
+        vec![("value", f(0.5))],
+    );
+    add_tex(
+        &mut d,
+        "sc",
+        TextureType::Color,
+        "scale",
+        vec![("tex1", tex_ref("a")), ("tex2", f(2.0))],
+    );
+    add_tex(
+        &mut d,
+        "ad",
+        TextureType::Color,
+        "add",
+        vec![("tex1", tex_ref("a")), ("tex2", c(0.1, 0.1, 0.1))],
+    );
+    add_tex(
+        &mut d,
+        "sb",
+        TextureType::Color,
+        "subtract",
+        vec![("tex1", tex_ref("a")), ("tex2", f(0.1))],
+    );
     add_tex(
         &mut d,
         "mx",
         TextureType::Color,
         "mix",
-        vec![("amount", tex_ref("half")), ("tex1", tex_ref("a")), ("tex2", c(1.0, 1.0, 1.0))],
+        vec![
+            ("amount", tex_ref("half")),
+            ("tex1", tex_ref("a")),
+            ("tex2", c(1.0, 1.0, 1.0)),
+        ],
     );
-    add_tex(&mut d, "bb", TextureType::Color, "blackbody", vec![("temperature", f(6500.0))]);
+    add_tex(
+        &mut d,
+        "bb",
+        TextureType::Color,
+        "blackbody",
+        vec![("temperature", f(6500.0))],
+    );
     let mut set = TextureSet::new(&d, TextureCtx::default());
     let si = si_at(0.5, 0.5, Vec3A::ZERO);
     let close = |a: Rgb, b: Rgb| (0..3).all(|i| (a[i] - b[i]).abs() < 1e-6);
-    assert!(close(color_of(&mut set, "sc").eval(&si), Rgb::new(0.4, 0.8, 1.2)));
-    assert!(close(color_of(&mut set, "ad").eval(&si), Rgb::new(0.3, 0.5, 0.7)));
-    assert!(close(color_of(&mut set, "sb").eval(&si), Rgb::new(0.1, 0.3, 0.5)));
-    assert!(close(color_of(&mut set, "mx").eval(&si), Rgb::new(0.6, 0.7, 0.8)));
+    assert!(close(
+        color_of(&mut set, "sc").eval(&si),
+        Rgb::new(0.4, 0.8, 1.2)
+    ));
+    assert!(close(
+        color_of(&mut set, "ad").eval(&si),
+        Rgb::new(0.3, 0.5, 0.7)
+    ));
+    assert!(close(
+        color_of(&mut set, "sb").eval(&si),
+        Rgb::new(0.1, 0.3, 0.5)
+    ));
+    assert!(close(
+        color_of(&mut set, "mx").eval(&si),
+        Rgb::new(0.6, 0.7, 0.8)
+    ));
     assert!(close(
         color_of(&mut set, "bb").eval(&si),
         crate::spectrum::blackbody(6500.0)
@@ -157,7 +216,9 @@ fn arithmetic_textures_and_parameter_forms() {
     ps.add("Kd", f(0.3));
     let g = set.color_param(&ps, "Kd", Rgb::WHITE).unwrap();
     assert_eq!(g.as_const(), Some(Rgb::splat(0.3)));
-    let dflt = set.color_param(&ParamSet::new(), "Kd", Rgb::splat(0.9)).unwrap();
+    let dflt = set
+        .color_param(&ParamSet::new(), "Kd", Rgb::splat(0.9))
+        .unwrap();
     assert_eq!(dflt.as_const(), Some(Rgb::splat(0.9)));
 }
 
@@ -169,17 +230,29 @@ fn unknown_class_and_missing_names_are_located_errors() {
     let mut ps = ParamSet::new();
     ps.push(crate::lxs::Param::new("x", tex_ref("w"), loc(9)));
     let e = set.float_param(&ps, "x", 0.0).unwrap_err();
-    assert_eq!(e.to_string(), "scene.lxs:1:1: unknown float texture class \"wood\"");
+    assert_eq!(
+        e.to_string(),
+        "scene.lxs:1:1: unknown float texture class \"wood\""
+    );
     let mut ps = ParamSet::new();
     ps.push(crate::lxs::Param::new("x", tex_ref("nope"), loc(9)));
     let e = set.color_param(&ps, "x", Rgb::BLACK).unwrap_err();
-    assert_eq!(e.to_string(), "scene.lxs:9:1: no color texture named \"nope\"");
+    assert_eq!(
+        e.to_string(),
+        "scene.lxs:9:1: no color texture named \"nope\""
+    );
 }
 
 #[test]
 fn self_reference_is_a_cycle_error() {
     let mut d = SceneDescription::default();
-    add_tex(&mut d, "s", TextureType::Float, "scale", vec![("tex1", tex_ref("s"))]);
+    add_tex(
+        &mut d,
+        "s",
+        TextureType::Float,
+        "scale",
+        vec![("tex1", tex_ref("s"))],
+    );
     let mut set = TextureSet::new(&d, TextureCtx::default());
     let mut ps = ParamSet::new();
     ps.add("x", tex_ref("s"));
@@ -206,7 +279,12 @@ fn write_png(dir: &std::path::Path) {
 }
 
 fn write_exr(dir: &std::path::Path) {
-    let px = [[2.0f32, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0], [2.0, 2.0, 2.0]];
+    let px = [
+        [2.0f32, 0.0, 0.0],
+        [0.0, 2.0, 0.0],
+        [0.0, 0.0, 2.0],
+        [2.0, 2.0, 2.0],
+    ];
     exr::prelude::write_rgb_file(dir.join("t.exr"), 2, 2, |x, y| {
         let p = px[y * 2 + x];
         (p[0], p[1], p[2])
@@ -227,11 +305,36 @@ fn imagemap_png_nearest_bilinear_and_wrap_modes() {
     let mut d = SceneDescription::default();
     imagemap(&mut d, "near", "t.png", vec![("filtertype", s("nearest"))]);
     imagemap(&mut d, "bil", "t.png", vec![]);
-    imagemap(&mut d, "black", "t.png", vec![("filtertype", s("nearest")), ("wrap", s("black"))]);
-    imagemap(&mut d, "clamp", "t.png", vec![("filtertype", s("nearest")), ("wrap", s("clamp"))]);
-    imagemap(&mut d, "gain", "t.png", vec![("filtertype", s("nearest")), ("gain", f(0.5))]);
-    imagemap(&mut d, "gamma", "t.png", vec![("filtertype", s("nearest")), ("gamma", f(2.2))]);
-    let mut set = TextureSet::new(&d, TextureCtx { base_dir: dir.clone() });
+    imagemap(
+        &mut d,
+        "black",
+        "t.png",
+        vec![("filtertype", s("nearest")), ("wrap", s("black"))],
+    );
+    imagemap(
+        &mut d,
+        "clamp",
+        "t.png",
+        vec![("filtertype", s("nearest")), ("wrap", s("clamp"))],
+    );
+    imagemap(
+        &mut d,
+        "gain",
+        "t.png",
+        vec![("filtertype", s("nearest")), ("gain", f(0.5))],
+    );
+    imagemap(
+        &mut d,
+        "gamma",
+        "t.png",
+        vec![("filtertype", s("nearest")), ("gamma", f(2.2))],
+    );
+    let mut set = TextureSet::new(
+        &d,
+        TextureCtx {
+            base_dir: dir.clone(),
+        },
+    );
     let at = |t: &ColorTex, u: f32, v: f32| t.eval(&si_at(u, v, Vec3A::ZERO));
     let near = color_of(&mut set, "near");
     // v = 0 is the bottom row.
@@ -268,18 +371,35 @@ fn imagemap_exr_and_float_channels() {
         "g",
         TextureType::Float,
         "imagemap",
-        vec![("filename", s("t.exr")), ("gamma", f(1.0)), ("channel", s("green")), ("filtertype", s("nearest"))],
+        vec![
+            ("filename", s("t.exr")),
+            ("gamma", f(1.0)),
+            ("channel", s("green")),
+            ("filtertype", s("nearest")),
+        ],
     );
     add_tex(
         &mut d,
         "m",
         TextureType::Float,
         "imagemap",
-        vec![("filename", s("t.exr")), ("gamma", f(1.0)), ("filtertype", s("nearest"))],
+        vec![
+            ("filename", s("t.exr")),
+            ("gamma", f(1.0)),
+            ("filtertype", s("nearest")),
+        ],
     );
-    let mut set = TextureSet::new(&d, TextureCtx { base_dir: dir.clone() });
+    let mut set = TextureSet::new(
+        &d,
+        TextureCtx {
+            base_dir: dir.clone(),
+        },
+    );
     let c = color_of(&mut set, "c");
-    assert_eq!(c.eval(&si_at(0.25, 0.75, Vec3A::ZERO)), Rgb::new(2.0, 0.0, 0.0));
+    assert_eq!(
+        c.eval(&si_at(0.25, 0.75, Vec3A::ZERO)),
+        Rgb::new(2.0, 0.0, 0.0)
+    );
     assert_eq!(c.eval(&si_at(0.75, 0.25, Vec3A::ZERO)), Rgb::splat(2.0));
     let g = float_of(&mut set, "g");
     assert_eq!(g.eval(&si_at(0.75, 0.75, Vec3A::ZERO)), 2.0);
@@ -296,7 +416,12 @@ fn unreferenced_images_are_never_loaded_and_missing_files_are_errors() {
     let mut d = SceneDescription::default();
     imagemap(&mut d, "used", "t.png", vec![]);
     imagemap(&mut d, "unused", "does-not-exist.png", vec![]);
-    let mut set = TextureSet::new(&d, TextureCtx { base_dir: dir.clone() });
+    let mut set = TextureSet::new(
+        &d,
+        TextureCtx {
+            base_dir: dir.clone(),
+        },
+    );
     color_of(&mut set, "used");
     assert_eq!(set.images_loaded(), 1);
     assert_eq!(set.built_names(), vec!["used".to_string()]);
@@ -304,7 +429,11 @@ fn unreferenced_images_are_never_loaded_and_missing_files_are_errors() {
     ps.add("Kd", tex_ref("unused"));
     let e = set.color_param(&ps, "Kd", Rgb::BLACK).unwrap_err();
     assert!(matches!(e, TextureError::Image { .. }), "{e}");
-    assert!(e.to_string().starts_with("scene.lxs:2:1: cannot load image"), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("scene.lxs:2:1: cannot load image"),
+        "{e}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -325,7 +454,13 @@ fn uv_texture_and_mappings() {
         "uv",
         vec![("mapping", s("planar")), ("udelta", f(0.25))],
     );
-    add_tex(&mut d, "bad", TextureType::Color, "uv", vec![("mapping", s("cubic"))]);
+    add_tex(
+        &mut d,
+        "bad",
+        TextureType::Color,
+        "uv",
+        vec![("mapping", s("cubic"))],
+    );
     let mut set = TextureSet::new(&d, TextureCtx::default());
     let c = color_of(&mut set, "uv").eval(&si_at(0.3, 0.4, Vec3A::ZERO));
     assert!((c.r - 0.7).abs() < 1e-6 && (c.g - 0.4).abs() < 1e-6);

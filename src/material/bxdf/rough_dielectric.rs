@@ -127,7 +127,7 @@ impl RoughDielectric {
             refract(wo, hs, eo / ei)?
         };
         let pdf = self.pdf(wo, wi);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         Some(LocalSample {

@@ -160,7 +160,7 @@ impl Coating {
             self.base.sample(wo, u2)?.wi
         };
         let pdf = self.pdf(wo, wi);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         Some(LocalSample {
