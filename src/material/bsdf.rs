@@ -9,6 +9,7 @@ use super::bxdf::microfacet::MicrofacetReflection;
 use super::bxdf::rough_dielectric::RoughDielectric;
 use super::bxdf::schlick::Coating;
 use super::bxdf::specular::{pass_through, SpecularDielectric, SpecularReflection};
+use super::bxdf::translucent::Translucent;
 use super::bxdf::LocalSample;
 use crate::geometry::SurfaceInteraction;
 use crate::spectrum::Rgb;
@@ -59,6 +60,8 @@ pub enum Lobes {
     /// Absorbs everything.
     Black,
     Diffuse(Diffuse),
+    /// Diffuse reflection and transmission.
+    Translucent(Translucent),
     Coating(Coating),
     Microfacet(MicrofacetReflection),
     /// Shinymetal: glossy conductor plus a mirror term, each picked with probability
@@ -107,6 +110,7 @@ impl Bsdf {
         matches!(
             self.lobes,
             Lobes::Diffuse(_)
+                | Lobes::Translucent(_)
                 | Lobes::Coating(_)
                 | Lobes::Microfacet(_)
                 | Lobes::GlossyMirror { .. }
@@ -129,6 +133,7 @@ impl Bsdf {
         }
         let v = match &self.lobes {
             Lobes::Diffuse(d) => d.f(wo, wi),
+            Lobes::Translucent(t) => t.f(wo, wi),
             Lobes::Coating(c) => c.f(wo, wi),
             Lobes::Microfacet(m) => m.f(wo, wi),
             Lobes::GlossyMirror { glossy, .. } => glossy.f(wo, wi),
@@ -150,6 +155,7 @@ impl Bsdf {
         }
         match &self.lobes {
             Lobes::Diffuse(d) => d.pdf(wo, wi),
+            Lobes::Translucent(t) => t.pdf(wo, wi),
             Lobes::Coating(c) => c.pdf(wo, wi),
             Lobes::Microfacet(m) => m.pdf(wo, wi),
             Lobes::GlossyMirror {
@@ -169,6 +175,7 @@ impl Bsdf {
         let s: LocalSample = match &self.lobes {
             Lobes::Black => return None,
             Lobes::Diffuse(d) => d.sample(wo, u2)?,
+            Lobes::Translucent(t) => t.sample(wo, u, u2)?,
             Lobes::Coating(c) => c.sample(wo, u, u2)?,
             Lobes::Microfacet(m) => m.sample(wo, u2)?,
             Lobes::GlossyMirror {

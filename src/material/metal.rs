@@ -3,7 +3,8 @@
 //! LuxRender tries the file first). Unknown names fall back to aluminium with a warning, as in
 //! LuxRender. The spectral n, k are averaged over red/green/blue bands (see
 //! [`NkTable::to_rgb`]). `uroughness`/`vroughness` default 0.1 (Blinn exponent 1/roughness);
-//! unequal values use their geometric mean (isotropic), with a warning.
+//! unequal values use their geometric mean (isotropic), with a warning; the 0.x `roughness`
+//! is accepted when neither is given.
 
 use super::bsdf::Lobes;
 use super::bxdf::microfacet::{Blinn, MicrofacetReflection};
@@ -22,12 +23,19 @@ pub struct Metal {
     pub v: FloatTex,
 }
 
-/// `uroughness`/`vroughness` with a warning when they are constant and differ.
+/// `uroughness`/`vroughness` with a warning when they are constant and differ. Scenes written
+/// for LuxRender 0.x give a single `roughness`: it is used for both when neither of the two
+/// newer parameters is present.
 pub fn roughness_pair(
     b: &mut Builder,
     e: &Entity,
     default: f32,
 ) -> Result<(FloatTex, FloatTex), MaterialError> {
+    let p = &e.params;
+    if p.contains("roughness") && !p.contains("uroughness") && !p.contains("vroughness") {
+        let r = b.textures.float_param(p, "roughness", default)?;
+        return Ok((r.clone(), r));
+    }
     let u = b.textures.float_param(&e.params, "uroughness", default)?;
     let v = b.textures.float_param(&e.params, "vroughness", default)?;
     if let (Some(a), Some(c)) = (u.as_const(), v.as_const()) {

@@ -12,6 +12,7 @@ pub mod bxdf;
 pub mod glass;
 pub mod glossy;
 pub mod matte;
+pub mod mattetranslucent;
 pub mod metal;
 pub mod mirror;
 pub mod mix;
@@ -53,6 +54,7 @@ pub struct MaterialCtx {
 #[derive(Debug)]
 pub enum MaterialKind {
     Matte(matte::Matte),
+    MatteTranslucent(mattetranslucent::MatteTranslucent),
     Mirror(mirror::Mirror),
     Glass(glass::Glass),
     RoughGlass(roughglass::RoughGlass),
@@ -99,6 +101,7 @@ impl Material {
         };
         let lobes = match &self.kind {
             MaterialKind::Matte(m) => m.lobes(si),
+            MaterialKind::MatteTranslucent(m) => m.lobes(si),
             MaterialKind::Mirror(m) => m.lobes(si),
             MaterialKind::Glass(m) => m.lobes(si),
             MaterialKind::RoughGlass(m) => m.lobes(si),
@@ -182,6 +185,9 @@ impl Builder<'_> {
         let p = &e.params;
         let kind = match e.kind.as_str() {
             "matte" => MaterialKind::Matte(matte::Matte::build(self, e)?),
+            "mattetranslucent" => {
+                MaterialKind::MatteTranslucent(mattetranslucent::MatteTranslucent::build(self, e)?)
+            }
             "mirror" => MaterialKind::Mirror(mirror::Mirror::build(self, e)?),
             "glass" => MaterialKind::Glass(glass::Glass::build(self, e)?),
             "glass2" => {

@@ -434,3 +434,39 @@ fn mirror_and_shinymetal_specular_lobes() {
         "{glossy_mc} vs {num}"
     );
 }
+
+#[test]
+fn matte_translucent_splits_energy_and_samples_consistently() {
+    let d = scene(vec![
+        mat(
+            "t",
+            "mattetranslucent",
+            vec![
+                ("Kr", ParamValue::Color(vec![[0.5, 0.5, 0.5]])),
+                ("Kt", ParamValue::Color(vec![[1.0, 1.0, 1.0]])),
+                ("energyconserving", ParamValue::Bool(vec![true])),
+            ],
+            1,
+        ),
+        mat(
+            "m",
+            "metal",
+            vec![("name", s("gold")), ("roughness", f(0.05))],
+            2,
+        ),
+    ]);
+    let set = MaterialSet::build(&d, &[0, 1], &MaterialCtx::default()).unwrap();
+    let b = set.get(Some(0)).bsdf(&flat_si(), 0.5);
+    let wo = dir(30.0, 0.0);
+    // Reflection 0.5 plus transmission 1 * (1 - 0.5): a white furnace of exactly 1.
+    let num = numeric_albedo(&b, wo);
+    assert!((num - 1.0).abs() < 3e-3, "{num}");
+    check_lobe("mattetranslucent", &b, wo, 1.003);
+    let below = b.f(wo, -dir(30.0, 90.0));
+    assert!((below.r - 0.5 / PI).abs() < 1e-5);
+    // The legacy single roughness reaches the metal (Blinn exponent 1 / 0.05).
+    match set.get(Some(1)).bsdf(&flat_si(), 0.5).lobes {
+        Lobes::Microfacet(m) => assert!((m.dist.exponent - 20.0).abs() < 1e-3),
+        other => panic!("{other:?}"),
+    }
+}

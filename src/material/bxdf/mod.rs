@@ -9,6 +9,7 @@ pub mod microfacet;
 pub mod rough_dielectric;
 pub mod schlick;
 pub mod specular;
+pub mod translucent;
 
 use crate::spectrum::Rgb;
 use glam::{Vec2, Vec3A};
