@@ -6,7 +6,11 @@ use std::process::ExitCode;
 mod cmd;
 
 #[derive(Parser)]
-#[command(name = "luxfarm", version, about = "A network render farm for LuxRender scenes")]
+#[command(
+    name = "luxfarm",
+    version,
+    about = "A network render farm for LuxRender scenes"
+)]
 struct Cli {
     /// Log filter (e.g. "info", "luxfarm=debug"); also read from RUST_LOG.
     #[arg(long, global = true, default_value = "warn")]

@@ -142,8 +142,11 @@ pub fn bench(
         let build_secs = start.elapsed().as_secs_f64();
         let (closest, any) = rays.get_or_insert_with(|| incoherent_rays(&g, n, 7));
         // warm-up
-        throughput(&closest[..closest.len().min(10_000)], threads, |r| g.intersect(r).is_some());
-        let (closest_mrays, closest_hits) = throughput(closest, threads, |r| g.intersect(r).is_some());
+        throughput(&closest[..closest.len().min(10_000)], threads, |r| {
+            g.intersect(r).is_some()
+        });
+        let (closest_mrays, closest_hits) =
+            throughput(closest, threads, |r| g.intersect(r).is_some());
         let (any_mrays, any_hits) = throughput(any, threads, |r| g.intersect_p(r));
         out.push(BenchResult {
             options: opts,
@@ -213,7 +216,14 @@ pub fn box_mesh() -> ShapeDesc {
             ]
         })
         .collect();
-    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
     let idx = quads
         .iter()
         .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])

@@ -87,7 +87,9 @@ impl Blas {
     #[inline(always)]
     fn item_t(&self, slot: usize, o: Vec3A, d: Vec3A, t_max: f32) -> f32 {
         match &self.items[slot] {
-            Item::Tri { v, .. } => triangle::intersect(v, o, d, t_max).map_or(f32::INFINITY, |h| h.t),
+            Item::Tri { v, .. } => {
+                triangle::intersect(v, o, d, t_max).map_or(f32::INFINITY, |h| h.t)
+            }
             Item::Quadric { shape } => match &self.shapes[*shape as usize] {
                 Shape::Quadric(q) => q.intersect_t(o, d, t_max).unwrap_or(f32::INFINITY),
                 Shape::Mesh(_) => f32::INFINITY,
@@ -105,7 +107,9 @@ impl Blas {
         let dn = d / len;
         let tm = t_max * len;
         self.bvh
-            .closest(o, dn, tm, |r, slot| self.item_t(slot, r.origin, r.direction, r.tmax))
+            .closest(o, dn, tm, |r, slot| {
+                self.item_t(slot, r.origin, r.direction, r.tmax)
+            })
             .map(|(slot, t)| BlasHit {
                 t: t / len,
                 slot: slot as u32,
@@ -120,12 +124,19 @@ impl Blas {
             return false;
         }
         let dn = d / len;
-        self.bvh
-            .any(o, dn, t_max * len, |r, slot| self.item_t(slot, r.origin, r.direction, r.tmax))
+        self.bvh.any(o, dn, t_max * len, |r, slot| {
+            self.item_t(slot, r.origin, r.direction, r.tmax)
+        })
     }
 
     /// Geometry of the hit found by [`Self::closest`] for the same ray, and its primitive id.
-    pub fn hit_geometry(&self, hit: BlasHit, o: Vec3A, d: Vec3A, t_max: f32) -> Option<(LocalGeometry, u32)> {
+    pub fn hit_geometry(
+        &self,
+        hit: BlasHit,
+        o: Vec3A,
+        d: Vec3A,
+        t_max: f32,
+    ) -> Option<(LocalGeometry, u32)> {
         let len = d.length();
         let dn = d / len;
         let tm = t_max * len;
@@ -135,7 +146,10 @@ impl Blas {
                 let Shape::Mesh(m) = &self.shapes[*shape as usize] else {
                     return None;
                 };
-                Some((m.geometry(*index as usize, h.b), self.prims[*shape as usize]))
+                Some((
+                    m.geometry(*index as usize, h.b),
+                    self.prims[*shape as usize],
+                ))
             }
             Item::Quadric { shape } => {
                 let Shape::Quadric(q) = &self.shapes[*shape as usize] else {

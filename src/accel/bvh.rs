@@ -5,6 +5,7 @@
 //! `Ray::new` clamps tiny direction components to 1/ε, which shrinks slabs at small scales);
 //! primitive boxes are padded by a relative margin so the f32 slab test stays conservative.
 
+use glam::Vec3A;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::builder::build_bvh2;
 use obvhs::bvh2::Bvh2;
@@ -12,7 +13,6 @@ use obvhs::cwbvh::builder::build_cwbvh;
 use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray as BvhRay, RayHit};
 use obvhs::BvhBuildParams;
-use glam::Vec3A;
 use std::time::Duration;
 
 /// Node layout used for traversal.
@@ -97,7 +97,11 @@ impl std::fmt::Debug for Bvh {
 
 /// Pads a box by a margin relative to its coordinates and extent.
 pub fn padded(lo: Vec3A, hi: Vec3A) -> Aabb {
-    let scale = lo.abs().max(hi.abs()).max_element().max((hi - lo).max_element());
+    let scale = lo
+        .abs()
+        .max(hi.abs())
+        .max_element()
+        .max((hi - lo).max_element());
     let pad = Vec3A::splat(scale * 4.0 * f32::EPSILON + f32::MIN_POSITIVE);
     Aabb::new(lo - pad, hi + pad)
 }
@@ -146,7 +150,13 @@ impl Bvh {
 
     /// Whether any primitive is hit with 0 < t < t_max.
     #[inline]
-    pub fn any(&self, o: Vec3A, d: Vec3A, t_max: f32, mut f: impl FnMut(&BvhRay, usize) -> f32) -> bool {
+    pub fn any(
+        &self,
+        o: Vec3A,
+        d: Vec3A,
+        t_max: f32,
+        mut f: impl FnMut(&BvhRay, usize) -> f32,
+    ) -> bool {
         let ray = make_ray(o, d, t_max);
         match self {
             Bvh::Empty => false,

@@ -35,7 +35,7 @@ impl MatteTranslucent {
         let r = clamp(self.kr.eval(si));
         let mut t = clamp(self.kt.eval(si));
         if self.energy_conserving {
-            t = t * (Rgb::WHITE - r);
+            t *= Rgb::WHITE - r;
         }
         let sigma = self.sigma.eval(si).clamp(0.0, 90.0);
         let lobe = |c: Rgb| {

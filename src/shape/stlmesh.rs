@@ -112,7 +112,10 @@ fn parse_ascii(bytes: &[u8]) -> Result<Vec<[f32; 3]>, String> {
         }
     }
     if p.is_empty() || p.len() % 3 != 0 {
-        return Err(format!("{} vertices is not a whole number of triangles", p.len()));
+        return Err(format!(
+            "{} vertices is not a whole number of triangles",
+            p.len()
+        ));
     }
     Ok(p)
 }
