@@ -4,6 +4,7 @@
 //! light leak through a surface: a lobe contributes only when the local and geometric sides
 //! agree.
 
+use super::bxdf::asperity::Asperity;
 use super::bxdf::diffuse::Diffuse;
 use super::bxdf::microfacet::MicrofacetReflection;
 use super::bxdf::rough_dielectric::RoughDielectric;
@@ -62,6 +63,8 @@ pub enum Lobes {
     Diffuse(Diffuse),
     /// Diffuse reflection and transmission.
     Translucent(Translucent),
+    /// Velvet (asperity scattering).
+    Velvet(Asperity),
     Coating(Coating),
     Microfacet(MicrofacetReflection),
     /// Shinymetal: glossy conductor plus a mirror term, each picked with probability
@@ -111,6 +114,7 @@ impl Bsdf {
             self.lobes,
             Lobes::Diffuse(_)
                 | Lobes::Translucent(_)
+                | Lobes::Velvet(_)
                 | Lobes::Coating(_)
                 | Lobes::Microfacet(_)
                 | Lobes::GlossyMirror { .. }
@@ -134,6 +138,7 @@ impl Bsdf {
         let v = match &self.lobes {
             Lobes::Diffuse(d) => d.f(wo, wi),
             Lobes::Translucent(t) => t.f(wo, wi),
+            Lobes::Velvet(v) => v.f(wo, wi),
             Lobes::Coating(c) => c.f(wo, wi),
             Lobes::Microfacet(m) => m.f(wo, wi),
             Lobes::GlossyMirror { glossy, .. } => glossy.f(wo, wi),
@@ -156,6 +161,7 @@ impl Bsdf {
         match &self.lobes {
             Lobes::Diffuse(d) => d.pdf(wo, wi),
             Lobes::Translucent(t) => t.pdf(wo, wi),
+            Lobes::Velvet(v) => v.pdf(wo, wi),
             Lobes::Coating(c) => c.pdf(wo, wi),
             Lobes::Microfacet(m) => m.pdf(wo, wi),
             Lobes::GlossyMirror {
@@ -176,6 +182,7 @@ impl Bsdf {
             Lobes::Black => return None,
             Lobes::Diffuse(d) => d.sample(wo, u2)?,
             Lobes::Translucent(t) => t.sample(wo, u, u2)?,
+            Lobes::Velvet(v) => v.sample(wo, u2)?,
             Lobes::Coating(c) => c.sample(wo, u, u2)?,
             Lobes::Microfacet(m) => m.sample(wo, u2)?,
             Lobes::GlossyMirror {

@@ -19,6 +19,7 @@ pub mod mix;
 pub mod nk_data;
 pub mod roughglass;
 pub mod shinymetal;
+pub mod velvet;
 
 pub use bsdf::{Bsdf, BsdfSample, Lobes};
 
@@ -61,6 +62,7 @@ pub enum MaterialKind {
     Glossy(glossy::Glossy),
     Metal(metal::Metal),
     ShinyMetal(shinymetal::ShinyMetal),
+    Velvet(velvet::Velvet),
     Mix(mix::MixMaterial),
     Null,
 }
@@ -108,6 +110,7 @@ impl Material {
             MaterialKind::Glossy(m) => m.lobes(si),
             MaterialKind::Metal(m) => m.lobes(si),
             MaterialKind::ShinyMetal(m) => m.lobes(si),
+            MaterialKind::Velvet(m) => m.lobes(si),
             MaterialKind::Null => Lobes::Null,
             MaterialKind::Mix(m) => {
                 let (child, u) = m.select(si, u_select);
@@ -205,6 +208,7 @@ impl Builder<'_> {
             }
             "metal" => MaterialKind::Metal(metal::Metal::build(self, e)?),
             "shinymetal" => MaterialKind::ShinyMetal(shinymetal::ShinyMetal::build(self, e)?),
+            "velvet" => MaterialKind::Velvet(velvet::Velvet::build(self, e)?),
             "mix" => MaterialKind::Mix(mix::MixMaterial::build(self, e)?),
             "null" => MaterialKind::Null,
             other => {

@@ -470,3 +470,24 @@ fn matte_translucent_splits_energy_and_samples_consistently() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn velvet_samples_consistently() {
+    let d = scene(vec![mat("v", "velvet", vec![], 1)]);
+    let set = MaterialSet::build(&d, &[0], &MaterialCtx::default()).unwrap();
+    let b = set.get(Some(0)).bsdf(&flat_si(), 0.5);
+    assert!(matches!(b.lobes, Lobes::Velvet(_)));
+    for theta in [10.0, 70.0] {
+        check_lobe("velvet", &b, dir(theta, 0.0), 1.0);
+    }
+}
+
+#[test]
+fn materials_and_textures_are_shareable_between_threads() {
+    fn assert_send_sync<T: Send + Sync>() {}
+    assert_send_sync::<MaterialSet>();
+    assert_send_sync::<Material>();
+    assert_send_sync::<Bsdf>();
+    assert_send_sync::<crate::texture::ColorTex>();
+    assert_send_sync::<crate::texture::FloatTex>();
+}

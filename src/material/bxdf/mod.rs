@@ -3,6 +3,7 @@
 //! cosine factor, and samples with a pdf consistent with `f` (solid-angle measure; for
 //! specular lobes the pdf is the discrete probability of the lobe and `f` carries 1/|cos|).
 
+pub mod asperity;
 pub mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
