@@ -51,10 +51,11 @@ pub fn permute_pow2(j: u32, bits: u32, key: u64) -> u32 {
     };
     let shift = bits.div_ceil(2).max(1);
     let mut x = u64::from(j) & mask;
-    for round in 0..4u64 {
-        let r = combine(key, round);
+    let mut r = key;
+    for _ in 0..2 {
+        r = mix64(r ^ GOLDEN);
         x ^= r & mask;
-        x = x.wrapping_mul(r | 1) & mask;
+        x = x.wrapping_mul((r >> 32) | 1) & mask;
         x ^= x >> shift;
     }
     x as u32

@@ -12,7 +12,7 @@
 //! LuxRender parameters: `pixelsamples` (default 4, rounded up to a power of two);
 //! `pixelsampler` (pixel visiting order, irrelevant here) is accepted.
 
-use super::hash::{combine, permute_pow2, unit_from_u32};
+use super::hash::{combine, mix64, permute_pow2, unit_from_u32};
 use glam::Vec2;
 
 /// Van der Corput in base 2 (first dimension of the (0,2)-sequence), as 32 bits.
@@ -36,26 +36,31 @@ fn sobol2(mut i: u32) -> u32 {
     r
 }
 
+/// The key of one block of `2^log2_n` samples of a pixel (one pass over it).
+#[inline]
+pub(super) fn block_key(pixel_key: u64, index: u64, log2_n: u32) -> u64 {
+    combine(pixel_key, index >> log2_n)
+}
+
 /// Per-request scrambles: the shuffled point index within the block and two digit scrambles.
 #[inline]
-fn request(pixel_key: u64, index: u64, log2_n: u32, dim: u32) -> (u32, u32, u32) {
-    let block = index >> log2_n;
+fn request(block_key: u64, index: u64, log2_n: u32, dim: u32) -> (u32, u32, u32) {
     let j = (index & ((1u64 << log2_n) - 1)) as u32;
-    let key = combine(combine(pixel_key, block), u64::from(dim));
+    let key = combine(block_key, u64::from(dim));
     let point = permute_pow2(j, log2_n, key);
-    let scr = combine(key, 0x5c7a_3b1e);
+    let scr = mix64(key ^ 0x5c7a_3b1e_9d2f_4a61);
     (point, scr as u32, (scr >> 32) as u32)
 }
 
 /// A 1D value: the scrambled van der Corput point (stratified over the block).
-pub(super) fn value_1d(pixel_key: u64, index: u64, log2_n: u32, dim: u32) -> f32 {
-    let (p, sx, _) = request(pixel_key, index, log2_n, dim);
+pub(super) fn value_1d(block_key: u64, index: u64, log2_n: u32, dim: u32) -> f32 {
+    let (p, sx, _) = request(block_key, index, log2_n, dim);
     unit_from_u32(van_der_corput(p) ^ sx)
 }
 
 /// A 2D value: the scrambled (0,2)-sequence point.
-pub(super) fn value_2d(pixel_key: u64, index: u64, log2_n: u32, dim: u32) -> Vec2 {
-    let (p, sx, sy) = request(pixel_key, index, log2_n, dim);
+pub(super) fn value_2d(block_key: u64, index: u64, log2_n: u32, dim: u32) -> Vec2 {
+    let (p, sx, sy) = request(block_key, index, log2_n, dim);
     Vec2::new(
         unit_from_u32(van_der_corput(p) ^ sx),
         unit_from_u32(sobol2(p) ^ sy),

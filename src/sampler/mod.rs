@@ -180,7 +180,8 @@ impl Sampler {
         let pk = pixel_key(seed, stream, px, py);
         let key = match self.kind {
             SamplerKind::Random => random::sample_key(pk, index),
-            _ => pk,
+            SamplerKind::LowDiscrepancy => lowdiscrepancy::block_key(pk, index, self.log2_n),
+            SamplerKind::Sobol => sobol::run_key(pk, index),
         };
         SampleStream {
             kind: self.kind,
@@ -198,7 +199,7 @@ impl Sampler {
 #[derive(Clone, Debug)]
 pub struct SampleStream {
     kind: SamplerKind,
-    /// Pixel key (sample key for random).
+    /// Key of this sample's pixel and block (LD), run (sobol) or sample (random).
     key: u64,
     index: u64,
     log2_n: u32,

@@ -17,29 +17,28 @@ use glam::Vec2;
 
 const SEQ_BITS: u32 = 16;
 
+/// The key of one run of 2^16 samples of a pixel.
 #[inline]
-fn seed_and_index(pixel_key: u64, index: u64, dim: u32) -> (u32, u32) {
-    let high = index >> SEQ_BITS;
-    let seed = combine(combine(pixel_key, u64::from(dim)), high);
-    (
-        (seed ^ (seed >> 32)) as u32,
-        (index & ((1 << SEQ_BITS) - 1)) as u32,
-    )
+pub(super) fn run_key(pixel_key: u64, index: u64) -> u64 {
+    combine(pixel_key, index >> SEQ_BITS)
+}
+
+#[inline]
+fn seed_and_index(run_key: u64, index: u64, dim: u32) -> (u32, u32) {
+    let seed = combine(run_key, u64::from(dim));
+    ((seed ^ (seed >> 32)) as u32, (index & ((1 << SEQ_BITS) - 1)) as u32)
 }
 
 /// The 1D request at dimension `dim` of sample `index`.
 #[inline]
-pub(super) fn value_1d(pixel_key: u64, index: u64, dim: u32) -> f32 {
-    let (seed, i) = seed_and_index(pixel_key, index, dim);
+pub(super) fn value_1d(run_key: u64, index: u64, dim: u32) -> f32 {
+    let (seed, i) = seed_and_index(run_key, index, dim);
     sobol_burley::sample(i, 0, seed)
 }
 
 /// The 2D request at dimensions `dim`, `dim + 1` of sample `index`.
 #[inline]
-pub(super) fn value_2d(pixel_key: u64, index: u64, dim: u32) -> Vec2 {
-    let (seed, i) = seed_and_index(pixel_key, index, dim);
-    Vec2::new(
-        sobol_burley::sample(i, 0, seed),
-        sobol_burley::sample(i, 1, seed),
-    )
+pub(super) fn value_2d(run_key: u64, index: u64, dim: u32) -> Vec2 {
+    let (seed, i) = seed_and_index(run_key, index, dim);
+    Vec2::new(sobol_burley::sample(i, 0, seed), sobol_burley::sample(i, 1, seed))
 }
