@@ -47,7 +47,7 @@ fn polygon(u: Vec2, blades: u32) -> Vec2 {
     let honey = half.cos();
     let theta = 2.0 * PI * u.y;
     let sector = (theta / half).floor();
-    let rho = if (sector as u32) % 2 == 0 {
+    let rho = if (sector as u32).is_multiple_of(2) {
         theta - sector * half
     } else {
         (sector + 1.0) * half - theta
@@ -124,7 +124,7 @@ fn erfinv(x: f32) -> f32 {
             0.005_739_507_7,
             -0.007_622_461,
             0.009_438_870_5,
-            1.001_674_1,
+            1.001_674,
             2.832_976_7,
         ] {
             p = c + p * w;
