@@ -263,15 +263,21 @@ impl Camera {
             loc: loc.clone(),
             message,
         };
-        let lens_radius = p.float_or("lensradius", 0.0);
-        let focal_distance = p.float_or("focaldistance", 1e30);
+        let mut lens_radius = p.float_or("lensradius", 0.0);
+        let mut focal_distance = p.float_or("focaldistance", 1e30);
         if !(lens_radius.is_finite() && lens_radius >= 0.0) {
             return Err(err(format!("lensradius must be >= 0, got {lens_radius}")));
         }
+        // Old exporters write "focaldistance" [0] next to a zero lens radius: only a lens needs
+        // a usable focal distance (autofocus may still provide it).
         if !(focal_distance.is_finite() && focal_distance > 0.0) {
-            return Err(err(format!(
-                "focaldistance must be > 0, got {focal_distance}"
-            )));
+            if lens_radius > 0.0 && !p.bool_or("autofocus", false) {
+                tracing::warn!(
+                    "{loc}: focaldistance {focal_distance} is unusable; depth of field disabled"
+                );
+                lens_radius = 0.0;
+            }
+            focal_distance = 1e30;
         }
         let frame = p.float_or("frameaspectratio", film.xres as f32 / film.yres as f32);
         if !(frame.is_finite() && frame > 0.0) {

@@ -391,6 +391,24 @@ fn bad_cameras_are_errors_with_locations() {
         &g
     )
     .is_err());
+    // Old exporters' "focaldistance" [0] without a lens is accepted; with a lens, the lens is
+    // disabled rather than producing NaN rays.
+    let old = camera(
+        "perspective",
+        &[("focaldistance", f(0.0))],
+        DMat4::IDENTITY,
+        10,
+        10,
+    );
+    assert_eq!(old.focal_distance(), Some(1e30));
+    let lens = camera(
+        "perspective",
+        &[("focaldistance", f(0.0)), ("lensradius", f(0.5))],
+        DMat4::IDENTITY,
+        10,
+        10,
+    );
+    assert!(matches!(&lens.model, CameraModel::Perspective(p) if p.lens_radius == 0.0));
     let cam = camera("perspective", &[], DMat4::IDENTITY, 10, 10);
     let s = CameraSample {
         p_film: Vec2::new(f32::NAN, 1.0),
@@ -425,4 +443,60 @@ fn parameters_are_consumed() {
     let unused: Vec<_> = d.entity.params.unused().map(|p| p.name.clone()).collect();
     assert!(unused.is_empty(), "{unused:?}");
     let _ = Vec3::ZERO;
+}
+
+/// The shared test data directory (`../shared` from the repository root).
+fn shared_dir() -> std::path::PathBuf {
+    let local = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared"));
+    if local.is_dir() {
+        local.to_path_buf()
+    } else {
+        std::path::PathBuf::from("/work/shared")
+    }
+}
+
+#[test]
+fn orientation_matches_the_luxcore_reference_render() {
+    // cornell-mesh.lxs: `LookAt 0 -3.9 1  0 0 1  0 0 1`, fov 39.3, 256x256; the red wall is
+    // at x = -1, the green one at x = +1. LuxCore rendered it to luxcore-ref-2048.exr.
+    let path = shared_dir().join("scenes/cornell/luxcore-ref-2048.exr");
+    use exr::prelude::*;
+    let image = read_first_rgba_layer_from_file(
+        &path,
+        |res, _| vec![vec![[0f32; 3]; res.width()]; res.height()],
+        |px: &mut Vec<Vec<[f32; 3]>>, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            px[pos.y()][pos.x()] = [r, g, b]
+        },
+    )
+    .unwrap_or_else(|e| panic!("reading {}: {e}", path.display()));
+    let px = image.layer_data.channel_data.pixels;
+    let (h, w) = (px.len(), px[0].len());
+    assert_eq!((w, h), (256, 256));
+    // Mean red-minus-green over a band of columns, middle rows.
+    let band = |x0: usize, x1: usize| {
+        let mut s = 0.0f64;
+        for row in &px[h / 3..2 * h / 3] {
+            for p in &row[x0..x1] {
+                s += (p[0] - p[1]) as f64;
+            }
+        }
+        s / ((x1 - x0) * (h / 3)) as f64
+    };
+    let (left, right) = (band(2, 30), band(w - 30, w - 2));
+    assert!(
+        left > 0.05 && right < -0.02,
+        "reference: left {left}, right {right}"
+    );
+    // Our camera: the same pixels look at the same walls.
+    let w2c = look_at([0.0, -3.9, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]);
+    let cam = camera("perspective", &[("fov", f(39.3))], w2c, 256, 256);
+    let wall_x = |x: f32| {
+        let r = ray_at(&cam, x, 128.0);
+        r.at((1.0 - r.o.y) / r.d.y).x // where the ray meets the back wall plane y = 1
+    };
+    assert!(
+        wall_x(16.0) < -1.0,
+        "left columns see the red wall (x < -1 at the back)"
+    );
+    assert!(wall_x(240.0) > 1.0, "right columns see the green wall");
 }

@@ -26,7 +26,10 @@ pub(super) fn run_key(pixel_key: u64, index: u64) -> u64 {
 #[inline]
 fn seed_and_index(run_key: u64, index: u64, dim: u32) -> (u32, u32) {
     let seed = combine(run_key, u64::from(dim));
-    ((seed ^ (seed >> 32)) as u32, (index & ((1 << SEQ_BITS) - 1)) as u32)
+    (
+        (seed ^ (seed >> 32)) as u32,
+        (index & ((1 << SEQ_BITS) - 1)) as u32,
+    )
 }
 
 /// The 1D request at dimension `dim` of sample `index`.
@@ -40,5 +43,8 @@ pub(super) fn value_1d(run_key: u64, index: u64, dim: u32) -> f32 {
 #[inline]
 pub(super) fn value_2d(run_key: u64, index: u64, dim: u32) -> Vec2 {
     let (seed, i) = seed_and_index(run_key, index, dim);
-    Vec2::new(sobol_burley::sample(i, 0, seed), sobol_burley::sample(i, 1, seed))
+    Vec2::new(
+        sobol_burley::sample(i, 0, seed),
+        sobol_burley::sample(i, 1, seed),
+    )
 }

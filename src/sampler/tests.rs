@@ -260,4 +260,3 @@ fn camera_sample_uses_the_documented_dimensions() {
         assert_eq!((cs.p_lens, cs.time), (lens, time));
     }
 }
-
