@@ -23,6 +23,7 @@
 //! `next_1d` uses one, `next_2d` two. For the best stratification, draw 2D quantities with
 //! `next_2d` (lowdiscrepancy and sobol stratify each 2D request jointly).
 
+pub mod bench;
 mod hash;
 mod lowdiscrepancy;
 mod random;
@@ -177,7 +178,15 @@ impl Sampler {
     /// The stream of sample `index` (counting over all passes: pass `k` uses indices
     /// `k * pixel_samples ..`) of pixel (`px`, `py`).
     pub fn start(&self, seed: u64, stream: u64, px: u32, py: u32, index: u64) -> SampleStream {
-        let pk = pixel_key(seed, stream, px, py);
+        self.start_at(seed, stream, px as i32, py as i32, index)
+    }
+
+    /// [`Sampler::start`] for any pixel, including those left of or above the image:
+    /// LuxRender samples `filter.sample_extent(..)`, which reaches beyond the image by the
+    /// filter radius, so border pixels get full filter coverage. For pixels inside the image
+    /// both give the same values.
+    pub fn start_at(&self, seed: u64, stream: u64, px: i32, py: i32, index: u64) -> SampleStream {
+        let pk = pixel_key(seed, stream, px as u32, py as u32);
         let key = match self.kind {
             SamplerKind::Random => random::sample_key(pk, index),
             SamplerKind::LowDiscrepancy => lowdiscrepancy::block_key(pk, index, self.log2_n),
@@ -204,8 +213,8 @@ pub struct SampleStream {
     index: u64,
     log2_n: u32,
     dim: u32,
-    px: u32,
-    py: u32,
+    px: i32,
+    py: i32,
 }
 
 impl SampleStream {
@@ -243,7 +252,7 @@ impl SampleStream {
     }
 
     /// The pixel this stream samples.
-    pub fn pixel(&self) -> (u32, u32) {
+    pub fn pixel(&self) -> (i32, i32) {
         (self.px, self.py)
     }
 

@@ -258,5 +258,14 @@ fn camera_sample_uses_the_documented_dimensions() {
         let time = b.next_1d();
         assert_eq!(cs.p_film, Vec2::new(10.0 + film.x, 20.0 + film.y));
         assert_eq!((cs.p_lens, cs.time), (lens, time));
+        // Pixels outside the image (the filter's sample extent) work the same way.
+        let mut c = s.start_at(1, 0, 10, 20, 3);
+        assert_eq!(c.camera_sample(), cs);
+        let mut d = s.start_at(1, 0, -2, -1, 3);
+        let ds = d.camera_sample();
+        assert!(
+            ds.p_film.x >= -2.0 && ds.p_film.x < -1.0 && ds.p_film.y >= -1.0 && ds.p_film.y < 0.0
+        );
+        assert_eq!(d.pixel(), (-2, -1));
     }
 }
