@@ -32,6 +32,8 @@ enum Command {
 enum BenchCommand {
     /// Ray throughput of the BVH on incoherent rays (closest hit and any hit).
     Bvh(cmd::bench_bvh::Args),
+    /// Parse speed and peak memory on a generated mesh scene.
+    Parse(cmd::bench_parse::Args),
 }
 
 fn main() -> ExitCode {
@@ -40,6 +42,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Parse(a) => cmd::parse::run(a),
         Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
+        Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
     };
     match result {
         Ok(code) => code,

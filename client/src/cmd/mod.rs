@@ -1,4 +1,5 @@
 //! One module per subcommand.
 
 pub mod bench_bvh;
+pub mod bench_parse;
 pub mod parse;
