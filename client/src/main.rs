@@ -6,7 +6,11 @@ use std::process::ExitCode;
 mod cmd;
 
 #[derive(Parser)]
-#[command(name = "luxfarm", version, about = "A network render farm for LuxRender scenes")]
+#[command(
+    name = "luxfarm",
+    version,
+    about = "A network render farm for LuxRender scenes"
+)]
 struct Cli {
     /// Log filter (e.g. "info", "luxfarm=debug"); also read from RUST_LOG.
     #[arg(long, global = true, default_value = "warn")]
@@ -19,6 +23,13 @@ struct Cli {
 enum Command {
     /// Parse a scene and print a summary, or its SceneDescription as JSON.
     Parse(cmd::parse::Args),
+    /// FLM film tools: info, merge, compare, tonemap.
+    Flm(cmd::flm::Args),
+    /// Benchmarks (not tests).
+    Bench {
+        #[command(subcommand)]
+        which: cmd::BenchCommand,
+    },
 }
 
 fn main() -> ExitCode {
@@ -26,6 +37,10 @@ fn main() -> ExitCode {
     init_logging(&cli.log);
     let result = match cli.command {
         Command::Parse(a) => cmd::parse::run(a),
+        Command::Flm(a) => cmd::flm::run(a),
+        Command::Bench { which } => match which {
+            cmd::BenchCommand::Flm(a) => cmd::bench_flm::run(a),
+        },
     };
     match result {
         Ok(code) => code,

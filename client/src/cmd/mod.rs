@@ -1,3 +1,12 @@
 //! One module per subcommand.
 
+pub mod bench_flm;
+pub mod flm;
 pub mod parse;
+
+/// `luxfarm bench ...`: benchmarks (not tests).
+#[derive(clap::Subcommand)]
+pub enum BenchCommand {
+    /// FLM decode + merge and encode throughput of a 1080p delta.
+    Flm(bench_flm::Args),
+}
