@@ -34,6 +34,13 @@ enum BenchCommand {
     Bvh(cmd::bench_bvh::Args),
     /// Parse speed and peak memory on a generated mesh scene.
     Parse(cmd::bench_parse::Args),
+    /// FLM film tools: info, merge, compare, tonemap.
+    Flm(cmd::flm::Args),
+    /// Benchmarks (not tests).
+    Bench {
+        #[command(subcommand)]
+        which: cmd::BenchCommand,
+    },
 }
 
 fn main() -> ExitCode {
@@ -43,6 +50,10 @@ fn main() -> ExitCode {
         Command::Parse(a) => cmd::parse::run(a),
         Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
         Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
+        Command::Flm(a) => cmd::flm::run(a),
+        Command::Bench { which } => match which {
+            cmd::BenchCommand::Flm(a) => cmd::bench_flm::run(a),
+        },
     };
     match result {
         Ok(code) => code,
