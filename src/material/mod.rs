@@ -9,6 +9,7 @@
 pub mod bsdf;
 pub mod bump;
 pub mod bxdf;
+pub mod carpaint;
 pub mod glass;
 pub mod glossy;
 pub mod matte;
@@ -54,6 +55,7 @@ pub struct MaterialCtx {
 /// The closed set of materials.
 #[derive(Debug)]
 pub enum MaterialKind {
+    CarPaint(carpaint::CarPaint),
     Matte(matte::Matte),
     MatteTranslucent(mattetranslucent::MatteTranslucent),
     Mirror(mirror::Mirror),
@@ -102,6 +104,7 @@ impl Material {
             None => si,
         };
         let lobes = match &self.kind {
+            MaterialKind::CarPaint(m) => m.lobes(si),
             MaterialKind::Matte(m) => m.lobes(si),
             MaterialKind::MatteTranslucent(m) => m.lobes(si),
             MaterialKind::Mirror(m) => m.lobes(si),
@@ -208,6 +211,7 @@ impl Builder<'_> {
             }
             "metal" => MaterialKind::Metal(metal::Metal::build(self, e)?),
             "shinymetal" => MaterialKind::ShinyMetal(shinymetal::ShinyMetal::build(self, e)?),
+            "carpaint" => MaterialKind::CarPaint(carpaint::CarPaint::build(self, e)?),
             "velvet" => MaterialKind::Velvet(velvet::Velvet::build(self, e)?),
             "mix" => MaterialKind::Mix(mix::MixMaterial::build(self, e)?),
             "null" => MaterialKind::Null,

@@ -491,3 +491,29 @@ fn materials_and_textures_are_shareable_between_threads() {
     assert_send_sync::<crate::texture::ColorTex>();
     assert_send_sync::<crate::texture::FloatTex>();
 }
+
+#[test]
+fn carpaint_presets_sample_consistently() {
+    let d = scene(vec![
+        mat("a", "carpaint", vec![("name", s("polaris silber"))], 1),
+        mat("b", "carpaint", vec![("name", s("no such paint"))], 2),
+        mat(
+            "c",
+            "carpaint",
+            vec![("Kd", ParamValue::Color(vec![[0.5, 0.1, 0.1]]))],
+            3,
+        ),
+    ]);
+    let set = MaterialSet::build(&d, &[0, 1, 2], &MaterialCtx::default()).unwrap();
+    assert!(set
+        .warnings
+        .iter()
+        .any(|w| w.to_string().contains("no such paint")));
+    for i in 0..3 {
+        let b = set.get(Some(i)).bsdf(&flat_si(), 0.5);
+        assert!(matches!(b.lobes, Lobes::CarPaint(_)));
+        for theta in [20.0, 60.0] {
+            check_lobe("carpaint", &b, dir(theta, 0.0), 1.0);
+        }
+    }
+}

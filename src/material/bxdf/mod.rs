@@ -4,6 +4,7 @@
 //! specular lobes the pdf is the discrete probability of the lobe and `f` carries 1/|cos|).
 
 pub mod asperity;
+pub mod carpaint;
 pub mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
