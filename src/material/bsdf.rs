@@ -7,6 +7,7 @@
 use super::bxdf::asperity::Asperity;
 use super::bxdf::carpaint::CarPaintLobes;
 use super::bxdf::diffuse::Diffuse;
+use super::bxdf::glossy_translucent::GlossyTranslucentLobes;
 use super::bxdf::microfacet::MicrofacetReflection;
 use super::bxdf::rough_dielectric::RoughDielectric;
 use super::bxdf::schlick::Coating;
@@ -68,6 +69,8 @@ pub enum Lobes {
     Velvet(Asperity),
     /// Car paint: microfacet layers over a diffuse base.
     CarPaint(CarPaintLobes),
+    /// Double-sided coating with diffuse transmission.
+    GlossyTranslucent(GlossyTranslucentLobes),
     Coating(Coating),
     Microfacet(MicrofacetReflection),
     /// Shinymetal: glossy conductor plus a mirror term, each picked with probability
@@ -119,6 +122,7 @@ impl Bsdf {
                 | Lobes::Translucent(_)
                 | Lobes::Velvet(_)
                 | Lobes::CarPaint(_)
+                | Lobes::GlossyTranslucent(_)
                 | Lobes::Coating(_)
                 | Lobes::Microfacet(_)
                 | Lobes::GlossyMirror { .. }
@@ -144,6 +148,7 @@ impl Bsdf {
             Lobes::Translucent(t) => t.f(wo, wi),
             Lobes::Velvet(v) => v.f(wo, wi),
             Lobes::CarPaint(c) => c.f(wo, wi),
+            Lobes::GlossyTranslucent(g) => g.f(wo, wi),
             Lobes::Coating(c) => c.f(wo, wi),
             Lobes::Microfacet(m) => m.f(wo, wi),
             Lobes::GlossyMirror { glossy, .. } => glossy.f(wo, wi),
@@ -168,6 +173,7 @@ impl Bsdf {
             Lobes::Translucent(t) => t.pdf(wo, wi),
             Lobes::Velvet(v) => v.pdf(wo, wi),
             Lobes::CarPaint(c) => c.pdf(wo, wi),
+            Lobes::GlossyTranslucent(g) => g.pdf(wo, wi),
             Lobes::Coating(c) => c.pdf(wo, wi),
             Lobes::Microfacet(m) => m.pdf(wo, wi),
             Lobes::GlossyMirror {
@@ -190,6 +196,7 @@ impl Bsdf {
             Lobes::Translucent(t) => t.sample(wo, u, u2)?,
             Lobes::Velvet(v) => v.sample(wo, u2)?,
             Lobes::CarPaint(c) => c.sample(wo, u, u2)?,
+            Lobes::GlossyTranslucent(g) => g.sample(wo, u, u2)?,
             Lobes::Coating(c) => c.sample(wo, u, u2)?,
             Lobes::Microfacet(m) => m.sample(wo, u2)?,
             Lobes::GlossyMirror {

@@ -12,6 +12,7 @@ pub mod bxdf;
 pub mod carpaint;
 pub mod glass;
 pub mod glossy;
+pub mod glossytranslucent;
 pub mod matte;
 pub mod mattetranslucent;
 pub mod metal;
@@ -62,6 +63,7 @@ pub enum MaterialKind {
     Glass(glass::Glass),
     RoughGlass(roughglass::RoughGlass),
     Glossy(glossy::Glossy),
+    GlossyTranslucent(glossytranslucent::GlossyTranslucent),
     Metal(metal::Metal),
     ShinyMetal(shinymetal::ShinyMetal),
     Velvet(velvet::Velvet),
@@ -111,6 +113,7 @@ impl Material {
             MaterialKind::Glass(m) => m.lobes(si),
             MaterialKind::RoughGlass(m) => m.lobes(si),
             MaterialKind::Glossy(m) => m.lobes(si),
+            MaterialKind::GlossyTranslucent(m) => m.lobes(si),
             MaterialKind::Metal(m) => m.lobes(si),
             MaterialKind::ShinyMetal(m) => m.lobes(si),
             MaterialKind::Velvet(m) => m.lobes(si),
@@ -211,6 +214,9 @@ impl Builder<'_> {
             }
             "metal" => MaterialKind::Metal(metal::Metal::build(self, e)?),
             "shinymetal" => MaterialKind::ShinyMetal(shinymetal::ShinyMetal::build(self, e)?),
+            "glossytranslucent" => MaterialKind::GlossyTranslucent(
+                glossytranslucent::GlossyTranslucent::build(self, e)?,
+            ),
             "carpaint" => MaterialKind::CarPaint(carpaint::CarPaint::build(self, e)?),
             "velvet" => MaterialKind::Velvet(velvet::Velvet::build(self, e)?),
             "mix" => MaterialKind::Mix(mix::MixMaterial::build(self, e)?),

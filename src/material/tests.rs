@@ -517,3 +517,38 @@ fn carpaint_presets_sample_consistently() {
         }
     }
 }
+
+#[test]
+fn glossy_translucent_samples_consistently_on_both_faces() {
+    let c = |v: f32| ParamValue::Color(vec![[v, v, v]]);
+    let d = scene(vec![
+        mat(
+            "a",
+            "glossytranslucent",
+            vec![("Kd", c(0.5)), ("Kt", c(0.8)), ("Ks", c(0.04))],
+            1,
+        ),
+        mat(
+            "b",
+            "glossytranslucent",
+            vec![
+                ("Kd", c(0.3)),
+                ("Ks", c(0.1)),
+                ("onesided", ParamValue::Bool(vec![false])),
+                ("backface_Ks", c(0.5)),
+                ("backface_uroughness", f(0.3)),
+                ("backface_vroughness", f(0.3)),
+                ("d", f(0.1)),
+                ("Ka", c(0.5)),
+            ],
+            2,
+        ),
+    ]);
+    let set = MaterialSet::build(&d, &[0, 1], &MaterialCtx::default()).unwrap();
+    for i in 0..2 {
+        let b = set.get(Some(i)).bsdf(&flat_si(), 0.5);
+        assert!(matches!(b.lobes, Lobes::GlossyTranslucent(_)));
+        check_lobe("glossytranslucent front", &b, dir(30.0, 0.0), 1.05);
+        check_lobe("glossytranslucent back", &b, -dir(50.0, 40.0), 1.05);
+    }
+}

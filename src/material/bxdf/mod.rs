@@ -7,6 +7,7 @@ pub mod asperity;
 pub mod carpaint;
 pub mod diffuse;
 pub mod fresnel;
+pub mod glossy_translucent;
 pub mod microfacet;
 pub mod rough_dielectric;
 pub mod schlick;
