@@ -189,6 +189,14 @@ fn metal_lobes_sample_consistently() {
     for theta in [0.0, 50.0] {
         check_lobe("metal", &b, dir(theta, 0.0), 1.0);
     }
+    let aniso = MicrofacetReflection {
+        dist: Blinn::from_uv(0.05, 0.3),
+        ..m
+    };
+    let b = bsdf(Lobes::Microfacet(aniso));
+    for (theta, phi) in [(0.0, 0.0), (40.0, 30.0), (60.0, 100.0)] {
+        check_lobe("anisotropic metal", &b, dir(theta, phi), 1.0);
+    }
 }
 
 #[test]
