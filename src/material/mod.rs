@@ -192,6 +192,8 @@ impl Builder<'_> {
 
     fn build_entity(&mut self, e: &Entity) -> Result<Material, MaterialError> {
         let p = &e.params;
+        // MakeNamedMaterial's "type" became `kind`: it is not an unused parameter.
+        let _ = p.string("type");
         let kind = match e.kind.as_str() {
             "matte" => MaterialKind::Matte(matte::Matte::build(self, e)?),
             "mattetranslucent" => {
@@ -206,6 +208,12 @@ impl Builder<'_> {
                      with index 1.5"
                         .into(),
                 );
+                if p.bool_or("dispersion", false) {
+                    self.warn(
+                        &e.loc,
+                        "dispersion needs spectral rendering, which is not built: ignored".into(),
+                    );
+                }
                 MaterialKind::Glass(glass::Glass::build(self, e)?)
             }
             "roughglass" => MaterialKind::RoughGlass(roughglass::RoughGlass::build(self, e)?),
