@@ -128,16 +128,16 @@ impl Material {
 }
 
 /// Everything a material builder needs.
-pub struct Builder<'a> {
+pub struct Builder<'a, 't> {
     pub desc: &'a SceneDescription,
-    pub textures: TextureSet<'a>,
+    pub textures: &'t mut TextureSet<'a>,
     pub ctx: MaterialCtx,
     built: Vec<Option<Arc<Material>>>,
     building: Vec<usize>,
     pub warnings: Vec<Diagnostic>,
 }
 
-impl Builder<'_> {
+impl Builder<'_, '_> {
     pub fn warn(&mut self, loc: &Loc, message: String) {
         tracing::warn!("{loc}: {message}");
         self.warnings.push(Diagnostic {
@@ -263,12 +263,25 @@ impl MaterialSet {
         used: &[usize],
         ctx: &MaterialCtx,
     ) -> Result<MaterialSet, MaterialError> {
-        let textures = TextureSet::new(
+        let mut textures = TextureSet::new(
             desc,
             TextureCtx {
                 base_dir: ctx.base_dir.clone(),
             },
         );
+        let mut set = MaterialSet::build_with_textures(desc, used, ctx, &mut textures)?;
+        set.warnings.append(&mut textures.warnings);
+        Ok(set)
+    }
+
+    /// As [`MaterialSet::build`], with a texture set shared with other users (lights), so that
+    /// an image referenced by both is loaded once. Texture warnings stay in `textures`.
+    pub fn build_with_textures<'a>(
+        desc: &'a SceneDescription,
+        used: &[usize],
+        ctx: &MaterialCtx,
+        textures: &mut TextureSet<'a>,
+    ) -> Result<MaterialSet, MaterialError> {
         let mut b = Builder {
             desc,
             textures,
@@ -280,8 +293,6 @@ impl MaterialSet {
         for &i in used {
             b.material(i, &Loc::default())?;
         }
-        let mut warnings = b.warnings;
-        warnings.append(&mut b.textures.warnings);
         let count = b.built.iter().filter(|m| m.is_some()).count();
         tracing::info!(
             "built {count} of {} materials, {} textures, {} images",
@@ -293,7 +304,7 @@ impl MaterialSet {
             images_loaded: b.textures.images_loaded(),
             materials: b.built,
             default: Arc::new(Material::default_matte()),
-            warnings,
+            warnings: b.warnings,
         })
     }
 

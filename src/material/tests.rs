@@ -560,3 +560,31 @@ fn glossy_translucent_samples_consistently_on_both_faces() {
         check_lobe("glossytranslucent back", &b, -dir(50.0, 40.0), 1.05);
     }
 }
+
+#[test]
+fn a_shared_texture_set_builds_each_texture_once() {
+    use crate::lxs::TextureType;
+    use crate::texture::{TextureCtx, TextureSet};
+    let mut d = scene(vec![mat(
+        "m",
+        "matte",
+        vec![("Kd", ParamValue::Texture("t".into()))],
+        1,
+    )]);
+    crate::texture::tests::add_tex(
+        &mut d,
+        "t",
+        TextureType::Color,
+        "constant",
+        vec![("value", ParamValue::Color(vec![[0.1, 0.2, 0.3]]))],
+    );
+    let mut textures = TextureSet::new(&d, TextureCtx::default());
+    let set =
+        MaterialSet::build_with_textures(&d, &[0], &MaterialCtx::default(), &mut textures).unwrap();
+    assert!(set.is_built(0));
+    let mut ps = ParamSet::new();
+    ps.add("L", ParamValue::Texture("t".into()));
+    let light_tex = textures.color_param(&ps, "L", Rgb::WHITE).unwrap();
+    assert_eq!(light_tex.as_const(), Some(Rgb::new(0.1, 0.2, 0.3)));
+    assert_eq!(textures.built_names(), vec!["t".to_string()]);
+}
