@@ -91,6 +91,10 @@ fn parameters_are_consumed_and_errors_name_the_statement() {
     let f = Filter::from_entity(Some(&e)).unwrap();
     assert_eq!(f.radius(), Vec2::new(1.5, 2.5));
     assert_eq!(e.params.unused().count(), 0);
+    for (k, name) in [("sinc", "tau"), ("gaussian", "alpha"), ("mitchell", "B")] {
+        let nan = entity(k, &[(name, ParamValue::Float(vec![f32::NAN]))]);
+        assert!(Filter::from_entity(Some(&nan)).is_err(), "{k} {name}");
+    }
     let err = Filter::from_entity(Some(&entity("lanczos", &[]))).unwrap_err();
     assert!(
         err.to_string()
