@@ -119,6 +119,14 @@ fn deterministic_and_order_independent() {
         assert_eq!(st.dimension(), 3);
         let mut again = s.start(7, 1, 2, 3, 5);
         assert_eq!(again.next_2d(), first);
+        // Jumping to a dimension gives what sequential drawing gives there.
+        let mut seq = s.start(7, 1, 2, 3, 5);
+        for _ in 0..4 {
+            seq.next_2d();
+        }
+        let mut jump = s.start(7, 1, 2, 3, 5);
+        jump.set_dimension(8);
+        assert_eq!(seq.next_2d(), jump.next_2d());
     }
 }
 
