@@ -6,7 +6,11 @@ use std::process::ExitCode;
 mod cmd;
 
 #[derive(Parser)]
-#[command(name = "luxfarm", version, about = "A network render farm for LuxRender scenes")]
+#[command(
+    name = "luxfarm",
+    version,
+    about = "A network render farm for LuxRender scenes"
+)]
 struct Cli {
     /// Log filter (e.g. "info", "luxfarm=debug"); also read from RUST_LOG.
     #[arg(long, global = true, default_value = "warn")]
@@ -19,6 +23,15 @@ struct Cli {
 enum Command {
     /// Parse a scene and print a summary, or its SceneDescription as JSON.
     Parse(cmd::parse::Args),
+    /// Benchmarks.
+    #[command(subcommand)]
+    Bench(BenchCommand),
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Ray throughput of the BVH on incoherent rays (closest hit and any hit).
+    Bvh(cmd::bench_bvh::Args),
 }
 
 fn main() -> ExitCode {
@@ -26,6 +39,7 @@ fn main() -> ExitCode {
     init_logging(&cli.log);
     let result = match cli.command {
         Command::Parse(a) => cmd::parse::run(a),
+        Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
     };
     match result {
         Ok(code) => code,
