@@ -1,4 +1,6 @@
 //! One module per subcommand.
 
 pub mod bench_bvh;
+pub mod compare_image;
 pub mod parse;
+pub mod render;
