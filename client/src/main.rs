@@ -23,6 +23,10 @@ struct Cli {
 enum Command {
     /// Parse a scene and print a summary, or its SceneDescription as JSON.
     Parse(cmd::parse::Args),
+    /// Render a scene locally on all cores and write the outputs its Film asks for.
+    Render(cmd::render::Args),
+    /// Compare two images (RMSE, relative MSE, mean ratio; the second is the reference).
+    CompareImage(cmd::compare_image::Args),
     /// Benchmarks.
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -54,6 +58,8 @@ fn main() -> ExitCode {
         Command::Bench { which } => match which {
             cmd::BenchCommand::Flm(a) => cmd::bench_flm::run(a),
         },
+        Command::Render(a) => cmd::render::run(a),
+        Command::CompareImage(a) => cmd::compare_image::run(a),
     };
     match result {
         Ok(code) => code,

@@ -12,3 +12,6 @@ pub enum BenchCommand {
     /// FLM decode + merge and encode throughput of a 1080p delta.
     Flm(bench_flm::Args),
 }
+pub mod compare_image;
+pub mod parse;
+pub mod render;
