@@ -1,8 +1,8 @@
 //! `DescriptionBuilder`: the [`SceneBuilder`] that keeps LuxRender's graphics state and
 //! produces a [`SceneDescription`].
 //!
-//! This file holds the state machine (options/world/motion, block nesting, transforms and
-//! coordinate systems); `world.rs` handles the world statements (textures, materials, lights,
+//! This file implements the trait (transforms, coordinate systems, options, blocks);
+//! `blocks.rs` holds the phase and nesting rules, `world.rs` the world statements (textures, materials, lights,
 //! shapes, objects, volumes).
 
 mod blocks;
