@@ -2,8 +2,8 @@
 //! produces a [`SceneDescription`].
 //!
 //! This file implements the trait (transforms, coordinate systems, options, blocks);
-//! `blocks.rs` holds the phase and nesting rules, `world.rs` the world statements (textures, materials, lights,
-//! shapes, objects, volumes).
+//! `blocks.rs` holds the phase and nesting rules, `world.rs` the world statements (textures,
+//! materials, lights, shapes, objects, volumes).
 
 mod blocks;
 mod refs;
