@@ -71,21 +71,61 @@ pub fn incoherent_rays(g: &Geometry, n: usize, seed: u64) -> (Vec<Ray>, Vec<Ray>
     (closest, any)
 }
 
-/// Millions of rays per second of `f` over `rays` on `threads` threads, and the number of
-/// rays for which `f` returned true.
-pub fn throughput(rays: &[Ray], threads: usize, f: impl Fn(&Ray) -> bool + Sync) -> (f64, usize) {
+/// CPU time this thread has run, from Linux's `/proc/thread-self/schedstat` (None elsewhere).
+fn thread_cpu_secs() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = s.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
+/// Throughput of one run: wall-clock rate, and the rate per CPU-second actually received
+/// times the thread count (what an otherwise idle machine would give; the build machine is
+/// shared).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Throughput {
+    pub wall_mrays: f64,
+    pub cpu_mrays: f64,
+    pub hits: usize,
+}
+
+/// Runs `f` over `rays` split across `threads` threads.
+pub fn throughput(rays: &[Ray], threads: usize, f: impl Fn(&Ray) -> bool + Sync) -> Throughput {
     let threads = threads.max(1);
     let chunk = rays.len().div_ceil(threads).max(1);
     let start = Instant::now();
-    let hits: usize = std::thread::scope(|s| {
+    let per_thread: Vec<(usize, f64)> = std::thread::scope(|s| {
         let handles: Vec<_> = rays
             .chunks(chunk)
-            .map(|c| s.spawn(|| c.iter().filter(|r| f(r)).count()))
+            .map(|c| {
+                s.spawn(|| {
+                    let t0 = thread_cpu_secs();
+                    let hits = c.iter().filter(|r| f(r)).count();
+                    let cpu = match (t0, thread_cpu_secs()) {
+                        (Some(a), Some(b)) => b - a,
+                        _ => f64::NAN,
+                    };
+                    (hits, cpu)
+                })
+            })
             .collect();
-        handles.into_iter().map(|h| h.join().unwrap_or(0)).sum()
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or((0, f64::NAN)))
+            .collect()
     });
     let secs = start.elapsed().as_secs_f64().max(1e-9);
-    (rays.len() as f64 / secs / 1e6, hits)
+    let hits = per_thread.iter().map(|p| p.0).sum();
+    let cpu: f64 = per_thread.iter().map(|p| p.1).sum();
+    let n = rays.len() as f64;
+    Throughput {
+        wall_mrays: n / secs / 1e6,
+        cpu_mrays: if cpu > 0.0 {
+            n / cpu * threads as f64 / 1e6
+        } else {
+            f64::NAN
+        },
+        hits,
+    }
 }
 
 /// Result of one configuration.
@@ -93,10 +133,8 @@ pub fn throughput(rays: &[Ray], threads: usize, f: impl Fn(&Ray) -> bool + Sync)
 pub struct BenchResult {
     pub options: BvhOptions,
     pub build_secs: f64,
-    pub closest_mrays: f64,
-    pub any_mrays: f64,
-    pub closest_hits: usize,
-    pub any_hits: usize,
+    pub closest: Throughput,
+    pub any: Throughput,
     pub rays: usize,
 }
 
@@ -145,16 +183,13 @@ pub fn bench(
         throughput(&closest[..closest.len().min(10_000)], threads, |r| {
             g.intersect(r).is_some()
         });
-        let (closest_mrays, closest_hits) =
-            throughput(closest, threads, |r| g.intersect(r).is_some());
-        let (any_mrays, any_hits) = throughput(any, threads, |r| g.intersect_p(r));
+        let closest_t = throughput(closest, threads, |r| g.intersect(r).is_some());
+        let any_t = throughput(any, threads, |r| g.intersect_p(r));
         out.push(BenchResult {
             options: opts,
             build_secs,
-            closest_mrays,
-            any_mrays,
-            closest_hits,
-            any_hits,
+            closest: closest_t,
+            any: any_t,
             rays: closest.len(),
         });
     }

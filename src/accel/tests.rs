@@ -797,3 +797,47 @@ fn plymesh_without_normals_gets_smoothed_vertex_normals() {
     assert!((Vec3A::from_array(n[0]) - Vec3A::new(0.0, s, s)).length() < 1e-6);
     assert!((Vec3A::from_array(n[2]) - Vec3A::Z).length() < 1e-6);
 }
+
+#[test]
+fn every_bvh_configuration_finds_the_same_hits() {
+    let shapes = bench::cornell_like();
+    let build = |opts| {
+        let mut b = GeometryBuilder::with_options(opts);
+        for (i, s) in shapes.iter().enumerate() {
+            b.add_shape(s, i as u32, &ShapeCtx::default()).unwrap();
+        }
+        b.build()
+    };
+    let reference = build(bvh::BvhOptions::default());
+    let (closest, any) = bench::incoherent_rays(&reference, 3000, 11);
+    let expect: Vec<_> = closest
+        .iter()
+        .map(|r| reference.intersect(r).map(|s| (s.prim, s.t)))
+        .collect();
+    assert!(expect.iter().filter(|h| h.is_some()).count() > 2000);
+    let expect_any: Vec<bool> = any.iter().map(|r| reference.intersect_p(r)).collect();
+    for opts in bench::candidate_options() {
+        let g = build(opts);
+        for (r, e) in closest.iter().zip(&expect) {
+            assert_eq!(g.intersect(r).map(|s| (s.prim, s.t)), *e, "{opts}");
+        }
+        for (r, e) in any.iter().zip(&expect_any) {
+            assert_eq!(g.intersect_p(r), *e, "{opts}");
+        }
+    }
+    // closest hits agree with any-hit queries along the same segment
+    for (r, e) in closest.iter().zip(&expect) {
+        if let Some((_, t)) = e {
+            let seg = Ray {
+                t_max: t * 1.01,
+                ..*r
+            };
+            assert!(reference.intersect_p(&seg));
+            let short = Ray {
+                t_max: t * 0.99,
+                ..*r
+            };
+            assert!(!reference.intersect_p(&short));
+        }
+    }
+}
