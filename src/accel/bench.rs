@@ -8,7 +8,7 @@
 use super::bvh::{BuildQuality, BvhLayout, BvhOptions};
 use super::{Geometry, GeometryBuilder};
 use crate::geometry::Ray;
-use crate::lxs::{Entity, Loc, ParamSet, ParamValue, ShapeDesc, Xform};
+use crate::lxs::{Entity, Loc, ParamSet, ParamValue, SceneDescription, ShapeDesc, Xform};
 use crate::shape::{ShapeCtx, ShapeError};
 use glam::{DMat4, Vec3A};
 use std::time::Instant;
@@ -159,11 +159,10 @@ pub fn candidate_options() -> Vec<BvhOptions> {
     v
 }
 
-/// Builds the geometry of `shapes` with each option set and measures closest-hit and any-hit
+/// Builds the geometry with each option set (`build`) and measures closest-hit and any-hit
 /// throughput on the same `n` incoherent rays with `threads` threads.
 pub fn bench(
-    shapes: &[ShapeDesc],
-    ctx: &ShapeCtx,
+    build: impl Fn(BvhOptions) -> Result<Geometry, ShapeError>,
     options: &[BvhOptions],
     n: usize,
     threads: usize,
@@ -172,11 +171,7 @@ pub fn bench(
     let mut rays = None;
     for &opts in options {
         let start = Instant::now();
-        let mut b = GeometryBuilder::with_options(opts);
-        for (i, s) in shapes.iter().enumerate() {
-            b.add_shape(s, i as u32, ctx)?;
-        }
-        let g = b.build();
+        let g = build(opts)?;
         let build_secs = start.elapsed().as_secs_f64();
         let (closest, any) = rays.get_or_insert_with(|| incoherent_rays(&g, n, 7));
         // warm-up
@@ -194,6 +189,42 @@ pub fn bench(
         });
     }
     Ok(out)
+}
+
+/// Geometry of a parsed scene: world shapes (portals excluded), objects and instances.
+pub fn scene_geometry(
+    desc: &SceneDescription,
+    ctx: &ShapeCtx,
+    opts: BvhOptions,
+) -> Result<Geometry, ShapeError> {
+    let mut b = GeometryBuilder::with_options(opts);
+    for (i, s) in desc.shapes.iter().enumerate().filter(|(_, s)| !s.portal) {
+        b.add_shape(s, i as u32, ctx)?;
+    }
+    let mut ids = Vec::new();
+    for o in &desc.objects {
+        let prims: Vec<u32> = (0..o.shapes.len() as u32).collect();
+        ids.push(b.add_object(o, &prims, ctx)?);
+    }
+    for inst in desc.instances.iter().filter(|i| !i.portal) {
+        if let Some(&id) = ids.get(inst.object) {
+            b.add_instance(id, &inst.instance_to_world);
+        }
+    }
+    Ok(b.build())
+}
+
+/// Geometry of a list of world shapes.
+pub fn shapes_geometry(
+    shapes: &[ShapeDesc],
+    ctx: &ShapeCtx,
+    opts: BvhOptions,
+) -> Result<Geometry, ShapeError> {
+    let mut b = GeometryBuilder::with_options(opts);
+    for (i, s) in shapes.iter().enumerate() {
+        b.add_shape(s, i as u32, ctx)?;
+    }
+    Ok(b.build())
 }
 
 /// A synthetic scene: a closed box (12 triangles) holding `k`³ UV spheres of `seg` segments.
