@@ -4,11 +4,12 @@
 //! gets its own, and a top-level BVH over the instances' world boxes transforms rays into the
 //! object's space (f64 transform, one f32 rounding) and hits back to world space with error
 //! bounds. Layout and build quality were chosen by measurement (`luxfarm bench bvh --all`,
-//! see [`bench`]): on the Cornell geometry (4.6k triangles, incoherent rays, 2 threads, per
-//! CPU-second received) CWBVH with obvhs's medium PLOC build and up to 3 primitives per leaf
-//! gave 9.8 M closest-hit and 16 M any-hit rays/s, ahead of every BVH2 variant (at most 8.3 M
-//! closest-hit) and of 1-primitive CWBVH leaves; on 500k triangles the slow build was ~10%
-//! faster to traverse but 2x slower to build.
+//! see [`bench`]; the shared 2-core machine was loaded, so rates are per CPU-second
+//! received): CWBVH with up to 3 primitives per leaf led on cornell-mesh.lxs (about 9 M
+//! closest-hit and 15-16 M any-hit rays/s on 2 threads, BVH2 variants at most 8.3 M and 11.9
+//! M); between obvhs's medium and slow PLOC builds the difference was within the noise there
+//! (7.6-9.8 M vs 9.3 M), and on 500k triangles the slow build traversed ~10% faster (1.50 vs
+//! 1.35 M rays/s) for a 2.4 s instead of 1.4 s build: the slow build is the default.
 
 pub mod bench;
 pub mod blas;
