@@ -49,12 +49,12 @@ fn main() -> ExitCode {
     init_logging(&cli.log);
     let result = match cli.command {
         Command::Parse(a) => cmd::parse::run(a),
+        Command::Render(a) => cmd::render::run(a),
+        Command::CompareImage(a) => cmd::compare_image::run(a),
+        Command::Flm(a) => cmd::flm::run(a),
         Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
         Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
         Command::Bench(BenchCommand::Flm(a)) => cmd::bench_flm::run(a),
-        Command::Flm(a) => cmd::flm::run(a),
-        Command::Render(a) => cmd::render::run(a),
-        Command::CompareImage(a) => cmd::compare_image::run(a),
     };
     match result {
         Ok(code) => code,
