@@ -1,1 +1,377 @@
 //! Acceleration structures: BVH over primitives (obvhs) and a two-level BVH for object instances.
+//!
+//! World-level shapes share one bottom-level BVH ([`blas::Blas`]); each `ObjectBegin` object
+//! gets its own, and a top-level BVH over the instances' world boxes transforms rays into the
+//! object's space (f64 transform, one f32 rounding) and hits back to world space with error
+//! bounds. Layout and build quality were chosen by measurement (`luxfarm bench bvh`, see
+//! [`bench`]): CWBVH traversal with obvhs's medium PLOC build and up to 3 primitives per leaf.
+
+pub mod bench;
+pub mod blas;
+pub mod bvh;
+
+use crate::geometry::frame::LocalGeometry;
+use crate::geometry::transform::{to_f32, to_f64};
+use crate::geometry::{Distribution1D, Interaction, Ray, SurfaceInteraction, Transform};
+use crate::lxs::{ObjectDesc, ShapeDesc, Xform};
+use crate::shape::{self, Shape, ShapeCtx, ShapeError};
+use blas::{Blas, BlasHit};
+use bvh::{padded, Bvh, BvhOptions};
+use glam::{DVec3, Vec2, Vec3A};
+
+/// A world-level shape (index in the order of `add_shape`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ShapeId(pub u32);
+
+/// An `ObjectBegin` object (index in the order of `add_object`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ObjectId(pub u32);
+
+/// Collects shapes, objects and instances; [`GeometryBuilder::build`] makes the BVHs.
+#[derive(Default)]
+pub struct GeometryBuilder {
+    shapes: Vec<Shape>,
+    prims: Vec<u32>,
+    objects: Vec<(Vec<Shape>, Vec<u32>)>,
+    instances: Vec<(u32, Transform)>,
+    options: BvhOptions,
+}
+
+impl GeometryBuilder {
+    pub fn new() -> GeometryBuilder {
+        GeometryBuilder::default()
+    }
+
+    /// Uses other BVH options than the measured default (benchmarks).
+    pub fn with_options(options: BvhOptions) -> GeometryBuilder {
+        GeometryBuilder {
+            options,
+            ..GeometryBuilder::default()
+        }
+    }
+
+    /// Adds a world-level shape; every hit on it reports `prim`.
+    pub fn add_shape(
+        &mut self,
+        desc: &ShapeDesc,
+        prim: u32,
+        ctx: &ShapeCtx,
+    ) -> Result<ShapeId, ShapeError> {
+        let s = shape::create(desc, &Transform::IDENTITY, ctx)?;
+        self.shapes.push(s);
+        self.prims.push(prim);
+        Ok(ShapeId(self.shapes.len() as u32 - 1))
+    }
+
+    /// Adds an object; `prims[i]` is reported for hits on `obj.shapes[i]`.
+    pub fn add_object(
+        &mut self,
+        obj: &ObjectDesc,
+        prims: &[u32],
+        ctx: &ShapeCtx,
+    ) -> Result<ObjectId, ShapeError> {
+        if prims.len() != obj.shapes.len() {
+            return Err(ShapeError {
+                loc: obj.loc.clone(),
+                kind: format!("object {}", obj.name),
+                message: format!(
+                    "{} primitive ids for {} shapes",
+                    prims.len(),
+                    obj.shapes.len()
+                ),
+            });
+        }
+        let shapes = obj
+            .shapes
+            .iter()
+            .map(|d| shape::create(d, &Transform::IDENTITY, ctx))
+            .collect::<Result<Vec<_>, _>>()?;
+        self.objects.push((shapes, prims.to_vec()));
+        Ok(ObjectId(self.objects.len() as u32 - 1))
+    }
+
+    /// Places an instance of `object`. Singular transforms are skipped with a warning;
+    /// motion-blurred ones use their first key.
+    pub fn add_instance(&mut self, object: ObjectId, instance_to_world: &Xform) {
+        if instance_to_world.is_animated() {
+            tracing::warn!("object instance with a motion-blurred transform: using its first key (motion blur is not implemented)");
+        }
+        match Transform::new(instance_to_world.start()) {
+            Some(t) if (object.0 as usize) < self.objects.len() => {
+                self.instances.push((object.0, t))
+            }
+            Some(_) => tracing::warn!("instance of unknown object {} skipped", object.0),
+            None => tracing::warn!("object instance with a singular transform skipped"),
+        }
+    }
+
+    pub fn build(self) -> Geometry {
+        let start = std::time::Instant::now();
+        let areas = self.shapes.iter().map(ShapeArea::new).collect();
+        let world = Blas::build(self.shapes, self.prims, self.options);
+        let objects: Vec<Blas> = self
+            .objects
+            .into_iter()
+            .map(|(s, p)| Blas::build(s, p, self.options))
+            .collect();
+        let instances: Vec<Instance> = self
+            .instances
+            .into_iter()
+            .filter(|(o, _)| !objects[*o as usize].is_empty())
+            .map(|(object, to_world)| Instance {
+                object,
+                to_object: to_world.inverse(),
+                to_world,
+            })
+            .collect();
+        let boxes: Vec<_> = instances
+            .iter()
+            .map(|i| {
+                let b = &objects[i.object as usize];
+                let (lo, hi) = transform_box(&i.to_world, b.lo, b.hi);
+                padded(lo, hi)
+            })
+            .collect();
+        let (tlas, perm) = Bvh::build(&boxes, self.options);
+        let instances: Vec<Instance> = perm
+            .iter()
+            .map(|&i| instances[i as usize].clone())
+            .collect();
+        let (mut lo, mut hi) = (world.lo, world.hi);
+        for b in &boxes {
+            lo = lo.min(b.min);
+            hi = hi.max(b.max);
+        }
+        let instanced_tris: usize = instances
+            .iter()
+            .map(|i| objects[i.object as usize].triangle_count())
+            .sum();
+        tracing::info!(
+            "geometry: {} shapes ({} triangles, {} quadrics), {} objects ({} triangles), {} instances ({} instanced triangles); BVH {} built in {:.1?}",
+            world.shapes.len(),
+            world.triangle_count(),
+            world.quadric_count(),
+            objects.len(),
+            objects.iter().map(Blas::triangle_count).sum::<usize>(),
+            instances.len(),
+            instanced_tris,
+            self.options,
+            start.elapsed()
+        );
+        Geometry {
+            world,
+            areas,
+            objects,
+            instances,
+            tlas,
+            lo,
+            hi,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Instance {
+    object: u32,
+    to_world: Transform,
+    to_object: Transform,
+}
+
+/// Area of a world shape and, for meshes, the triangle-picking table.
+#[derive(Clone, Debug)]
+struct ShapeArea {
+    area: f64,
+    tris: Option<Distribution1D>,
+}
+
+impl ShapeArea {
+    fn new(s: &Shape) -> ShapeArea {
+        match s {
+            Shape::Mesh(m) => {
+                let w: Vec<f64> = (0..m.tris.len()).map(|i| m.area(i)).collect();
+                ShapeArea {
+                    area: w.iter().sum(),
+                    tris: Distribution1D::new(&w),
+                }
+            }
+            Shape::Quadric(q) => ShapeArea {
+                area: q.area(),
+                tris: None,
+            },
+        }
+    }
+}
+
+/// All the scene's geometry, ready for ray queries.
+#[derive(Clone, Debug)]
+pub struct Geometry {
+    world: Blas,
+    areas: Vec<ShapeArea>,
+    objects: Vec<Blas>,
+    instances: Vec<Instance>,
+    tlas: Bvh,
+    lo: Vec3A,
+    hi: Vec3A,
+}
+
+/// Where the closest hit so far is.
+#[derive(Clone, Copy)]
+enum Found {
+    World(BlasHit),
+    Instance(u32, BlasHit),
+}
+
+impl Geometry {
+    /// World bounds (min, max); inverted (min > max) when empty.
+    pub fn bounds(&self) -> (Vec3A, Vec3A) {
+        (self.lo, self.hi)
+    }
+
+    fn closest(&self, ray: &Ray) -> Option<(Found, f32)> {
+        let mut best: Option<(Found, f32)> = None;
+        let mut t_max = ray.t_max;
+        if let Some(h) = self.world.closest(ray.o, ray.d, t_max) {
+            t_max = h.t;
+            best = Some((Found::World(h), h.t));
+        }
+        if self.instances.is_empty() {
+            return best;
+        }
+        let len = ray.d.length();
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
+            return best;
+        }
+        let dn = ray.d / len;
+        let mut inst_best = None;
+        self.tlas.closest(ray.o, dn, t_max * len, |o, d, tm, slot| {
+            let inst = &self.instances[slot];
+            let o = inst.to_object.point_f32(o);
+            let d = inst.to_object.vector_f32(d);
+            match self.objects[inst.object as usize].closest(o, d, tm) {
+                Some(h) => {
+                    inst_best = Some((slot as u32, h));
+                    h.t
+                }
+                None => f32::INFINITY,
+            }
+        });
+        if let Some((slot, h)) = inst_best {
+            best = Some((Found::Instance(slot, h), h.t / len));
+        }
+        best
+    }
+
+    /// The closest hit with 0 < t < ray.t_max, fully described.
+    pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        let (found, t) = self.closest(ray)?;
+        let (g, prim) = match found {
+            Found::World(h) => self.world.hit_geometry(h, ray.o, ray.d, ray.t_max)?,
+            Found::Instance(slot, h) => {
+                let inst = &self.instances[slot as usize];
+                let len = ray.d.length();
+                let dn = ray.d / len;
+                let o = inst.to_object.point_f32(ray.o);
+                let d = inst.to_object.vector_f32(dn);
+                let (g, prim) =
+                    self.objects[inst.object as usize].hit_geometry(h, o, d, f32::INFINITY)?;
+                (to_world(&inst.to_world, &g), prim)
+            }
+        };
+        let wo = (-ray.d).normalize_or_zero();
+        Some(g.into_surface_interaction(wo, t, prim, ray.time))
+    }
+
+    /// Whether anything is hit with 0 < t < ray.t_max (shadow rays).
+    pub fn intersect_p(&self, ray: &Ray) -> bool {
+        if self.world.any(ray.o, ray.d, ray.t_max) {
+            return true;
+        }
+        if self.instances.is_empty() {
+            return false;
+        }
+        let len = ray.d.length();
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
+            return false;
+        }
+        let dn = ray.d / len;
+        self.tlas.any(ray.o, dn, ray.t_max * len, |o, d, tm, slot| {
+            let inst = &self.instances[slot];
+            let o = inst.to_object.point_f32(o);
+            let d = inst.to_object.vector_f32(d);
+            if self.objects[inst.object as usize].any(o, d, tm) {
+                0.0
+            } else {
+                f32::INFINITY
+            }
+        })
+    }
+
+    /// World-space area of a world-level shape (0 for an unknown id).
+    pub fn area(&self, id: ShapeId) -> f32 {
+        self.areas.get(id.0 as usize).map_or(0.0, |a| a.area as f32)
+    }
+
+    /// A point of the shape, uniform by area (`u_pick` chooses the triangle of a mesh), and its
+    /// density with respect to area. An unknown id gives pdf 0.
+    pub fn sample(&self, id: ShapeId, u: Vec2, u_pick: f32) -> (Interaction, f32) {
+        let (Some(shape), Some(a)) = (
+            self.world.shapes.get(id.0 as usize),
+            self.areas.get(id.0 as usize),
+        ) else {
+            return (Interaction::default(), 0.0);
+        };
+        match shape {
+            Shape::Mesh(m) => match &a.tris {
+                Some(dist) => {
+                    let (i, _) = dist.sample(u_pick);
+                    let g = m.sample(i, u);
+                    (g.interaction(0.0), (1.0 / a.area) as f32)
+                }
+                None => (Interaction::default(), 0.0),
+            },
+            Shape::Quadric(q) => {
+                let (g, pdf) = q.sample(u);
+                (g.interaction(0.0), pdf)
+            }
+        }
+    }
+
+    /// Number of world-level shapes.
+    pub fn shape_count(&self) -> usize {
+        self.world.shapes.len()
+    }
+}
+
+/// Object-space local geometry moved to world space, with the point's error propagated.
+fn to_world(t: &Transform, g: &LocalGeometry) -> LocalGeometry {
+    let (p, p_error) = t.point_with_error(g.p, g.p_error);
+    LocalGeometry {
+        p,
+        p_error,
+        n: t.normal_f32(g.n).normalize_or_zero(),
+        ns: g.ns.map(|n| t.normal_f32(n).normalize_or_zero()),
+        uv: g.uv,
+        dpdu: t.vector_f32(g.dpdu),
+        dpdv: t.vector_f32(g.dpdv),
+    }
+}
+
+fn transform_box(t: &Transform, lo: Vec3A, hi: Vec3A) -> (Vec3A, Vec3A) {
+    let mut a = DVec3::splat(f64::INFINITY);
+    let mut b = DVec3::splat(f64::NEG_INFINITY);
+    let (lo, hi) = (to_f64(lo), to_f64(hi));
+    for i in 0..8 {
+        let c = DVec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        );
+        let w = t.point(c);
+        a = a.min(w);
+        b = b.max(w);
+    }
+    (to_f32(a), to_f32(b))
+}
+
+#[cfg(test)]
+mod tests;

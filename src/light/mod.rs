@@ -1,1 +1,261 @@
-//! Light sources: area, point, spot, distant, infinite.
+//! Light sources: area, point, spot, distant, infinite — with LuxRender's radiometric
+//! conventions (checked against LuxRender 1.x `lights/*.cpp`):
+//!
+//! - **area**: `L` (colour or texture, default 1) × `gain` (1) is the emitted *radiance*,
+//!   on the side of the (oriented) geometric normal only. When `power` (default 100 W) ×
+//!   `efficacy` (default 17 lm/W) / (area × π × Y(L)) is positive and finite, the gain is
+//!   multiplied by it, so the lamp emits `power × efficacy` lumens whatever its size.
+//!   Scenes that want raw `L` write `"float power" [0]`. `nsamples` (1) shadow rays.
+//! - **point**: intensity `L × gain` (W/sr); `power`/`efficacy` (default 0) normalise by
+//!   4π·Y(L). `from` offsets the position.
+//! - **spot**: like point, times the falloff ((cosθ − cos total)/(cos start − cos total))⁴
+//!   between `coneangle − conedeltaangle` and `coneangle` (30°, 5°); normalisation by
+//!   2π(1 − (cos start + cos total)/2)·Y(L). Direction `from` → `to`.
+//! - **distant**: irradiance `L × gain` from direction `to → from` (light travels from `from`
+//!   to `to`); `theta` > 0 (degrees) spreads it over a cone of directions.
+//! - **infinite**: radiance `L × gain` (× the lat-long map `mapname`, raised to `gamma`) for
+//!   escaping rays; the map is indexed with the light-space direction d by
+//!   s = φ/2π (φ = atan2(y, x) in [0, 2π)), t = θ/π (θ from +z), row 0 at the top.
+//!   Maps are importance sampled with a 2D piecewise-constant distribution.
+//!
+//! The film side: LuxRender's camera ray weight is 1 and the sample pipeline adds the
+//! radiance's XYZ times the filter weight, with the filter weight summed alongside; the
+//! pixel value is the weighted mean (no pixel-count or spp factor for eye-path integrators).
+
+pub mod area;
+pub mod distant;
+pub mod distribution;
+pub mod infinite;
+pub mod point;
+pub mod spot;
+pub mod strategy;
+pub mod warp;
+
+use crate::geometry::{Interaction, SurfaceInteraction};
+use crate::lxs::{Loc, ParamSet};
+use crate::spectrum::Rgb;
+use glam::{DMat4, Mat4, Vec2, Vec3A};
+use std::sync::Arc;
+
+pub use area::AreaLight;
+pub use distant::DistantLight;
+pub use infinite::InfiniteLight;
+pub use point::PointLight;
+pub use spot::SpotLight;
+pub use strategy::{LightSelector, LightStrategy};
+
+/// A light that failed to build, with the place it was declared.
+#[derive(Debug, thiserror::Error)]
+#[error("{loc}: {message}")]
+pub struct LightError {
+    pub loc: Loc,
+    pub message: String,
+}
+
+impl LightError {
+    pub fn new(loc: &Loc, message: impl Into<String>) -> LightError {
+        LightError {
+            loc: loc.clone(),
+            message: message.into(),
+        }
+    }
+}
+
+/// A colour evaluated on a surface (an area light's `L` texture).
+pub type EmitFn = Arc<dyn Fn(&SurfaceInteraction) -> Rgb + Send + Sync>;
+
+/// The `L` parameter of a light: a constant, or a texture evaluated where light leaves.
+#[derive(Clone)]
+pub enum Emission {
+    Const(Rgb),
+    Tex(EmitFn),
+}
+
+impl std::fmt::Debug for Emission {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Emission::Const(c) => write!(f, "Const({c:?})"),
+            Emission::Tex(_) => write!(f, "Tex(..)"),
+        }
+    }
+}
+
+impl Emission {
+    pub fn eval(&self, si: &SurfaceInteraction) -> Rgb {
+        match self {
+            Emission::Const(c) => *c,
+            Emission::Tex(t) => t(si),
+        }
+    }
+}
+
+/// `L` with its luminance Y (as LuxRender's colour pipeline computes it), which power and
+/// efficacy normalisation divides by.
+#[derive(Clone, Debug)]
+pub struct LightColor {
+    pub emission: Emission,
+    pub y: f32,
+}
+
+/// Where area lights find points on their shapes (implemented by the scene over the
+/// geometry): a point uniformly by area on emitter `shape`, with the area pdf.
+pub trait ShapeSampler {
+    fn sample_shape(&self, shape: u32, u: Vec2, u_pick: f32) -> Option<(Interaction, f32)>;
+}
+
+/// One sampled light direction as seen from a reference point.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Incident radiance (or intensity / d² for delta lights) arriving along `wi`.
+    pub li: Rgb,
+    /// Unit direction from the reference point toward the light.
+    pub wi: Vec3A,
+    /// Solid-angle density of `wi` (1 for delta lights).
+    pub pdf: f32,
+    /// The point on the light (for a shadow ray); unused when `infinite`.
+    pub p_light: Interaction,
+    pub delta: bool,
+    /// The light is at infinity: the shadow ray runs unbounded along `wi`.
+    pub infinite: bool,
+}
+
+/// Parameters every light shares.
+#[derive(Clone, Copy, Debug)]
+pub struct LightCommon {
+    /// Index of its light group in the film.
+    pub group: usize,
+    /// Shadow rays per direct-lighting estimate (`nsamples`).
+    pub nsamples: u32,
+}
+
+impl LightCommon {
+    pub fn from_params(params: &ParamSet, group: usize) -> LightCommon {
+        LightCommon {
+            group,
+            nsamples: params.int_or("nsamples", 1).max(1) as u32,
+        }
+    }
+}
+
+#[derive(Debug)]
+pub enum Light {
+    Point(PointLight),
+    Spot(SpotLight),
+    Distant(DistantLight),
+    Infinite(Box<InfiniteLight>),
+    Area(AreaLight),
+}
+
+impl Light {
+    pub fn common(&self) -> &LightCommon {
+        match self {
+            Light::Point(l) => &l.common,
+            Light::Spot(l) => &l.common,
+            Light::Distant(l) => &l.common,
+            Light::Infinite(l) => &l.common,
+            Light::Area(l) => &l.common,
+        }
+    }
+
+    pub fn group(&self) -> usize {
+        self.common().group
+    }
+
+    pub fn nsamples(&self) -> u32 {
+        self.common().nsamples
+    }
+
+    /// True for lights a BSDF-sampled ray can never hit (point, spot, sharp distant).
+    pub fn is_delta(&self) -> bool {
+        match self {
+            Light::Point(_) | Light::Spot(_) => true,
+            Light::Distant(l) => l.is_delta(),
+            Light::Infinite(_) | Light::Area(_) => false,
+        }
+    }
+
+    /// Called once the scene bounds are known (distant and infinite lights need them).
+    pub fn preprocess(&mut self, center: Vec3A, radius: f32) {
+        match self {
+            Light::Distant(l) => l.world_radius = radius,
+            Light::Infinite(l) => l.world_radius = radius,
+            _ => {}
+        }
+        let _ = center;
+    }
+
+    /// Samples a direction toward the light from `r`.
+    pub fn sample_li(
+        &self,
+        r: &Interaction,
+        u: Vec2,
+        u_pick: f32,
+        shapes: &dyn ShapeSampler,
+    ) -> Option<LightSample> {
+        let s = match self {
+            Light::Point(l) => l.sample_li(r),
+            Light::Spot(l) => l.sample_li(r),
+            Light::Distant(l) => l.sample_li(r, u),
+            Light::Infinite(l) => l.sample_li(r, u),
+            Light::Area(l) => l.sample_li(r, u, u_pick, shapes),
+        }?;
+        (s.pdf > 0.0 && s.pdf.is_finite() && s.li.is_finite() && !s.li.is_black()).then_some(s)
+    }
+
+    /// Solid-angle density with which [`Self::sample_li`] picks `wi` from `r`; for area
+    /// lights `hit` is where a ray along `wi` met the light.
+    pub fn pdf_li(&self, r: &Interaction, wi: Vec3A, hit: Option<&SurfaceInteraction>) -> f32 {
+        match self {
+            Light::Point(_) | Light::Spot(_) => 0.0,
+            Light::Distant(l) => l.pdf_li(wi),
+            Light::Infinite(l) => l.pdf_li(wi),
+            Light::Area(l) => hit.map_or(0.0, |h| l.pdf_li(r, h)),
+        }
+    }
+
+    /// Radiance reaching a ray that escapes the scene in direction `dir` (infinite lights and
+    /// wide distant lights).
+    pub fn le(&self, dir: Vec3A) -> Rgb {
+        match self {
+            Light::Infinite(l) => l.le(dir),
+            Light::Distant(l) => l.le(dir),
+            _ => Rgb::BLACK,
+        }
+    }
+
+    /// Emitted power's luminance (for the power-based light strategy).
+    pub fn power(&self) -> f32 {
+        let p = match self {
+            Light::Point(l) => l.power(),
+            Light::Spot(l) => l.power(),
+            Light::Distant(l) => l.power(),
+            Light::Infinite(l) => l.power(),
+            Light::Area(l) => l.power(),
+        };
+        if p.is_finite() {
+            p.max(0.0)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// LuxRender's `power × efficacy / (norm × Y)` gain factor, applied only when positive and
+/// finite.
+pub fn power_gain(power: f32, efficacy: f32, norm: f32, y: f32) -> f32 {
+    let f = power * efficacy / (norm * y);
+    if f > 0.0 && f.is_finite() {
+        f
+    } else {
+        1.0
+    }
+}
+
+/// The f32 matrix of a (static) light transform.
+pub fn to_mat4(m: DMat4) -> Mat4 {
+    m.as_mat4()
+}
+
+pub(crate) fn point3(p: [f32; 3]) -> Vec3A {
+    Vec3A::from_array(p)
+}

@@ -1,5 +1,7 @@
 //! One module per subcommand.
 
+pub mod bench_bvh;
+pub mod bench_parse;
 pub mod bench_flm;
 pub mod flm;
 pub mod parse;
@@ -10,3 +12,6 @@ pub enum BenchCommand {
     /// FLM decode + merge and encode throughput of a 1080p delta.
     Flm(bench_flm::Args),
 }
+pub mod compare_image;
+pub mod parse;
+pub mod render;

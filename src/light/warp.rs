@@ -1,0 +1,75 @@
+//! Small sampling warps and frames shared by the lights (and the integrators).
+
+use glam::{Vec2, Vec3A};
+use std::f32::consts::PI;
+
+/// A uniformly distributed direction on the unit sphere.
+pub fn uniform_sphere(u: Vec2) -> Vec3A {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3A::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+pub const UNIFORM_SPHERE_PDF: f32 = 1.0 / (4.0 * PI);
+
+/// A uniformly distributed direction in the cone around +z with the given cosine half-angle.
+pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3A {
+    let cos_t = (1.0 - u.x) + u.x * cos_max;
+    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3A::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
+}
+
+pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
+    1.0 / (2.0 * PI * (1.0 - cos_max))
+}
+
+/// An orthonormal basis (s, t) completing the unit vector `n` (Duff et al.).
+pub fn coordinate_system(n: Vec3A) -> (Vec3A, Vec3A) {
+    let sign = 1.0f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3A::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3A::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}
+
+/// Multiple importance sampling: the power heuristic (beta 2) for one sample of each strategy.
+pub fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
+    let (a, b) = (pdf_a * pdf_a, pdf_b * pdf_b);
+    if a.is_infinite() {
+        return 1.0;
+    }
+    if a + b > 0.0 {
+        a / (a + b)
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_is_orthonormal() {
+        for n in [Vec3A::Z, -Vec3A::Z, Vec3A::new(0.3, -0.5, 0.8).normalize()] {
+            let (s, t) = coordinate_system(n);
+            assert!(s.dot(t).abs() < 1e-5 && s.dot(n).abs() < 1e-5 && t.dot(n).abs() < 1e-5);
+            assert!((s.length() - 1.0).abs() < 1e-5 && (t.length() - 1.0).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn cone_directions_stay_in_cone() {
+        let c = 0.9;
+        for i in 0..10 {
+            for j in 0..10 {
+                let d = uniform_cone(Vec2::new(i as f32 / 10.0, j as f32 / 10.0), c);
+                assert!(d.z >= c - 1e-6 && (d.length() - 1.0).abs() < 1e-5);
+            }
+        }
+    }
+}

@@ -1,0 +1,208 @@
+//! Triangle meshes as every mesh-like shape produces them (trianglemesh, mesh, plymesh,
+//! stlmesh, heightfield): vertices transformed into the target space at build time, optional
+//! per-vertex normals and uv, quads split along their shorter diagonal as LuxRender does.
+
+use super::{Build, ShapeError};
+use crate::geometry::frame::{coordinate_system, LocalGeometry};
+use crate::geometry::transform::{error_floor, gamma, to_f32, to_f64};
+use glam::{Vec2, Vec3A};
+
+/// Vertex and face data as read from parameters or a file (object space).
+#[derive(Clone, Debug, Default)]
+pub struct MeshData {
+    pub p: Vec<[f32; 3]>,
+    pub n: Option<Vec<[f32; 3]>>,
+    pub uv: Option<Vec<[f32; 2]>>,
+    pub tris: Vec<[i64; 3]>,
+    pub quads: Vec<[i64; 4]>,
+}
+
+/// A triangle mesh in its target space.
+#[derive(Clone, Debug)]
+pub struct TriangleMesh {
+    pub p: Vec<Vec3A>,
+    /// Unit vertex normals in the target space (negated under ReverseOrientation, as
+    /// LuxRender does); the geometric normal is turned to agree with them.
+    pub n: Option<Vec<Vec3A>>,
+    pub uv: Option<Vec<Vec2>>,
+    pub tris: Vec<[u32; 3]>,
+    /// Geometric normal flipped: ReverseOrientation XOR the transform swaps handedness.
+    pub flip: bool,
+}
+
+const DEFAULT_UV: [Vec2; 3] = [
+    Vec2::new(0.0, 0.0),
+    Vec2::new(1.0, 0.0),
+    Vec2::new(1.0, 1.0),
+];
+
+impl TriangleMesh {
+    /// Validates `data` and transforms it into the target space of `b`.
+    pub(crate) fn build(b: &Build, data: MeshData) -> Result<TriangleMesh, ShapeError> {
+        let nv = data.p.len();
+        if nv == 0 {
+            return Err(b.err("the mesh has no vertices (\"P\")"));
+        }
+        if let Some(bad) = data.p.iter().find(|p| !p.iter().all(|c| c.is_finite())) {
+            return Err(b.err(format!("vertex {bad:?} is not finite")));
+        }
+        let check = |i: i64| -> Result<u32, ShapeError> {
+            if i < 0 || i as usize >= nv {
+                Err(b.err(format!(
+                    "vertex index {i} out of range ({nv} \"P\" values were given)"
+                )))
+            } else {
+                Ok(i as u32)
+            }
+        };
+        let mut tris = Vec::with_capacity(data.tris.len() + 2 * data.quads.len());
+        for t in &data.tris {
+            tris.push([check(t[0])?, check(t[1])?, check(t[2])?]);
+        }
+        let p: Vec<Vec3A> = data
+            .p
+            .iter()
+            .map(|v| to_f32(b.to_space.point(to_f64(Vec3A::from_array(*v)))))
+            .collect();
+        let uv: Option<Vec<Vec2>> = match data.uv {
+            Some(uv) if uv.len() == nv => Some(uv.iter().map(|t| Vec2::from_array(*t)).collect()),
+            Some(uv) => {
+                b.warn(&format!(
+                    "{} uv pairs for {nv} vertices: ignoring uv",
+                    uv.len()
+                ));
+                None
+            }
+            None => None,
+        };
+        for q in &data.quads {
+            let q = [check(q[0])?, check(q[1])?, check(q[2])?, check(q[3])?];
+            tris.extend(split_quad(&p, uv.as_deref(), q));
+        }
+        if tris.is_empty() {
+            return Err(b.err("the mesh has no triangles or quads"));
+        }
+        let n = match data.n {
+            Some(n) if n.len() == nv => Some(transform_normals(b, &n)),
+            Some(n) => {
+                b.warn(&format!(
+                    "{} normals for {nv} vertices: ignoring \"N\"",
+                    n.len()
+                ));
+                None
+            }
+            None => None,
+        };
+        Ok(TriangleMesh {
+            p,
+            n,
+            uv,
+            tris,
+            flip: b.reverse() ^ b.to_space.swaps_handedness(),
+        })
+    }
+
+    #[inline(always)]
+    pub fn vertices(&self, i: usize) -> [Vec3A; 3] {
+        let [a, b, c] = self.tris[i];
+        [self.p[a as usize], self.p[b as usize], self.p[c as usize]]
+    }
+
+    pub fn area(&self, i: usize) -> f64 {
+        let [p0, p1, p2] = self.vertices(i).map(to_f64);
+        0.5 * (p1 - p0).cross(p2 - p0).length()
+    }
+
+    /// Local geometry at barycentric coordinates `b` of triangle `i`.
+    pub fn geometry(&self, i: usize, b: [f32; 3]) -> LocalGeometry {
+        let [p0, p1, p2] = self.vertices(i);
+        let idx = self.tris[i];
+        let p = b[0] * p0 + b[1] * p1 + b[2] * p2;
+        let p_abs_sum = (b[0] * p0).abs() + (b[1] * p1).abs() + (b[2] * p2).abs();
+        let p_error = error_floor(p, gamma(7) * p_abs_sum);
+        let uv = match &self.uv {
+            Some(uv) => idx.map(|k| uv[k as usize]),
+            None => DEFAULT_UV,
+        };
+        let (dp02, dp12) = (p0 - p2, p1 - p2);
+        let mut n = dp02.cross(dp12).normalize_or_zero();
+        if n == Vec3A::ZERO {
+            n = (p1 - p0).any_orthonormal_vector();
+        }
+        if self.flip {
+            n = -n;
+        }
+        let ns = self.n.as_ref().and_then(|vn| {
+            let s = b[0] * vn[idx[0] as usize]
+                + b[1] * vn[idx[1] as usize]
+                + b[2] * vn[idx[2] as usize];
+            let s = s.normalize_or_zero();
+            (s != Vec3A::ZERO).then_some(s)
+        });
+        if let Some(ns) = ns {
+            if n.dot(ns) < 0.0 {
+                n = -n;
+            }
+        }
+        let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
+        let det = duv02.x * duv12.y - duv02.y * duv12.x;
+        let (mut dpdu, mut dpdv) = (Vec3A::ZERO, Vec3A::ZERO);
+        if det.abs() > 1e-12 {
+            let inv = 1.0 / det;
+            dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
+            dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
+        }
+        if dpdu.cross(dpdv).length_squared().is_nan() || dpdu.cross(dpdv).length_squared() <= 0.0 {
+            (dpdu, dpdv) = coordinate_system(n);
+        }
+        LocalGeometry {
+            p,
+            p_error,
+            n,
+            ns,
+            uv: b[0] * uv[0] + b[1] * uv[1] + b[2] * uv[2],
+            dpdu,
+            dpdv,
+        }
+    }
+
+    /// A point of triangle `i`, uniform by area.
+    pub fn sample(&self, i: usize, u: Vec2) -> LocalGeometry {
+        let su0 = u.x.sqrt();
+        let b0 = 1.0 - su0;
+        let b1 = u.y * su0;
+        self.geometry(i, [b0, b1, (1.0 - b0 - b1).max(0.0)])
+    }
+}
+
+fn transform_normals(b: &Build, n: &[[f32; 3]]) -> Vec<Vec3A> {
+    n.iter()
+        .map(|v| {
+            let w = to_f32(b.to_space.normal(to_f64(Vec3A::from_array(*v)))).normalize_or_zero();
+            if b.reverse() {
+                -w
+            } else {
+                w
+            }
+        })
+        .collect()
+}
+
+/// Splits a quad along its shorter diagonal (by uv distance on a tie), as LuxRender's mesh.
+fn split_quad(p: &[Vec3A], uv: Option<&[Vec2]>, q: [u32; 4]) -> [[u32; 3]; 2] {
+    let at = |i: usize| p[q[i] as usize];
+    let d02 = at(0).distance_squared(at(2));
+    let d13 = at(1).distance_squared(at(3));
+    let mut first = d02 < d13;
+    if d02 == d13 {
+        if let Some(uv) = uv {
+            let t = |i: usize| uv[q[i] as usize];
+            first = t(0).distance_squared(t(2)) < t(1).distance_squared(t(3));
+        }
+    }
+    if first {
+        [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
+    } else {
+        [[q[1], q[2], q[3]], [q[1], q[3], q[0]]]
+    }
+}

@@ -1,0 +1,112 @@
+//! `trianglemesh` and `mesh` (also `waldtrianglemesh`, `barytrianglemesh`, `loopsubdiv`): all
+//! read by LuxRender's mesh.cpp. Parameters: `point P`, `integer triindices` (or `indices`),
+//! `integer quadindices`, `normal N`, `float uv` (or `st`), `string tritype`/`quadtype`/
+//! `acceltype` (LuxRender-internal choices, read and ignored), `nsubdivlevels`/`nlevels` and
+//! `displacementmap` (subdivision and displacement are not implemented: an error).
+
+use super::mesh::{MeshData, TriangleMesh};
+use super::{Build, ShapeError};
+
+pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
+    let ps = b.params();
+    let p = ps
+        .points("P")
+        .ok_or_else(|| b.err("missing \"point P\""))?
+        .to_vec();
+    let tris_raw = ps
+        .ints("triindices")
+        .or_else(|| ps.ints("indices"))
+        .unwrap_or(&[]);
+    let quads_raw = ps.ints("quadindices").unwrap_or(&[]);
+    if tris_raw.is_empty() && quads_raw.is_empty() {
+        return Err(b.err("missing \"integer indices\" (or triindices/quadindices)"));
+    }
+    if !tris_raw.len().is_multiple_of(3) {
+        b.warn(&format!(
+            "{} triangle indices is not a multiple of 3: the last {} are ignored",
+            tris_raw.len(),
+            tris_raw.len() % 3
+        ));
+    }
+    if !quads_raw.len().is_multiple_of(4) {
+        b.warn("quad index count is not a multiple of 4: the remainder is ignored");
+    }
+    let tris = tris_raw
+        .chunks_exact(3)
+        .map(|c| [c[0] as i64, c[1] as i64, c[2] as i64])
+        .collect();
+    let quads = quads_raw
+        .chunks_exact(4)
+        .map(|c| [c[0] as i64, c[1] as i64, c[2] as i64, c[3] as i64])
+        .collect();
+    let uv_raw = ps.floats("uv").or_else(|| ps.floats("st"));
+    let uv = match uv_raw {
+        Some(f) if f.len() == 2 * p.len() => {
+            Some(f.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
+        }
+        Some(f) => {
+            b.warn(&format!(
+                "{} uv values for {} vertices (need 2 per vertex): ignoring uv",
+                f.len(),
+                p.len()
+            ));
+            None
+        }
+        None => None,
+    };
+    let n = ps.normals("N").map(|n| n.to_vec());
+    check_unsupported(b)?;
+    TriangleMesh::build(
+        b,
+        MeshData {
+            p,
+            n,
+            uv,
+            tris,
+            quads,
+        },
+    )
+}
+
+/// Reads the LuxRender-internal mesh options (accepted, no effect here) and rejects the
+/// features that are not implemented.
+pub(crate) fn check_unsupported(b: &Build) -> Result<(), ShapeError> {
+    let ps = b.params();
+    for name in ["tritype", "quadtype", "acceltype", "subdivscheme", "name"] {
+        let _ = ps.string(name);
+    }
+    let _ = ps.bool("dmnormalsmooth");
+    let _ = ps.bool("dmsharpboundary");
+    let _ = ps.bool("dmnormalsplit");
+    let _ = ps.float("dmscale");
+    let _ = ps.float("dmoffset");
+    let _ = ps.float("gamma");
+    if ps.bool_or("generatetangents", false) {
+        b.warn("\"generatetangents\" is ignored (tangent-space normal maps are not implemented)");
+    }
+    for tangent in ["S", "tangents"] {
+        if ps.get(tangent).is_some() {
+            b.warn(&format!("\"{tangent}\" (tangents) is ignored"));
+        }
+    }
+    for vertex_attr in ["C", "A"] {
+        if ps.floats(vertex_attr).is_some() {
+            b.warn(&format!(
+                "per-vertex \"{vertex_attr}\" is ignored (vertex colours are not implemented)"
+            ));
+        }
+    }
+    let levels = ps
+        .int("nsubdivlevels")
+        .or_else(|| ps.int("nlevels"))
+        .unwrap_or(0);
+    if levels > 0 {
+        return Err(b.err(format!(
+            "subdivision (nsubdivlevels {levels}) is not implemented"
+        )));
+    }
+    if ps.string("displacementmap").is_some() || ps.texture("displacementmap").is_some() {
+        return Err(b.err("displacement maps are not implemented"));
+    }
+    Ok(())
+}

@@ -1,0 +1,128 @@
+//! Image files for `imagemap`: PNG, JPEG, TGA and HDR through the `image` crate, OpenEXR through
+//! the `exr` crate, as linear RGBA f32 texels (row 0 at the top of the image). 8-bit images are
+//! divided by 255; LuxRender's `gamma` is applied to the colour channels of every format at
+//! load time (`value^gamma`; scenes give `gamma 1` for linear EXR/HDR files). Each
+//! (file, gamma) is loaded once per [`ImageCache`].
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Decoded texels.
+#[derive(Debug)]
+pub struct ImageData {
+    pub width: usize,
+    pub height: usize,
+    pub texels: Vec<[f32; 4]>,
+}
+
+impl ImageData {
+    /// Texel (x, y) with y = 0 the top row; callers keep indices in range.
+    pub fn texel(&self, x: usize, y: usize) -> [f32; 4] {
+        self.texels
+            .get(y * self.width + x)
+            .copied()
+            .unwrap_or([0.0; 4])
+    }
+}
+
+#[derive(Default)]
+pub struct ImageCache {
+    images: HashMap<(PathBuf, u32), Arc<ImageData>>,
+}
+
+impl ImageCache {
+    pub fn len(&self) -> usize {
+        self.images.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.images.is_empty()
+    }
+
+    /// The image at `path` with `gamma` applied, loading it on first use.
+    pub fn get(&mut self, path: &Path, gamma: f32) -> Result<Arc<ImageData>, String> {
+        let key = (path.to_path_buf(), gamma.to_bits());
+        if let Some(img) = self.images.get(&key) {
+            return Ok(img.clone());
+        }
+        let mut img = load(path)?;
+        if gamma != 1.0 {
+            for t in &mut img.texels {
+                for c in t.iter_mut().take(3) {
+                    *c = c.max(0.0).powf(gamma);
+                }
+            }
+        }
+        tracing::info!(
+            "loaded image {} ({}x{})",
+            path.display(),
+            img.width,
+            img.height
+        );
+        let img = Arc::new(img);
+        self.images.insert(key, img.clone());
+        Ok(img)
+    }
+}
+
+/// Decodes an image file by its extension.
+pub fn load(path: &Path) -> Result<ImageData, String> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    let img = if ext == "exr" {
+        load_exr(path)?
+    } else {
+        load_other(path)?
+    };
+    if img.width == 0 || img.height == 0 {
+        return Err("image has no pixels".into());
+    }
+    Ok(img)
+}
+
+fn load_exr(path: &Path) -> Result<ImageData, String> {
+    use exr::prelude::*;
+    let image = read_first_rgba_layer_from_file(
+        path,
+        |res: Vec2<usize>, _channels: &RgbaChannels| {
+            (res.width(), vec![[0.0f32; 4]; res.width() * res.height()])
+        },
+        |storage: &mut (usize, Vec<[f32; 4]>),
+         pos: Vec2<usize>,
+         (r, g, b, a): (f32, f32, f32, f32)| {
+            let w = storage.0;
+            if let Some(t) = storage.1.get_mut(pos.y() * w + pos.x()) {
+                *t = [r, g, b, a];
+            }
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let size = image.layer_data.size;
+    let (_, texels) = image.layer_data.channel_data.pixels;
+    Ok(ImageData {
+        width: size.width(),
+        height: size.height(),
+        texels,
+    })
+}
+
+fn load_other(path: &Path) -> Result<ImageData, String> {
+    let img = image::ImageReader::open(path)
+        .map_err(|e| e.to_string())?
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?
+        .decode()
+        .map_err(|e| e.to_string())?;
+    let rgba = img.to_rgba32f();
+    let (w, h) = (rgba.width() as usize, rgba.height() as usize);
+    let texels = rgba.pixels().map(|p| p.0).collect();
+    Ok(ImageData {
+        width: w,
+        height: h,
+        texels,
+    })
+}
