@@ -391,12 +391,12 @@ fn bump_map_tilts_the_shading_normal_by_the_slope() {
         Arc::new(TexNode::Const(Rgb::splat(0.5))),
     )));
     let si = si_at(0.25, 0.25, Vec3A::ZERO);
-    let b = bump::apply(&tex, &si);
+    let b = bump::apply(&tex, 0.001, &si);
     let expect = Vec3A::new(-0.5, 0.0, 1.0).normalize();
     assert!((b.shading.n - expect).length() < 1e-3, "{:?}", b.shading.n);
     assert_eq!(b.it.n, Vec3A::Z, "geometric normal unchanged");
     // A constant bump map changes nothing.
-    let flat = bump::apply(&FloatTex::constant(0.3), &si);
+    let flat = bump::apply(&FloatTex::constant(0.3), 0.001, &si);
     assert!((flat.shading.n - Vec3A::Z).length() < 1e-6);
 }
 
