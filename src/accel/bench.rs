@@ -258,3 +258,50 @@ pub fn uv_sphere(c: [f32; 3], r: f32, seg: usize) -> ShapeDesc {
     }
     mesh_desc(p, idx)
 }
+
+/// The geometry of `cornell/cornell-mesh.lxs` rebuilt in code (walls, lamp and the two
+/// spheres tessellated with 48 segments and 24 rings, as in the file): used by the benchmark
+/// until scenes can be parsed on this branch.
+pub fn cornell_like() -> Vec<ShapeDesc> {
+    let box_p = vec![
+        [-1.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+        [-1.0, -1.0, 2.0],
+        [1.0, -1.0, 2.0],
+        [1.0, 1.0, 2.0],
+        [-1.0, 1.0, 2.0],
+        [-1.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [1.0, 1.0, 2.0],
+        [-1.0, 1.0, 2.0],
+    ];
+    let box_i = vec![0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 8, 9, 10, 8, 10, 11];
+    let left = vec![
+        [-1.0, -1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+        [-1.0, 1.0, 2.0],
+        [-1.0, -1.0, 2.0],
+    ];
+    let right = vec![
+        [1.0, -1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [1.0, 1.0, 2.0],
+        [1.0, -1.0, 2.0],
+    ];
+    let lamp = vec![
+        [-0.25, -0.25, 1.99],
+        [0.25, -0.25, 1.99],
+        [0.25, 0.25, 1.99],
+        [-0.25, 0.25, 1.99],
+    ];
+    vec![
+        mesh_desc(box_p, box_i),
+        mesh_desc(left, vec![0, 1, 2, 0, 2, 3]),
+        mesh_desc(right, vec![0, 2, 1, 0, 3, 2]),
+        mesh_desc(lamp, vec![0, 2, 1, 0, 3, 2]),
+        uv_sphere([-0.4, 0.3, 0.4], 0.4, 48),
+        uv_sphere([0.45, -0.3, 0.35], 0.35, 48),
+    ]
+}

@@ -33,7 +33,7 @@ pub struct Blas {
     /// Primitive id reported for hits on each shape.
     pub prims: Vec<u32>,
     items: Vec<Item>,
-    bvh: Bvh,
+    pub(crate) bvh: Bvh,
     pub lo: Vec3A,
     pub hi: Vec3A,
 }
@@ -101,15 +101,13 @@ impl Blas {
     #[inline]
     pub fn closest(&self, o: Vec3A, d: Vec3A, t_max: f32) -> Option<BlasHit> {
         let len = d.length();
-        if !(len > 0.0) || !len.is_finite() {
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return None;
         }
         let dn = d / len;
         let tm = t_max * len;
         self.bvh
-            .closest(o, dn, tm, |r, slot| {
-                self.item_t(slot, r.origin, r.direction, r.tmax)
-            })
+            .closest(o, dn, tm, |o, d, tm, slot| self.item_t(slot, o, d, tm))
             .map(|(slot, t)| BlasHit {
                 t: t / len,
                 slot: slot as u32,
@@ -120,12 +118,12 @@ impl Blas {
     #[inline]
     pub fn any(&self, o: Vec3A, d: Vec3A, t_max: f32) -> bool {
         let len = d.length();
-        if !(len > 0.0) || !len.is_finite() {
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return false;
         }
         let dn = d / len;
-        self.bvh.any(o, dn, t_max * len, |r, slot| {
-            self.item_t(slot, r.origin, r.direction, r.tmax)
+        self.bvh.any(o, dn, t_max * len, |o, d, tm, slot| {
+            self.item_t(slot, o, d, tm)
         })
     }
 

@@ -238,16 +238,16 @@ impl Geometry {
             return best;
         }
         let len = ray.d.length();
-        if !(len > 0.0) || !len.is_finite() {
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return best;
         }
         let dn = ray.d / len;
         let mut inst_best = None;
-        self.tlas.closest(ray.o, dn, t_max * len, |r, slot| {
+        self.tlas.closest(ray.o, dn, t_max * len, |o, d, tm, slot| {
             let inst = &self.instances[slot];
-            let o = inst.to_object.point_f32(r.origin);
-            let d = inst.to_object.vector_f32(r.direction);
-            match self.objects[inst.object as usize].closest(o, d, r.tmax) {
+            let o = inst.to_object.point_f32(o);
+            let d = inst.to_object.vector_f32(d);
+            match self.objects[inst.object as usize].closest(o, d, tm) {
                 Some(h) => {
                     inst_best = Some((slot as u32, h));
                     h.t
@@ -290,15 +290,15 @@ impl Geometry {
             return false;
         }
         let len = ray.d.length();
-        if !(len > 0.0) || !len.is_finite() {
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return false;
         }
         let dn = ray.d / len;
-        self.tlas.any(ray.o, dn, ray.t_max * len, |r, slot| {
+        self.tlas.any(ray.o, dn, ray.t_max * len, |o, d, tm, slot| {
             let inst = &self.instances[slot];
-            let o = inst.to_object.point_f32(r.origin);
-            let d = inst.to_object.vector_f32(r.direction);
-            if self.objects[inst.object as usize].any(o, d, r.tmax) {
+            let o = inst.to_object.point_f32(o);
+            let d = inst.to_object.vector_f32(d);
+            if self.objects[inst.object as usize].any(o, d, tm) {
                 0.0
             } else {
                 f32::INFINITY

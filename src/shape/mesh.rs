@@ -152,7 +152,7 @@ impl TriangleMesh {
             dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
             dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
         }
-        if !(dpdu.cross(dpdv).length_squared() > 0.0) {
+        if dpdu.cross(dpdv).length_squared().is_nan() || dpdu.cross(dpdv).length_squared() <= 0.0 {
             (dpdu, dpdv) = coordinate_system(n);
         }
         LocalGeometry {

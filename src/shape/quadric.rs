@@ -83,7 +83,7 @@ pub struct Quadric {
 impl Quadric {
     pub(crate) fn new(b: &Build, surface: Surface, phimax: f64) -> Result<Quadric, ShapeError> {
         let (coef, zmin, zmax) = surface_coefficients(&surface);
-        if !(zmax >= zmin) || !coef.iter().all(|c| c.is_finite()) {
+        if zmax.is_nan() || zmin.is_nan() || zmax < zmin || !coef.iter().all(|c| c.is_finite()) {
             return Err(b.err("degenerate parameters (empty z range or non-finite values)"));
         }
         let mut q = Quadric {
@@ -100,6 +100,9 @@ impl Quadric {
             area: 0.0,
         };
         q.area_obj = q.object_area();
+        if q.area_obj.is_nan() || q.area_obj <= 0.0 || !q.area_obj.is_finite() {
+            return Err(b.err("the surface has no area (check radius, z range and phimax)"));
+        }
         q.area = match q.similarity {
             Some(s2) => s2 * q.area_obj,
             None => q.estimate_area(),
@@ -213,7 +216,7 @@ impl Quadric {
                 return None;
             }
             let t = (h - o.z) / d.z;
-            if !(t > 0.0 && t < t_max) {
+            if t.is_nan() || t <= 0.0 || t >= t_max {
                 return None;
             }
             let mut p = o + d * t;
@@ -226,7 +229,7 @@ impl Quadric {
         let qc = o.x * o.x + o.y * o.y - self.r_of_z(o.z);
         let roots = solve_quadratic(qa, qb, qc)?;
         for t in roots {
-            if !(t > 0.0) {
+            if t.is_nan() || t <= 0.0 {
                 continue;
             }
             if t >= t_max {

@@ -136,7 +136,7 @@ mod tests {
         // hits exactly one or both, never neither.
         let other = [TRI[1], Vec3A::new(1.0, 1.0, 0.0), TRI[2]];
         for i in 0..1000 {
-            let s = i as f32 / 1000.0;
+            let s = 0.01 + 0.98 * i as f32 / 1000.0;
             let o = Vec3A::new(s, 1.0 - s, 1.0);
             let d = Vec3A::new(0.001 * s, -0.002, -1.0);
             let a = intersect(&TRI, o, d, f32::INFINITY).is_some();

@@ -21,14 +21,14 @@ pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
     if tris_raw.is_empty() && quads_raw.is_empty() {
         return Err(b.err("missing \"integer indices\" (or triindices/quadindices)"));
     }
-    if tris_raw.len() % 3 != 0 {
+    if !tris_raw.len().is_multiple_of(3) {
         b.warn(&format!(
             "{} triangle indices is not a multiple of 3: the last {} are ignored",
             tris_raw.len(),
             tris_raw.len() % 3
         ));
     }
-    if quads_raw.len() % 4 != 0 {
+    if !quads_raw.len().is_multiple_of(4) {
         b.warn("quad index count is not a multiple of 4: the remainder is ignored");
     }
     let tris = tris_raw

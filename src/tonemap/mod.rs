@@ -21,7 +21,7 @@ pub mod params;
 pub mod reinhard;
 
 pub use colorspace::{ColorAdaptation, ColorSystem};
-pub use params::{ClampMethod, ColorSpaceParams, GroupParams, Kernel, TonemapParams};
+pub use params::{ClampMethod, ColorSpaceParams, Flavour, GroupParams, Kernel, TonemapParams};
 
 use crate::film::{BufferType, Film, PIXEL_VALUES};
 use rayon::prelude::*;
@@ -78,7 +78,8 @@ pub fn film_xyz(film: &Film, params: &TonemapParams) -> XyzImage {
             let Some(buf) = film.buffer(g, b) else {
                 continue;
             };
-            let add = |((p, (out, a)), w): ((&[f64], (&mut [f64; 3], &mut f64)), &mut f64)| {
+            type Item<'a> = ((&'a [f64], (&'a mut [f64; 3], &'a mut f64)), &'a mut f64);
+            let add = |((p, (out, a)), w): Item| {
                 let ws = p[4];
                 *w += ws;
                 let scale = match ty {
@@ -143,6 +144,12 @@ pub fn apply_kernel(img: &mut XyzImage, params: &TonemapParams) {
         .for_each(|p| *p = p.map(|c| if c > 0.0 { c } else { 0.0 }));
     let xyz = &mut img.xyz;
     match params.kernel {
+        Kernel::Reinhard if params.flavour == Flavour::Lux06 => reinhard::map_06(
+            xyz,
+            params.reinhard_prescale,
+            params.reinhard_postscale,
+            params.reinhard_burn,
+        ),
         Kernel::Reinhard => reinhard::map(
             xyz,
             params.reinhard_prescale,
@@ -191,13 +198,19 @@ pub fn untonemapped(film: &Film, params: &TonemapParams) -> RgbImage {
     )
 }
 
-/// Brings a tonemapped image to display values in [0, 1]: LDR clamp, then gamma.
+/// Brings a tonemapped image to display values in [0, 1]: LDR clamp, then gamma (LuxRender
+/// 0.6/0.7: gamma, then clamp).
 pub fn to_display(img: &mut RgbImage, params: &TonemapParams) {
     let cs = ColorSystem::new(&params.colorspace);
     let inv_gamma = 1.0 / params.gamma;
+    let gamma = move |p: [f32; 3]| p.map(|c| if c > 0.0 { c.powf(inv_gamma) } else { 0.0 });
+    let (method, legacy) = (params.clamp_method, params.flavour == Flavour::Lux06);
     img.rgb.par_iter_mut().for_each(|p| {
-        let l = cs.limit(*p, params.clamp_method);
-        *p = l.map(|c| if c > 0.0 { c.powf(inv_gamma) } else { 0.0 });
+        *p = if legacy {
+            cs.limit(gamma(*p), method)
+        } else {
+            gamma(cs.limit(*p, method))
+        };
     });
 }
 
@@ -257,17 +270,19 @@ mod tests {
         let mut film = Film::new(1, 1, vec!["a".into(), "b".into()]);
         film.add_splat(0, 0, 0, [1.0, 1.0, 1.0], 1.0, 1.0);
         film.add_splat(1, 0, 0, [1.0, 1.0, 1.0], 1.0, 1.0);
-        let mut p = TonemapParams::default();
-        p.groups = vec![
-            GroupParams {
-                scale: 2.0,
-                ..GroupParams::default()
-            },
-            GroupParams {
-                enabled: false,
-                ..GroupParams::default()
-            },
-        ];
+        let p = TonemapParams {
+            groups: vec![
+                GroupParams {
+                    scale: 2.0,
+                    ..GroupParams::default()
+                },
+                GroupParams {
+                    enabled: false,
+                    ..GroupParams::default()
+                },
+            ],
+            ..TonemapParams::default()
+        };
         let img = film_xyz(&film, &p);
         assert!((img.xyz[0][1] - 2.0).abs() < 1e-3, "{:?}", img.xyz[0]);
     }
