@@ -36,6 +36,15 @@ enum Command {
 enum BenchCommand {
     /// Ray throughput of the BVH on incoherent rays (closest hit and any hit).
     Bvh(cmd::bench_bvh::Args),
+    /// Parse speed and peak memory on a generated mesh scene.
+    Parse(cmd::bench_parse::Args),
+    /// FLM film tools: info, merge, compare, tonemap.
+    Flm(cmd::flm::Args),
+    /// Benchmarks (not tests).
+    Bench {
+        #[command(subcommand)]
+        which: cmd::BenchCommand,
+    },
 }
 
 fn main() -> ExitCode {
@@ -44,6 +53,11 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Parse(a) => cmd::parse::run(a),
         Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
+        Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
+        Command::Flm(a) => cmd::flm::run(a),
+        Command::Bench { which } => match which {
+            cmd::BenchCommand::Flm(a) => cmd::bench_flm::run(a),
+        },
         Command::Render(a) => cmd::render::run(a),
         Command::CompareImage(a) => cmd::compare_image::run(a),
     };

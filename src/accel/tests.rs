@@ -741,3 +741,59 @@ fn area_sampling_is_uniform_and_pdf_integrates_to_one() {
         num / den
     );
 }
+
+#[test]
+fn degenerate_quadrics_are_errors_and_motion_uses_first_key() {
+    for bad in [
+        sphere(vec![("phimax", floats(&[0.0]))], false),
+        shape(
+            "disk",
+            vec![("innerradius", floats(&[2.0]))],
+            DMat4::IDENTITY,
+            false,
+        ),
+        shape(
+            "cone",
+            vec![("height", floats(&[-1.0]))],
+            DMat4::IDENTITY,
+            false,
+        ),
+        shape("sphere", vec![], DMat4::ZERO, false),
+        shape(
+            "heightfield",
+            vec![
+                ("nu", ints(&[2])),
+                ("nv", ints(&[2])),
+                ("Pz", floats(&[0.0])),
+            ],
+            DMat4::IDENTITY,
+            false,
+        ),
+    ] {
+        let e = GeometryBuilder::new().add_shape(&bad, 0, &ShapeCtx::default());
+        assert!(e.is_err(), "{} should fail", bad.entity.kind);
+    }
+    let mut moving = sphere(vec![], false);
+    moving.object_to_world = Xform {
+        keys: vec![
+            (0.0, DMat4::IDENTITY),
+            (1.0, DMat4::from_translation(DVec3::new(5.0, 0.0, 0.0))),
+        ],
+    };
+    let g = geo(&[moving]);
+    let si = hit(&g, [0.0, 0.0, 5.0], [0.0, 0.0, -1.0]).unwrap();
+    assert!((si.t - 4.0).abs() < 1e-5);
+}
+
+#[test]
+fn plymesh_without_normals_gets_smoothed_vertex_normals() {
+    let data = crate::shape::plymesh::parse(
+        b"ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 3 1\n",
+    )
+    .unwrap();
+    assert!(data.n.is_none() && data.uv.is_none());
+    let n = crate::shape::plymesh::smooth_normals(&data);
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    assert!((Vec3A::from_array(n[0]) - Vec3A::new(0.0, s, s)).length() < 1e-6);
+    assert!((Vec3A::from_array(n[2]) - Vec3A::Z).length() < 1e-6);
+}

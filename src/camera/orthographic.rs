@@ -27,8 +27,9 @@ impl Orthographic {
         }
         let f = self.focal_distance;
         let l = self.aperture.sample(lens) * self.lens_radius * ((f - hither) / f);
-        let focus = Vec3A::new(s.x, s.y, f);
         let o = origin + Vec3A::new(l.x, l.y, 0.0);
-        (o, focus - o)
+        // Towards (sx, sy, f), scaled by 1 / f so a huge focal distance does not overflow.
+        let d = Vec3A::new((s.x - o.x) / f, (s.y - o.y) / f, (f - hither) / f);
+        (o, d)
     }
 }

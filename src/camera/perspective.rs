@@ -34,7 +34,8 @@ impl Perspective {
         }
         let l = self.aperture.sample(lens) * self.lens_radius;
         let origin = Vec3A::new(l.x, l.y, 0.0);
-        let focus = dir * self.focal_distance;
-        (origin, focus - origin)
+        // Towards the pinhole ray's point on z = focal distance, scaled by 1 / focal distance
+        // so the default distance (1e30) does not overflow.
+        (origin, dir - origin / self.focal_distance)
     }
 }

@@ -238,6 +238,24 @@ fn thin_lens_rays_converge_on_the_focal_plane() {
 }
 
 #[test]
+fn lens_with_default_focal_distance_gives_finite_rays() {
+    // A lens radius without focaldistance (default 1e30) appears in exported scenes.
+    for kind in ["perspective", "orthographic"] {
+        let cam = camera(kind, &[("lensradius", f(0.01))], DMat4::IDENTITY, 32, 32);
+        for (x, y) in [(0.0, 0.0), (16.0, 16.0), (31.9, 3.0)] {
+            let s = CameraSample {
+                p_film: Vec2::new(x, y),
+                p_lens: Vec2::new(0.9, 0.2),
+                time: 0.0,
+            };
+            let (r, _) = cam.generate_ray(&s).expect("finite ray");
+            assert!(r.o.is_finite() && r.d.is_finite(), "{kind}");
+            assert!((r.d.length() - 1.0).abs() < 1e-5);
+        }
+    }
+}
+
+#[test]
 fn orthographic_rays_are_parallel() {
     let cam = camera("orthographic", &[], DMat4::IDENTITY, 100, 100);
     let r = ray_at(&cam, 0.0, 0.0);

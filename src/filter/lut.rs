@@ -82,6 +82,21 @@ impl FilterLuts {
         FilterLuts { size, luts }
     }
 
+    /// Whether every table weight is a finite number.
+    pub fn all_finite(&self) -> bool {
+        self.luts
+            .iter()
+            .all(|l| l.weights.iter().all(|w| w.is_finite()))
+    }
+
+    /// Whether every table's weights sum to 1, i.e. no sub-pixel position loses its samples
+    /// (a table whose filter values sum to 0 or less is left unnormalised, as in LuxRender).
+    pub fn all_normalised(&self) -> bool {
+        self.luts
+            .iter()
+            .all(|l| (l.weights.iter().map(|&w| f64::from(w)).sum::<f64>() - 1.0).abs() < 1e-3)
+    }
+
     /// The table LuxRender picks for sub-pixel offsets `ox`, `oy` in [-0.5, 0.5).
     pub fn get(&self, ox: f32, oy: f32) -> &FilterLut {
         let last = self.size as i64 - 1;

@@ -89,24 +89,38 @@ impl Filter {
             }
             Ok(w)
         };
+        let finite = |name: &str, default: f32| -> Result<f32, FilterError> {
+            let v = p.float_or(name, default);
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(FilterError {
+                    loc: e.loc.clone(),
+                    message: format!(
+                        "pixel filter \"{}\": {name} must be finite, got {v}",
+                        e.kind
+                    ),
+                })
+            }
+        };
         let (kind, width) = match e.kind.as_str() {
             "box" => (FilterKind::Box, widths(box_filter::DEFAULT_WIDTH)?),
             "gaussian" => {
                 let w = widths(gaussian::DEFAULT_WIDTH)?;
-                let alpha = p.float_or("alpha", gaussian::DEFAULT_ALPHA);
+                let alpha = finite("alpha", gaussian::DEFAULT_ALPHA)?;
                 (FilterKind::Gaussian(Gaussian::new(alpha, w.x, w.y)), w)
             }
             "mitchell" => {
                 let w = widths(mitchell::DEFAULT_WIDTH)?;
-                let b = p.float_or("B", mitchell::DEFAULT_B);
-                let c = p.float_or("C", mitchell::DEFAULT_C);
+                let b = finite("B", mitchell::DEFAULT_B)?;
+                let c = finite("C", mitchell::DEFAULT_C)?;
                 let ss = p.bool_or("supersample", false);
                 (FilterKind::Mitchell(Mitchell::new(b, c, ss)), w)
             }
             "triangle" => (FilterKind::Triangle, widths(triangle::DEFAULT_WIDTH)?),
             "sinc" => {
                 let w = widths(sinc::DEFAULT_WIDTH)?;
-                let tau = p.float_or("tau", sinc::DEFAULT_TAU);
+                let tau = finite("tau", sinc::DEFAULT_TAU)?;
                 (FilterKind::Sinc { tau }, w)
             }
             "catmullrom" => (FilterKind::CatmullRom, widths(catmullrom::DEFAULT_WIDTH)?),
@@ -120,7 +134,25 @@ impl Filter {
                 })
             }
         };
-        Ok(Filter::new(kind, width))
+        let f = Filter::new(kind, width);
+        if !f.luts.all_finite() || !f.eval(0.0, 0.0).is_finite() {
+            return Err(FilterError {
+                loc: e.loc.clone(),
+                message: format!(
+                    "pixel filter \"{}\": its parameters give non-finite filter values",
+                    e.kind
+                ),
+            });
+        }
+        if !f.luts.all_normalised() {
+            tracing::warn!(
+                "{}: pixel filter \"{}\" gives no weight to any pixel centre for some sample \
+                 positions; samples there are lost (as in LuxRender)",
+                e.loc,
+                e.kind
+            );
+        }
+        Ok(f)
     }
 
     /// A filter from its function and `xwidth`/`ywidth`, with the default table quality.

@@ -189,6 +189,14 @@ fn metal_lobes_sample_consistently() {
     for theta in [0.0, 50.0] {
         check_lobe("metal", &b, dir(theta, 0.0), 1.0);
     }
+    let aniso = MicrofacetReflection {
+        dist: Blinn::from_uv(0.05, 0.3),
+        ..m
+    };
+    let b = bsdf(Lobes::Microfacet(aniso));
+    for (theta, phi) in [(0.0, 0.0), (40.0, 30.0), (60.0, 100.0)] {
+        check_lobe("anisotropic metal", &b, dir(theta, phi), 1.0);
+    }
 }
 
 #[test]
@@ -490,4 +498,93 @@ fn materials_and_textures_are_shareable_between_threads() {
     assert_send_sync::<Bsdf>();
     assert_send_sync::<crate::texture::ColorTex>();
     assert_send_sync::<crate::texture::FloatTex>();
+}
+
+#[test]
+fn carpaint_presets_sample_consistently() {
+    let d = scene(vec![
+        mat("a", "carpaint", vec![("name", s("polaris silber"))], 1),
+        mat("b", "carpaint", vec![("name", s("no such paint"))], 2),
+        mat(
+            "c",
+            "carpaint",
+            vec![("Kd", ParamValue::Color(vec![[0.5, 0.1, 0.1]]))],
+            3,
+        ),
+    ]);
+    let set = MaterialSet::build(&d, &[0, 1, 2], &MaterialCtx::default()).unwrap();
+    assert!(set
+        .warnings
+        .iter()
+        .any(|w| w.to_string().contains("no such paint")));
+    for i in 0..3 {
+        let b = set.get(Some(i)).bsdf(&flat_si(), 0.5);
+        assert!(matches!(b.lobes, Lobes::CarPaint(_)));
+        for theta in [20.0, 60.0] {
+            check_lobe("carpaint", &b, dir(theta, 0.0), 1.0);
+        }
+    }
+}
+
+#[test]
+fn glossy_translucent_samples_consistently_on_both_faces() {
+    let c = |v: f32| ParamValue::Color(vec![[v, v, v]]);
+    let d = scene(vec![
+        mat(
+            "a",
+            "glossytranslucent",
+            vec![("Kd", c(0.5)), ("Kt", c(0.8)), ("Ks", c(0.04))],
+            1,
+        ),
+        mat(
+            "b",
+            "glossytranslucent",
+            vec![
+                ("Kd", c(0.3)),
+                ("Ks", c(0.1)),
+                ("onesided", ParamValue::Bool(vec![false])),
+                ("backface_Ks", c(0.5)),
+                ("backface_uroughness", f(0.3)),
+                ("backface_vroughness", f(0.3)),
+                ("d", f(0.1)),
+                ("Ka", c(0.5)),
+            ],
+            2,
+        ),
+    ]);
+    let set = MaterialSet::build(&d, &[0, 1], &MaterialCtx::default()).unwrap();
+    for i in 0..2 {
+        let b = set.get(Some(i)).bsdf(&flat_si(), 0.5);
+        assert!(matches!(b.lobes, Lobes::GlossyTranslucent(_)));
+        check_lobe("glossytranslucent front", &b, dir(30.0, 0.0), 1.05);
+        check_lobe("glossytranslucent back", &b, -dir(50.0, 40.0), 1.05);
+    }
+}
+
+#[test]
+fn a_shared_texture_set_builds_each_texture_once() {
+    use crate::lxs::TextureType;
+    use crate::texture::{TextureCtx, TextureSet};
+    let mut d = scene(vec![mat(
+        "m",
+        "matte",
+        vec![("Kd", ParamValue::Texture("t".into()))],
+        1,
+    )]);
+    crate::texture::tests::add_tex(
+        &mut d,
+        "t",
+        TextureType::Color,
+        "constant",
+        vec![("value", ParamValue::Color(vec![[0.1, 0.2, 0.3]]))],
+    );
+    let mut textures = TextureSet::new(&d, TextureCtx::default());
+    let set =
+        MaterialSet::build_with_textures(&d, &[0], &MaterialCtx::default(), &mut textures).unwrap();
+    assert!(set.is_built(0));
+    let mut ps = ParamSet::new();
+    ps.add("L", ParamValue::Texture("t".into()));
+    let light_tex = textures.color_param(&ps, "L", Rgb::WHITE).unwrap();
+    assert_eq!(light_tex.as_const(), Some(Rgb::new(0.1, 0.2, 0.3)));
+    assert_eq!(textures.built_names(), vec!["t".to_string()]);
 }

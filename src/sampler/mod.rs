@@ -251,6 +251,12 @@ impl SampleStream {
         self.dim
     }
 
+    /// Jumps to dimension `dim` (for a fixed per-bounce layout, e.g. `5 + bounce * K`, so
+    /// that a branch drawing fewer values does not shift the later ones).
+    pub fn set_dimension(&mut self, dim: u32) {
+        self.dim = dim;
+    }
+
     /// The pixel this stream samples.
     pub fn pixel(&self) -> (i32, i32) {
         (self.px, self.py)

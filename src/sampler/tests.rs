@@ -119,6 +119,14 @@ fn deterministic_and_order_independent() {
         assert_eq!(st.dimension(), 3);
         let mut again = s.start(7, 1, 2, 3, 5);
         assert_eq!(again.next_2d(), first);
+        // Jumping to a dimension gives what sequential drawing gives there.
+        let mut seq = s.start(7, 1, 2, 3, 5);
+        for _ in 0..4 {
+            seq.next_2d();
+        }
+        let mut jump = s.start(7, 1, 2, 3, 5);
+        jump.set_dimension(8);
+        assert_eq!(seq.next_2d(), jump.next_2d());
     }
 }
 
@@ -188,7 +196,7 @@ fn l2_star_discrepancy(p: &[(f64, f64)]) -> f64 {
 
 /// Average discrepancy over pixels of the `n` samples of one pixel, for dims (d, d+1).
 fn mean_discrepancy(s: &Sampler, n: u64, skip_dims: usize) -> f64 {
-    let pixels = 8;
+    let pixels = if n > 256 { 3 } else { 8 };
     let mut total = 0.0;
     for px in 0..pixels {
         let pts: Vec<(f64, f64)> = (0..n)
@@ -220,28 +228,42 @@ fn low_discrepancy_beats_random() {
     }
 }
 
+/// Whether `pts` (2^m points) form a (0, m, 2)-net: one point in every elementary interval
+/// of area 1 / 2^m.
+fn is_net(pts: &[(f32, f32)]) -> bool {
+    let n = pts.len();
+    let m = n.trailing_zeros();
+    (0..=m).all(|kx| {
+        let (cx, cy) = (1usize << kx, 1usize << (m - kx));
+        let mut cells = vec![0u32; n];
+        for &(x, y) in pts {
+            cells[(x * cx as f32) as usize + cx * (y * cy as f32) as usize] += 1;
+        }
+        cells.iter().all(|&c| c == 1)
+    })
+}
+
 #[test]
-fn lowdiscrepancy_stratifies_each_pass() {
-    let s = sampler(
+fn lowdiscrepancy_and_sobol_are_nets_in_every_2d_request() {
+    let ld = sampler(
         "lowdiscrepancy",
         &[("pixelsamples", ParamValue::Integer(vec![16]))],
     );
-    for pass in 0..3u64 {
-        for dims in [0usize, 4, 6] {
-            // 16 points of a (0,4,2)-net: one per 4x4 cell, one per 16x1 and 1x16 strip.
-            let mut cells = [0u32; 16];
-            let mut strips_x = [0u32; 16];
-            let mut strips_y = [0u32; 16];
-            for i in 0..16 {
-                let v = draw(&s, 5, 0, 1, 2, pass * 16 + i, dims + 2);
-                let (x, y) = (v[dims], v[dims + 1]);
-                cells[(x * 4.0) as usize + 4 * (y * 4.0) as usize] += 1;
-                strips_x[(x * 16.0) as usize] += 1;
-                strips_y[(y * 16.0) as usize] += 1;
-            }
-            assert_eq!(cells, [1; 16]);
-            assert_eq!(strips_x, [1; 16]);
-            assert_eq!(strips_y, [1; 16]);
+    let sobol = sampler("sobol", &[("pixelsamples", ParamValue::Integer(vec![16]))]);
+    for dims in [0usize, 4, 6, 20] {
+        let request = |s: &Sampler, i: u64| {
+            let v = draw(s, 5, 0, 1, 2, i, dims + 2);
+            (v[dims], v[dims + 1])
+        };
+        // Lowdiscrepancy: every pass of 16 samples is a net (fresh scrambles per pass).
+        for pass in 0..3u64 {
+            let pts: Vec<_> = (0..16).map(|i| request(&ld, pass * 16 + i)).collect();
+            assert!(is_net(&pts), "lowdiscrepancy pass {pass} dims {dims}");
+        }
+        // Sobol: one sequence per pixel, every power-of-two prefix is a net.
+        for n in [16u64, 32, 64] {
+            let pts: Vec<_> = (0..n).map(|i| request(&sobol, i)).collect();
+            assert!(is_net(&pts), "sobol first {n} dims {dims}");
         }
     }
 }

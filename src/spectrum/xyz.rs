@@ -178,6 +178,18 @@ mod tests {
         assert!(xyz[1] > 6.5e4 && xyz[1] < 7.5e4, "Y {}", xyz[1]);
     }
 
+    /// The TestSuite's directlighting scene lights a Kd 0.3746 plane with a 6500 K blackbody
+    /// point light (gain 1); its LuxRender reference film peaks at Y = 96.1 where
+    /// Kd/π·cosθ/r² = 1.488e-3, i.e. an intensity of Y ≈ 6.46e4: the 683 lm/W scale and
+    /// max-normalised blackbody reproduce it.
+    #[test]
+    fn blackbody_luminance_matches_luxrender_reference_scale() {
+        let y = blackbody_xyz(6500.0)[1];
+        assert!((y - 64_600.0).abs() < 0.01 * 64_600.0, "{y}");
+        let y_rgb = rgb_to_xyz(blackbody(6500.0))[1];
+        assert!((y_rgb - y).abs() < 1e-3 * y);
+    }
+
     #[test]
     fn rgb_to_xyz_is_linear_for_greys_and_zero_for_black() {
         assert_eq!(rgb_to_xyz(Rgb::BLACK), [0.0; 3]);
