@@ -1,17 +1,27 @@
 //! `luxfarm compare-image A.exr B.exr`: RMSE, relative MSE and mean ratio of two images of
-//! the same size (linear RGB; B is the reference).
+//! the same size (linear RGB; B is the reference). Either side may be an FLM: its
+//! weight-normalised XYZ is turned back into the renderer's linear RGB (the inverse of
+//! `spectrum::rgb_to_xyz`), without any tonemapping — LuxRender's EXR output is tonemapped by
+//! default (`write_exr_applyimaging`), so an FLM is the faithful linear source.
+//! `--exclude-above V` leaves out pixels where the reference exceeds V (visible emitters).
 
 use anyhow::{bail, Context};
+use luxfarm::film::flm::read_flm;
 use luxfarm::light::infinite::load_image;
+use luxfarm::spectrum::{xyz_to_rgb, Rgb};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The image to judge.
+    /// The image to judge (EXR, HDR, PNG, ... or an FLM).
     pub a: PathBuf,
     /// The reference image.
     pub b: PathBuf,
+    /// Leave out pixels where the reference exceeds this value in any channel (directly
+    /// visible emitters, whose edges dominate the RMSE).
+    #[arg(long)]
+    pub exclude_above: Option<f32>,
 }
 
 /// Error metrics of A against the reference B.
@@ -47,6 +57,9 @@ pub fn metrics(a: &[[f32; 3]], b: &[[f32; 3]]) -> Metrics {
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let load = |p: &PathBuf| {
+        if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("flm")) {
+            return load_flm(p).with_context(|| format!("reading {}", p.display()));
+        }
         load_image(p)
             .map_err(anyhow::Error::msg)
             .with_context(|| format!("reading {}", p.display()))
@@ -56,13 +69,44 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if (wa, ha) != (wb, hb) {
         bail!("image sizes differ: {wa}x{ha} vs {wb}x{hb}");
     }
-    let a: Vec<[f32; 3]> = a.iter().map(|c| c.to_array()).collect();
-    let b: Vec<[f32; 3]> = b.iter().map(|c| c.to_array()).collect();
+    let keep = |i: &usize| {
+        args.exclude_above
+            .is_none_or(|v| b[*i].max_component() <= v)
+    };
+    let idx: Vec<usize> = (0..a.len()).filter(keep).collect();
+    let a: Vec<[f32; 3]> = idx.iter().map(|&i| a[i].to_array()).collect();
+    let b: Vec<[f32; 3]> = idx.iter().map(|&i| b[i].to_array()).collect();
+    if args.exclude_above.is_some() {
+        println!("pixels      {} of {}", idx.len(), wa * ha);
+    }
     let m = metrics(&a, &b);
     println!("RMSE        {:.6}", m.rmse);
     println!("relMSE      {:.6}", m.rel_mse);
     println!("mean ratio  {:.6}", m.mean_ratio);
     Ok(ExitCode::SUCCESS)
+}
+
+/// Linear RGB of light group 0 of an FLM (all groups summed would need their scales).
+fn load_flm(p: &PathBuf) -> anyhow::Result<(usize, usize, Vec<Rgb>)> {
+    let file = std::fs::File::open(p)?;
+    let (film, _) = read_flm(std::io::BufReader::new(file))?;
+    let mut px = Vec::with_capacity(film.pixel_count());
+    for y in 0..film.height() {
+        for x in 0..film.width() {
+            let v = film.pixel(0, 0, x, y).unwrap_or([0.0; 5]);
+            let xyz = if v[4] != 0.0 {
+                [
+                    (v[0] / v[4]) as f32,
+                    (v[1] / v[4]) as f32,
+                    (v[2] / v[4]) as f32,
+                ]
+            } else {
+                [0.0; 3]
+            };
+            px.push(xyz_to_rgb(xyz));
+        }
+    }
+    Ok((film.width() as usize, film.height() as usize, px))
 }
 
 #[cfg(test)]
