@@ -27,7 +27,9 @@ enum Command {
     Render(cmd::render::Args),
     /// Compare two images (RMSE, relative MSE, mean ratio; the second is the reference).
     CompareImage(cmd::compare_image::Args),
-    /// Benchmarks.
+    /// FLM film tools: info, merge, compare, tonemap.
+    Flm(cmd::flm::Args),
+    /// Benchmarks (not tests).
     #[command(subcommand)]
     Bench(BenchCommand),
 }
@@ -38,13 +40,8 @@ enum BenchCommand {
     Bvh(cmd::bench_bvh::Args),
     /// Parse speed and peak memory on a generated mesh scene.
     Parse(cmd::bench_parse::Args),
-    /// FLM film tools: info, merge, compare, tonemap.
-    Flm(cmd::flm::Args),
-    /// Benchmarks (not tests).
-    Bench {
-        #[command(subcommand)]
-        which: cmd::BenchCommand,
-    },
+    /// FLM decode + merge and encode throughput of a 1080p delta.
+    Flm(cmd::bench_flm::Args),
 }
 
 fn main() -> ExitCode {
@@ -52,14 +49,12 @@ fn main() -> ExitCode {
     init_logging(&cli.log);
     let result = match cli.command {
         Command::Parse(a) => cmd::parse::run(a),
-        Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
-        Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
-        Command::Flm(a) => cmd::flm::run(a),
-        Command::Bench { which } => match which {
-            cmd::BenchCommand::Flm(a) => cmd::bench_flm::run(a),
-        },
         Command::Render(a) => cmd::render::run(a),
         Command::CompareImage(a) => cmd::compare_image::run(a),
+        Command::Flm(a) => cmd::flm::run(a),
+        Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
+        Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
+        Command::Bench(BenchCommand::Flm(a)) => cmd::bench_flm::run(a),
     };
     match result {
         Ok(code) => code,
