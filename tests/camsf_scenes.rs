@@ -41,10 +41,8 @@ fn film_geometry(desc: &SceneDescription) -> FilmGeometry {
             .max(1) as u32
     };
     let mut g = FilmGeometry::new(int("xresolution", 800), int("yresolution", 600));
-    if let Some(c) = film.and_then(|f| f.params.floats("cropwindow")) {
-        if let [a, b, c, d] = c {
-            g.crop = [*a, *b, *c, *d];
-        }
+    if let Some([a, b, c, d]) = film.and_then(|f| f.params.floats("cropwindow")) {
+        g.crop = [*a, *b, *c, *d];
     }
     g
 }

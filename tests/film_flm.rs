@@ -69,6 +69,9 @@ fn merge_equals_elementwise_sum_exactly() {
     let mut streamed = a.clone();
     flm::merge_flm(&mut streamed, &encode(&b)[..]).unwrap();
     assert_eq!(m, streamed);
+    let mut in_memory = a.clone();
+    flm::merge_flm_bytes(&mut in_memory, &encode(&b)).unwrap();
+    assert_eq!(m, in_memory);
     for g in 0..2 {
         let (pa, pb, pm) = (
             a.buffer(g, 0).unwrap(),
@@ -128,6 +131,7 @@ fn expect_err(bytes: &[u8]) -> FilmError {
             let mut target = film(3, 2, 1);
             let before = target.clone();
             assert!(flm::merge_flm(&mut target, bytes).is_err());
+            assert!(flm::merge_flm_bytes(&mut target, bytes).is_err());
             assert_eq!(target, before);
             e
         }

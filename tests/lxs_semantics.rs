@@ -193,7 +193,8 @@ fn strings_escapes_comments_and_typed_values() {
         "# header\nWorldBegin # trailing comment\n\
          Shape \"plymesh\" \"string filename\" \"a \\\"b\\\"\\tc.ply\" # x\n\
            \"bool smooth\" \"true\" \"integer n\" [1 -2 +3] \"spectrum s\" [400 0.5 500 0.7]\n\
-           \"spectrum f\" \"file.spd\" \"vector v\" [0 0 1] \"normal N\" [0 1 0]\nWorldEnd\n",
+           \"spectrum f\" \"file.spd\" \"vector v\" [0 0 1] \"normal N\" [0 1 0]\n\
+           \"float a\" [1 # comment inside an array\n 2]\nWorldEnd\n",
     );
     let p = &d.shapes[0].entity.params;
     assert_eq!(p.string("filename"), Some("a \"b\"\tc.ply"));
@@ -201,6 +202,7 @@ fn strings_escapes_comments_and_typed_values() {
     assert_eq!(p.ints("n"), Some(&[1, -2, 3][..]));
     assert_eq!(p.vector("v"), Some([0.0, 0.0, 1.0]));
     assert_eq!(p.normal("N"), Some([0.0, 1.0, 0.0]));
+    assert_eq!(p.floats("a"), Some(&[1.0, 2.0][..]));
     assert!(matches!(p.spectrum("s"), Some(lxs::SpectrumValue::Numbers(v)) if v.len() == 4));
     assert!(matches!(p.spectrum("f"), Some(lxs::SpectrumValue::File(f)) if f == "file.spd"));
     assert_eq!(
@@ -266,4 +268,59 @@ fn another_builder_sees_every_statement() {
     let text = "Shape \"sphere\"\nWorldBegin\nShape \"disk\"\nAttributeEnd\n";
     lxs::parse_with(text.as_bytes(), "t.lxs", &ParseOptions::default(), &mut c).unwrap();
     assert_eq!((c.shapes, c.statements), (2, 5));
+}
+
+#[test]
+fn texture_references_bind_like_luxrender_despite_shadowing() {
+    let d = parse(
+        "WorldBegin\n\
+         Texture \"t\" \"color\" \"constant\" \"color value\" [1 0 0]\n\
+         Material \"matte\" \"texture Kd\" \"t\"\n\
+         AttributeBegin\n\
+          Texture \"t\" \"color\" \"constant\" \"color value\" [0 1 0]\n\
+          Material \"matte\" \"texture Kd\" \"t\"\n\
+          AreaLightSource \"area\" \"texture L\" \"t\"\n\
+          Shape \"disk\"\n\
+         AttributeEnd\n\
+         Material \"matte\" \"texture Kd\" \"t\"\n\
+         WorldEnd\n",
+    );
+    let bound = |params: &lxs::ParamSet| {
+        let name = params
+            .texture("Kd")
+            .or_else(|| params.texture("L"))
+            .unwrap();
+        d.named_textures[&(lxs::TextureType::Color, name.to_string())]
+    };
+    assert_eq!(
+        d.named_textures[&(lxs::TextureType::Color, "t".to_string())],
+        1
+    );
+    assert_eq!(bound(&d.materials[0].entity.params), 0);
+    assert_eq!(bound(&d.materials[1].entity.params), 1);
+    assert_eq!(bound(&d.materials[2].entity.params), 0);
+    assert_eq!(
+        bound(&d.shapes[0].area_light.as_ref().unwrap().entity.params),
+        1
+    );
+    assert_eq!(d.materials[0].entity.params.texture("Kd"), Some("t@0"));
+    assert!(d.warnings.iter().any(|w| w.message.contains("redefined")));
+}
+
+#[test]
+fn mix_material_references_bind_in_scope() {
+    let d = parse(
+        "WorldBegin\n\
+         MakeNamedMaterial \"a\" \"string type\" [\"matte\"]\n\
+         MakeNamedMaterial \"b\" \"string type\" [\"glass\"]\n\
+         MakeNamedMaterial \"m\" \"string type\" [\"mix\"] \"string namedmaterial1\" [\"a\"] \"string namedmaterial2\" [\"b\"]\n\
+         MakeNamedMaterial \"a\" \"string type\" [\"metal\"]\n\
+         WorldEnd\n",
+    );
+    let mix = d.named_material("m").unwrap();
+    let first = mix.entity.params.string("namedmaterial1").unwrap();
+    assert_eq!(first, "a@0");
+    assert_eq!(d.named_material(first).unwrap().entity.kind, "matte");
+    assert_eq!(mix.entity.params.string("namedmaterial2"), Some("b"));
+    assert_eq!(d.named_material("a").unwrap().entity.kind, "metal");
 }

@@ -13,6 +13,9 @@ fn check(bytes: &[u8]) {
     if flm::merge_flm(&mut film, bytes).is_err() {
         assert_eq!(film, before);
     }
+    if flm::merge_flm_bytes(&mut film, bytes).is_err() {
+        assert_eq!(film, before);
+    }
 }
 
 fuzz_target!(|data: &[u8]| {

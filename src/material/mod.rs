@@ -76,6 +76,8 @@ pub struct Material {
     pub kind: MaterialKind,
     /// `bumpmap` float texture (displacement along the shading normal).
     pub bump: Option<FloatTex>,
+    /// `bumpmapsampledistance` (finite-difference step in u and v).
+    pub bump_distance: f32,
     /// Type name as written (for logs).
     pub type_name: String,
 }
@@ -86,6 +88,7 @@ impl Material {
         Material {
             kind: MaterialKind::Matte(matte::Matte::default_params()),
             bump: None,
+            bump_distance: bump::DEFAULT_DISTANCE,
             type_name: "matte".into(),
         }
     }
@@ -100,7 +103,7 @@ impl Material {
         let bumped;
         let si = match &self.bump {
             Some(b) => {
-                bumped = bump::apply(b, si);
+                bumped = bump::apply(b, self.bump_distance, si);
                 &bumped
             }
             None => si,
@@ -238,9 +241,15 @@ impl Builder<'_, '_> {
             }
         };
         let bump = self.textures.optional_float(p, "bumpmap")?;
+        let bump_distance = if bump.is_some() {
+            p.float_or("bumpmapsampledistance", bump::DEFAULT_DISTANCE)
+        } else {
+            bump::DEFAULT_DISTANCE
+        };
         Ok(Material {
             kind,
             bump,
+            bump_distance,
             type_name: e.kind.clone(),
         })
     }

@@ -38,18 +38,22 @@ fn dir(theta_deg: f32, phi_deg: f32) -> Vec3A {
     Vec3A::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
 }
 
-/// Numeric ∫ g(wi) dω over the sphere (midpoint rule, uniform in z and φ).
-fn sphere_integral(nz: usize, nphi: usize, g: impl Fn(Vec3A) -> f64) -> f64 {
-    let mut sum = 0.0;
+/// Numeric ∫ g(wi) dω over the sphere (midpoint rule, uniform in z and φ), for two integrands
+/// at once.
+fn sphere_integral(nz: usize, nphi: usize, g: impl Fn(Vec3A) -> (f64, f64)) -> (f64, f64) {
+    let mut sum = (0.0, 0.0);
     for i in 0..nz {
         let z = -1.0 + (i as f32 + 0.5) * 2.0 / nz as f32;
         let r = (1.0 - z * z).max(0.0).sqrt();
         for j in 0..nphi {
             let phi = (j as f32 + 0.5) * 2.0 * PI / nphi as f32;
-            sum += g(Vec3A::new(r * phi.cos(), r * phi.sin(), z));
+            let v = g(Vec3A::new(r * phi.cos(), r * phi.sin(), z));
+            sum.0 += v.0;
+            sum.1 += v.1;
         }
     }
-    sum * (2.0 / nz as f64) * (2.0 * std::f64::consts::PI / nphi as f64)
+    let w = (2.0 / nz as f64) * (2.0 * std::f64::consts::PI / nphi as f64);
+    (sum.0 * w, sum.1 * w)
 }
 
 /// (MC estimate of ∫ f cos, fraction of successful samples), averaged over channels.
@@ -66,21 +70,22 @@ fn sampled_albedo(b: &Bsdf, wo: Vec3A, n: usize) -> (f64, f64) {
     (sum / n as f64, ok as f64 / n as f64)
 }
 
-fn numeric_albedo(b: &Bsdf, wo: Vec3A) -> f64 {
+/// (∫ f cos dω, ∫ pdf dω) by numeric integration.
+fn numeric(b: &Bsdf, wo: Vec3A) -> (f64, f64) {
     sphere_integral(1200, 600, |wi| {
-        (b.f(wo, wi).average() * wi.dot(b.frame.n).abs()) as f64
+        let f = (b.f(wo, wi).average() * wi.dot(b.frame.n).abs()) as f64;
+        (f, b.pdf(wo, wi) as f64)
     })
 }
 
-fn numeric_pdf(b: &Bsdf, wo: Vec3A) -> f64 {
-    sphere_integral(1200, 600, |wi| b.pdf(wo, wi) as f64)
+fn numeric_albedo(b: &Bsdf, wo: Vec3A) -> f64 {
+    numeric(b, wo).0
 }
 
 /// Checks sampling against evaluation for one BSDF and outgoing direction.
 fn check_lobe(name: &str, b: &Bsdf, wo: Vec3A, max_albedo: f64) {
     let (mc, success) = sampled_albedo(b, wo, 200_000);
-    let num = numeric_albedo(b, wo);
-    let pdf_int = numeric_pdf(b, wo);
+    let (num, pdf_int) = numeric(b, wo);
     assert!(num <= max_albedo, "{name}: albedo {num} > {max_albedo}");
     assert!(
         (mc - num).abs() <= 0.02 * num.max(0.05),
@@ -386,12 +391,12 @@ fn bump_map_tilts_the_shading_normal_by_the_slope() {
         Arc::new(TexNode::Const(Rgb::splat(0.5))),
     )));
     let si = si_at(0.25, 0.25, Vec3A::ZERO);
-    let b = bump::apply(&tex, &si);
+    let b = bump::apply(&tex, 0.001, &si);
     let expect = Vec3A::new(-0.5, 0.0, 1.0).normalize();
     assert!((b.shading.n - expect).length() < 1e-3, "{:?}", b.shading.n);
     assert_eq!(b.it.n, Vec3A::Z, "geometric normal unchanged");
     // A constant bump map changes nothing.
-    let flat = bump::apply(&FloatTex::constant(0.3), &si);
+    let flat = bump::apply(&FloatTex::constant(0.3), 0.001, &si);
     assert!((flat.shading.n - Vec3A::Z).length() < 1e-6);
 }
 

@@ -16,7 +16,7 @@ pub struct Args {
     #[arg(long, default_value_t = 5)]
     pub runs: u32,
     /// gzip levels to measure.
-    #[arg(long, value_delimiter = ',', default_value = "1,4,6")]
+    #[arg(long, value_delimiter = ',', default_value = "0,1,4")]
     pub levels: Vec<u32>,
 }
 
@@ -76,7 +76,19 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         r?;
         let (add_s, r) = best(a.runs, || acc.add_delta(&delta));
         r?;
-        let (merge_s, r) = best(a.runs, || flm::merge_flm(&mut acc, &bytes[..]).map(|_| ()));
+        let (merge_s, r) = best(a.runs, || {
+            delta.decode(&bytes[..])?;
+            acc.add_delta(&delta)
+        });
+        r?;
+        let (oneshot_s, r) = best(a.runs, || flm::merge_flm(&mut acc, &bytes[..]).map(|_| ()));
+        r?;
+        let (slice_s, r) = best(a.runs, || delta.decode_slice(&bytes).map(|_| ()));
+        r?;
+        let (slice_merge_s, r) = best(a.runs, || {
+            delta.decode_slice(&bytes)?;
+            acc.add_delta(&delta)
+        });
         r?;
         println!(
             "gzip level {level}: {:.1} MB compressed ({:.0}%)",
@@ -89,15 +101,30 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
             raw_mb / enc_s
         );
         println!(
-            "  decode        {:7.1} ms  {:7.1} MB/s",
+            "  decode (zlib-rs stream) {:7.1} ms  {:7.1} MB/s",
             dec_s * 1e3,
             raw_mb / dec_s
         );
         println!("  add           {:7.1} ms", add_s * 1e3);
         println!(
-            "  decode+merge  {:7.1} ms  {:7.1} MB/s",
+            "  decode+merge  (stream)  {:7.1} ms  {:7.1} MB/s  (reused delta buffer)",
             merge_s * 1e3,
             raw_mb / merge_s
+        );
+        println!(
+            "  merge_flm     {:7.1} ms  {:7.1} MB/s  (fresh buffer each time)",
+            oneshot_s * 1e3,
+            raw_mb / oneshot_s
+        );
+        println!(
+            "  libdeflate decode       {:7.1} ms  {:7.1} MB/s",
+            slice_s * 1e3,
+            raw_mb / slice_s
+        );
+        println!(
+            "  libdeflate decode+merge {:7.1} ms  {:7.1} MB/s  (reused delta buffer)",
+            slice_merge_s * 1e3,
+            raw_mb / slice_merge_s
         );
     }
     Ok(ExitCode::SUCCESS)

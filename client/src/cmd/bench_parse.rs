@@ -125,6 +125,13 @@ fn status_kb(field: &str) -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
+/// CPU time this process has run, in seconds (/proc/self/schedstat, Linux).
+fn cpu_seconds() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/schedstat").ok()?;
+    let ns: u64 = s.split_whitespace().next()?.parse().ok()?;
+    Some(ns as f64 * 1e-9)
+}
+
 pub fn run(args: Args) -> anyhow::Result<std::process::ExitCode> {
     let tmp;
     let dir = match &args.dir {
@@ -146,16 +153,27 @@ pub fn run(args: Args) -> anyhow::Result<std::process::ExitCode> {
     // Reset the peak-RSS counter so it measures the parse only (Linux).
     let _ = std::fs::write("/proc/self/clear_refs", "5");
     let before = status_kb("VmHWM:").unwrap_or(0);
+    let cpu0 = cpu_seconds();
     let t = Instant::now();
     let desc =
         lxs::parse_file(&path, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?;
     let secs = t.elapsed().as_secs_f64();
+    let cpu = cpu0.zip(cpu_seconds()).map(|(a, b)| b - a);
     let peak_kb = status_kb("VmHWM:").unwrap_or(0);
     let numbers = number_bytes(&desc);
     let peak = peak_kb * 1024;
     println!("file:           {:.1} MB", size as f64 / 1e6);
     println!("parse time:     {secs:.3} s");
-    println!("throughput:     {:.1} MB/s", size as f64 / 1e6 / secs);
+    println!(
+        "throughput:     {:.1} MB/s (wall clock)",
+        size as f64 / 1e6 / secs
+    );
+    if let Some(cpu) = cpu {
+        println!(
+            "cpu time:       {cpu:.3} s, {:.1} MB/s per CPU second (the machine is shared)",
+            size as f64 / 1e6 / cpu
+        );
+    }
     println!("shapes:         {}", desc.shapes.len());
     println!(
         "number bytes:   {:.1} MB (parsed values as f32/u32)",
