@@ -19,6 +19,27 @@ struct Cli {
 enum Command {
     /// Parse a scene and print a summary, or its SceneDescription as JSON.
     Parse(cmd::parse::Args),
+    /// Submit a scene (bundled with what it references) to a master.
+    Submit(cmd::submit::Args),
+    /// List the master's jobs.
+    Jobs(cmd::jobs::Args),
+    /// Show one job.
+    Status(cmd::status::Args),
+    /// Follow a job with a progress bar until it ends.
+    Watch(cmd::watch::Args),
+    /// Download a job's PNG, EXR or FLM.
+    Fetch(cmd::fetch::Args),
+    /// Cancel a job.
+    Cancel(cmd::cancel::Args),
+    /// List the master's workers.
+    Workers(cmd::workers::Args),
+    /// Run a master (gRPC + REST + dashboard on one address).
+    Server(cmd::server::Args),
+    /// Run a worker for a master.
+    Worker(cmd::worker::Args),
+    /// Render a scene on a local farm: embedded master + N worker processes.
+    #[command(name = "render-farm")]
+    RenderFarm(cmd::farm_render::Args),
 }
 
 fn main() -> ExitCode {
@@ -26,6 +47,16 @@ fn main() -> ExitCode {
     init_logging(&cli.log);
     let result = match cli.command {
         Command::Parse(a) => cmd::parse::run(a),
+        Command::Submit(a) => cmd::submit::run(a),
+        Command::Jobs(a) => cmd::jobs::run(a),
+        Command::Status(a) => cmd::status::run(a),
+        Command::Watch(a) => cmd::watch::run(a),
+        Command::Fetch(a) => cmd::fetch::run(a),
+        Command::Cancel(a) => cmd::cancel::run(a),
+        Command::Workers(a) => cmd::workers::run(a),
+        Command::Server(a) => cmd::server::run(a),
+        Command::Worker(a) => cmd::worker::run(a),
+        Command::RenderFarm(a) => cmd::farm_render::run(a.into()),
     };
     match result {
         Ok(code) => code,

@@ -1,3 +1,15 @@
-//! One module per subcommand.
+//! One module per subcommand (farm commands share `farm_remote` and `farm_bundle`).
 
+pub mod cancel;
+pub mod farm_bundle;
+pub mod farm_remote;
+pub mod farm_render;
+pub mod fetch;
+pub mod jobs;
 pub mod parse;
+pub mod server;
+pub mod status;
+pub mod submit;
+pub mod watch;
+pub mod worker;
+pub mod workers;
