@@ -6,7 +6,11 @@ use std::process::ExitCode;
 mod cmd;
 
 #[derive(Parser)]
-#[command(name = "luxfarm", version, about = "A network render farm for LuxRender scenes")]
+#[command(
+    name = "luxfarm",
+    version,
+    about = "A network render farm for LuxRender scenes"
+)]
 struct Cli {
     /// Log filter (e.g. "info", "luxfarm=debug"); also read from RUST_LOG.
     #[arg(long, global = true, default_value = "warn")]
@@ -40,6 +44,15 @@ enum Command {
     /// Render a scene on a local farm: embedded master + N worker processes.
     #[command(name = "render-farm")]
     RenderFarm(cmd::farm_render::Args),
+    /// Benchmarks.
+    #[command(subcommand)]
+    Bench(BenchCommand),
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Ray throughput of the BVH on incoherent rays (closest hit and any hit).
+    Bvh(cmd::bench_bvh::Args),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +70,7 @@ fn main() -> ExitCode {
         Command::Server(a) => cmd::server::run(a),
         Command::Worker(a) => cmd::worker::run(a),
         Command::RenderFarm(a) => cmd::farm_render::run(a.into()),
+        Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
     };
     match result {
         Ok(code) => code,

@@ -142,8 +142,11 @@ pub fn bench(
         let build_secs = start.elapsed().as_secs_f64();
         let (closest, any) = rays.get_or_insert_with(|| incoherent_rays(&g, n, 7));
         // warm-up
-        throughput(&closest[..closest.len().min(10_000)], threads, |r| g.intersect(r).is_some());
-        let (closest_mrays, closest_hits) = throughput(closest, threads, |r| g.intersect(r).is_some());
+        throughput(&closest[..closest.len().min(10_000)], threads, |r| {
+            g.intersect(r).is_some()
+        });
+        let (closest_mrays, closest_hits) =
+            throughput(closest, threads, |r| g.intersect(r).is_some());
         let (any_mrays, any_hits) = throughput(any, threads, |r| g.intersect_p(r));
         out.push(BenchResult {
             options: opts,
@@ -213,7 +216,14 @@ pub fn box_mesh() -> ShapeDesc {
             ]
         })
         .collect();
-    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
     let idx = quads
         .iter()
         .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
@@ -247,4 +257,51 @@ pub fn uv_sphere(c: [f32; 3], r: f32, seg: usize) -> ShapeDesc {
         }
     }
     mesh_desc(p, idx)
+}
+
+/// The geometry of `cornell/cornell-mesh.lxs` rebuilt in code (walls, lamp and the two
+/// spheres tessellated with 48 segments and 24 rings, as in the file): used by the benchmark
+/// until scenes can be parsed on this branch.
+pub fn cornell_like() -> Vec<ShapeDesc> {
+    let box_p = vec![
+        [-1.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+        [-1.0, -1.0, 2.0],
+        [1.0, -1.0, 2.0],
+        [1.0, 1.0, 2.0],
+        [-1.0, 1.0, 2.0],
+        [-1.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [1.0, 1.0, 2.0],
+        [-1.0, 1.0, 2.0],
+    ];
+    let box_i = vec![0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 8, 9, 10, 8, 10, 11];
+    let left = vec![
+        [-1.0, -1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+        [-1.0, 1.0, 2.0],
+        [-1.0, -1.0, 2.0],
+    ];
+    let right = vec![
+        [1.0, -1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [1.0, 1.0, 2.0],
+        [1.0, -1.0, 2.0],
+    ];
+    let lamp = vec![
+        [-0.25, -0.25, 1.99],
+        [0.25, -0.25, 1.99],
+        [0.25, 0.25, 1.99],
+        [-0.25, 0.25, 1.99],
+    ];
+    vec![
+        mesh_desc(box_p, box_i),
+        mesh_desc(left, vec![0, 1, 2, 0, 2, 3]),
+        mesh_desc(right, vec![0, 2, 1, 0, 3, 2]),
+        mesh_desc(lamp, vec![0, 2, 1, 0, 3, 2]),
+        uv_sphere([-0.4, 0.3, 0.4], 0.4, 48),
+        uv_sphere([0.45, -0.3, 0.35], 0.35, 48),
+    ]
 }

@@ -33,7 +33,7 @@ pub struct Blas {
     /// Primitive id reported for hits on each shape.
     pub prims: Vec<u32>,
     items: Vec<Item>,
-    bvh: Bvh,
+    pub(crate) bvh: Bvh,
     pub lo: Vec3A,
     pub hi: Vec3A,
 }
@@ -87,7 +87,9 @@ impl Blas {
     #[inline(always)]
     fn item_t(&self, slot: usize, o: Vec3A, d: Vec3A, t_max: f32) -> f32 {
         match &self.items[slot] {
-            Item::Tri { v, .. } => triangle::intersect(v, o, d, t_max).map_or(f32::INFINITY, |h| h.t),
+            Item::Tri { v, .. } => {
+                triangle::intersect(v, o, d, t_max).map_or(f32::INFINITY, |h| h.t)
+            }
             Item::Quadric { shape } => match &self.shapes[*shape as usize] {
                 Shape::Quadric(q) => q.intersect_t(o, d, t_max).unwrap_or(f32::INFINITY),
                 Shape::Mesh(_) => f32::INFINITY,
@@ -99,13 +101,13 @@ impl Blas {
     #[inline]
     pub fn closest(&self, o: Vec3A, d: Vec3A, t_max: f32) -> Option<BlasHit> {
         let len = d.length();
-        if !(len > 0.0) || !len.is_finite() {
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return None;
         }
         let dn = d / len;
         let tm = t_max * len;
         self.bvh
-            .closest(o, dn, tm, |r, slot| self.item_t(slot, r.origin, r.direction, r.tmax))
+            .closest(o, dn, tm, |o, d, tm, slot| self.item_t(slot, o, d, tm))
             .map(|(slot, t)| BlasHit {
                 t: t / len,
                 slot: slot as u32,
@@ -116,16 +118,23 @@ impl Blas {
     #[inline]
     pub fn any(&self, o: Vec3A, d: Vec3A, t_max: f32) -> bool {
         let len = d.length();
-        if !(len > 0.0) || !len.is_finite() {
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return false;
         }
         let dn = d / len;
-        self.bvh
-            .any(o, dn, t_max * len, |r, slot| self.item_t(slot, r.origin, r.direction, r.tmax))
+        self.bvh.any(o, dn, t_max * len, |o, d, tm, slot| {
+            self.item_t(slot, o, d, tm)
+        })
     }
 
     /// Geometry of the hit found by [`Self::closest`] for the same ray, and its primitive id.
-    pub fn hit_geometry(&self, hit: BlasHit, o: Vec3A, d: Vec3A, t_max: f32) -> Option<(LocalGeometry, u32)> {
+    pub fn hit_geometry(
+        &self,
+        hit: BlasHit,
+        o: Vec3A,
+        d: Vec3A,
+        t_max: f32,
+    ) -> Option<(LocalGeometry, u32)> {
         let len = d.length();
         let dn = d / len;
         let tm = t_max * len;
@@ -135,7 +144,10 @@ impl Blas {
                 let Shape::Mesh(m) = &self.shapes[*shape as usize] else {
                     return None;
                 };
-                Some((m.geometry(*index as usize, h.b), self.prims[*shape as usize]))
+                Some((
+                    m.geometry(*index as usize, h.b),
+                    self.prims[*shape as usize],
+                ))
             }
             Item::Quadric { shape } => {
                 let Shape::Quadric(q) = &self.shapes[*shape as usize] else {

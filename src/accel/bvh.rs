@@ -5,6 +5,7 @@
 //! `Ray::new` clamps tiny direction components to 1/ε, which shrinks slabs at small scales);
 //! primitive boxes are padded by a relative margin so the f32 slab test stays conservative.
 
+use glam::Vec3A;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::builder::build_bvh2;
 use obvhs::bvh2::Bvh2;
@@ -12,7 +13,6 @@ use obvhs::cwbvh::builder::build_cwbvh;
 use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray as BvhRay, RayHit};
 use obvhs::BvhBuildParams;
-use glam::Vec3A;
 use std::time::Duration;
 
 /// Node layout used for traversal.
@@ -81,23 +81,45 @@ impl BvhOptions {
 #[derive(Clone)]
 pub enum Bvh {
     Empty,
-    Cw(CwBvh),
-    Bin(Bvh2),
+    /// CWBVH and the power-of-two ray-parameter scale (see [`ray_scale`]).
+    Cw(CwBvh, f32),
+    Bin(Bvh2, f32),
+}
+
+/// obvhs's CWBVH node test clamps the entry distance to an absolute 1e-4, which would cull
+/// everything in scenes smaller than that. Traversal therefore runs in a scaled ray parameter
+/// t' = k t, with k a power of two (exact) mapping the scene's diagonal to about 2^20: the
+/// clamp then covers 1e-10 of the scene, whatever its scale.
+fn ray_scale(boxes: &[Aabb]) -> f32 {
+    let (lo, hi) = boxes.iter().fold(
+        (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)),
+        |(lo, hi), b| (lo.min(b.min), hi.max(b.max)),
+    );
+    let diag = (hi - lo).length();
+    if diag.is_nan() || diag <= 0.0 || !diag.is_finite() {
+        return 1.0;
+    }
+    let e = (20.0 - diag.log2()).round().clamp(-100.0, 100.0) as i32;
+    2f32.powi(e)
 }
 
 impl std::fmt::Debug for Bvh {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Bvh::Empty => write!(f, "Bvh::Empty"),
-            Bvh::Cw(b) => write!(f, "Bvh::Cw({} nodes)", b.nodes.len()),
-            Bvh::Bin(b) => write!(f, "Bvh::Bin({} nodes)", b.nodes.len()),
+            Bvh::Cw(b, _) => write!(f, "Bvh::Cw({} nodes)", b.nodes.len()),
+            Bvh::Bin(b, _) => write!(f, "Bvh::Bin({} nodes)", b.nodes.len()),
         }
     }
 }
 
 /// Pads a box by a margin relative to its coordinates and extent.
 pub fn padded(lo: Vec3A, hi: Vec3A) -> Aabb {
-    let scale = lo.abs().max(hi.abs()).max_element().max((hi - lo).max_element());
+    let scale = lo
+        .abs()
+        .max(hi.abs())
+        .max_element()
+        .max((hi - lo).max_element());
     let pad = Vec3A::splat(scale * 4.0 * f32::EPSILON + f32::MIN_POSITIVE);
     Aabb::new(lo - pad, hi + pad)
 }
@@ -110,59 +132,91 @@ impl Bvh {
             return (Bvh::Empty, Vec::new());
         }
         let mut t = Duration::ZERO;
+        let k = ray_scale(boxes);
         match opts.layout {
             BvhLayout::Cwbvh => {
                 let bvh = build_cwbvh(boxes, opts.params(), &mut t);
                 let perm = bvh.primitive_indices.clone();
-                (Bvh::Cw(bvh), perm)
+                (Bvh::Cw(bvh, k), perm)
             }
             BvhLayout::Bvh2 => {
                 let bvh = build_bvh2(boxes, opts.params(), &mut t);
                 let perm = bvh.primitive_indices.clone();
-                (Bvh::Bin(bvh), perm)
+                (Bvh::Bin(bvh, k), perm)
             }
         }
     }
 
-    /// Closest hit along `o + t d` (d unit), 0 < t < t_max. `f(ray, slot)` returns the hit
-    /// distance of a primitive or infinity; the result is the winning slot and distance.
+    /// Closest hit along `o + t d` (d unit), 0 < t < t_max. `f(o, d, t_max, slot)` returns
+    /// the distance to a primitive's hit along that ray with `t < t_max`, or infinity; the
+    /// result is the winning slot and distance.
     #[inline]
     pub fn closest(
         &self,
         o: Vec3A,
         d: Vec3A,
         t_max: f32,
-        mut f: impl FnMut(&BvhRay, usize) -> f32,
+        mut f: impl FnMut(Vec3A, Vec3A, f32, usize) -> f32,
     ) -> Option<(usize, f32)> {
-        let ray = make_ray(o, d, t_max);
         let mut hit = RayHit::none();
-        let found = match self {
-            Bvh::Empty => false,
-            Bvh::Cw(b) => b.ray_traverse(ray, &mut hit, &mut f),
-            Bvh::Bin(b) => b.ray_traverse(ray, &mut hit, &mut f),
+        let (found, k) = match self {
+            Bvh::Empty => return None,
+            Bvh::Cw(b, k) => {
+                let g = |r: &BvhRay, slot: usize| f(o, d, r.tmax / k, slot) * k;
+                (b.ray_traverse(make_ray(o, d, t_max, *k), &mut hit, g), *k)
+            }
+            Bvh::Bin(b, k) => {
+                let g = |r: &BvhRay, slot: usize| f(o, d, r.tmax / k, slot) * k;
+                (b.ray_traverse(make_ray(o, d, t_max, *k), &mut hit, g), *k)
+            }
         };
-        (found && hit.t < t_max).then_some((hit.primitive_id as usize, hit.t))
+        let t = hit.t / k;
+        (found && t < t_max).then_some((hit.primitive_id as usize, t))
     }
 
-    /// Whether any primitive is hit with 0 < t < t_max.
+    /// Whether any primitive is hit with 0 < t < t_max (`f` as for [`Self::closest`]).
     #[inline]
-    pub fn any(&self, o: Vec3A, d: Vec3A, t_max: f32, mut f: impl FnMut(&BvhRay, usize) -> f32) -> bool {
-        let ray = make_ray(o, d, t_max);
+    pub fn any(
+        &self,
+        o: Vec3A,
+        d: Vec3A,
+        t_max: f32,
+        mut f: impl FnMut(Vec3A, Vec3A, f32, usize) -> f32,
+    ) -> bool {
+        let mut g = |slot: usize| f(o, d, t_max, slot) < t_max;
         match self {
             Bvh::Empty => false,
-            Bvh::Cw(b) => !b.ray_traverse_miss(ray, &mut f),
-            Bvh::Bin(b) => !b.ray_traverse_miss(ray, &mut f),
+            Bvh::Cw(b, k) => !b.ray_traverse_miss(make_ray(o, d, t_max, *k), |_, s| {
+                if g(s) {
+                    0.0
+                } else {
+                    f32::INFINITY
+                }
+            }),
+            Bvh::Bin(b, k) => !b.ray_traverse_miss(make_ray(o, d, t_max, *k), |_, s| {
+                if g(s) {
+                    0.0
+                } else {
+                    f32::INFINITY
+                }
+            }),
         }
     }
 }
 
 #[inline(always)]
-fn make_ray(o: Vec3A, d: Vec3A, t_max: f32) -> BvhRay {
+fn make_ray(o: Vec3A, d: Vec3A, t_max: f32, k: f32) -> BvhRay {
+    let d = d / k;
+    let t_max = t_max * k;
+    // The CWBVH node test picks near/far planes from `direction < 0`: the reciprocal of a
+    // zero component (including -0.0) must be +big to agree with it.
     let inv = |x: f32| {
         if x.abs() > 1e-20 {
             1.0 / x
+        } else if x < 0.0 {
+            -1e20
         } else {
-            1e20f32.copysign(x)
+            1e20
         }
     };
     BvhRay {

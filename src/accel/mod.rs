@@ -74,7 +74,11 @@ impl GeometryBuilder {
             return Err(ShapeError {
                 loc: obj.loc.clone(),
                 kind: format!("object {}", obj.name),
-                message: format!("{} primitive ids for {} shapes", prims.len(), obj.shapes.len()),
+                message: format!(
+                    "{} primitive ids for {} shapes",
+                    prims.len(),
+                    obj.shapes.len()
+                ),
             });
         }
         let shapes = obj
@@ -93,7 +97,9 @@ impl GeometryBuilder {
             tracing::warn!("object instance with a motion-blurred transform: using its first key (motion blur is not implemented)");
         }
         match Transform::new(instance_to_world.start()) {
-            Some(t) if (object.0 as usize) < self.objects.len() => self.instances.push((object.0, t)),
+            Some(t) if (object.0 as usize) < self.objects.len() => {
+                self.instances.push((object.0, t))
+            }
             Some(_) => tracing::warn!("instance of unknown object {} skipped", object.0),
             None => tracing::warn!("object instance with a singular transform skipped"),
         }
@@ -127,7 +133,10 @@ impl GeometryBuilder {
             })
             .collect();
         let (tlas, perm) = Bvh::build(&boxes, self.options);
-        let instances: Vec<Instance> = perm.iter().map(|&i| instances[i as usize].clone()).collect();
+        let instances: Vec<Instance> = perm
+            .iter()
+            .map(|&i| instances[i as usize].clone())
+            .collect();
         let (mut lo, mut hi) = (world.lo, world.hi);
         for b in &boxes {
             lo = lo.min(b.min);
@@ -229,16 +238,16 @@ impl Geometry {
             return best;
         }
         let len = ray.d.length();
-        if !(len > 0.0) || !len.is_finite() {
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return best;
         }
         let dn = ray.d / len;
         let mut inst_best = None;
-        self.tlas.closest(ray.o, dn, t_max * len, |r, slot| {
+        self.tlas.closest(ray.o, dn, t_max * len, |o, d, tm, slot| {
             let inst = &self.instances[slot];
-            let o = inst.to_object.point_f32(r.origin);
-            let d = inst.to_object.vector_f32(r.direction);
-            match self.objects[inst.object as usize].closest(o, d, r.tmax) {
+            let o = inst.to_object.point_f32(o);
+            let d = inst.to_object.vector_f32(d);
+            match self.objects[inst.object as usize].closest(o, d, tm) {
                 Some(h) => {
                     inst_best = Some((slot as u32, h));
                     h.t
@@ -263,7 +272,8 @@ impl Geometry {
                 let dn = ray.d / len;
                 let o = inst.to_object.point_f32(ray.o);
                 let d = inst.to_object.vector_f32(dn);
-                let (g, prim) = self.objects[inst.object as usize].hit_geometry(h, o, d, f32::INFINITY)?;
+                let (g, prim) =
+                    self.objects[inst.object as usize].hit_geometry(h, o, d, f32::INFINITY)?;
                 (to_world(&inst.to_world, &g), prim)
             }
         };
@@ -280,15 +290,15 @@ impl Geometry {
             return false;
         }
         let len = ray.d.length();
-        if !(len > 0.0) || !len.is_finite() {
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return false;
         }
         let dn = ray.d / len;
-        self.tlas.any(ray.o, dn, ray.t_max * len, |r, slot| {
+        self.tlas.any(ray.o, dn, ray.t_max * len, |o, d, tm, slot| {
             let inst = &self.instances[slot];
-            let o = inst.to_object.point_f32(r.origin);
-            let d = inst.to_object.vector_f32(r.direction);
-            if self.objects[inst.object as usize].any(o, d, r.tmax) {
+            let o = inst.to_object.point_f32(o);
+            let d = inst.to_object.vector_f32(d);
+            if self.objects[inst.object as usize].any(o, d, tm) {
                 0.0
             } else {
                 f32::INFINITY

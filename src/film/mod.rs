@@ -5,9 +5,21 @@
 //! - [`FilmParams`]: the `Film "fleximage"` statement with LuxRender's defaults ([`params`]).
 
 pub mod buffer;
+pub mod compare;
+pub mod convergence;
 pub mod error;
+pub mod outlier;
+pub mod output;
 pub mod params;
 
 pub use buffer::{check_size, BufferType, Film, MAX_AXIS, MAX_PIXELS, PIXEL_VALUES};
+pub use compare::{compare, Comparison};
+pub use convergence::ConvergenceTest;
 pub use error::FilmError;
+pub use outlier::OutlierRejector;
 pub use params::{Channels, ExrCompression, FilmParams, ImageOutput, ZBufNorm};
+pub mod flm;
+pub mod flm_header;
+
+pub use flm::{merge_flm, read_flm, read_flm_file, write_flm, write_flm_file, FlmDelta};
+pub use flm_header::{FlmHeader, FlmParam, FlmValue};

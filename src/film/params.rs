@@ -150,6 +150,9 @@ pub struct FilmParams {
     /// vignetting, aberration, noise filters, camera response): kept to write them to FLM
     /// headers; `from_entity` warns when a scene enables one.
     pub effects: Effects,
+    /// FLM parameters luxfarm does not model, carried from a read FLM to the FLMs written
+    /// from it (noise filter settings, layer flags).
+    pub flm_extra: Vec<crate::film::FlmParam>,
 }
 
 /// Post-processing effects parameters (carried, not applied).
@@ -372,6 +375,7 @@ impl FilmParams {
             disable_noisemap_update: false,
             tonemap: TonemapParams::default(),
             effects: Effects::default(),
+            flm_extra: Vec::new(),
         }
     }
 
@@ -518,6 +522,7 @@ fn tonemap_params(ps: &ParamSet, loc: &Loc) -> Result<TonemapParams, FilmError> 
         },
         clamp_method: choice(ps, loc, "ldr_clamp_method", "cut", ClampMethod::from_name)?,
         groups: Vec::new(),
+        flavour: d.flavour,
     })
 }
 

@@ -32,7 +32,7 @@ impl LocalGeometry {
     /// Replaces a degenerate (dpdu, dpdv) pair by a frame around `n`, keeping it tangent.
     pub fn fix_tangents(&mut self) {
         let c = self.dpdu.cross(self.dpdv);
-        if !(c.length_squared() > 0.0) || !c.is_finite() {
+        if c.length_squared() <= 0.0 || !c.is_finite() {
             let (s, t) = coordinate_system(self.n);
             self.dpdu = s;
             self.dpdv = t;

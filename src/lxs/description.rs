@@ -221,9 +221,7 @@ impl SceneDescription {
             ("Accelerator", self.accelerator.as_ref()),
             ("Renderer", self.renderer.as_ref()),
         ];
-        let singles = singles
-            .into_iter()
-            .filter_map(|(l, e)| e.map(|e| (l, e)));
+        let singles = singles.into_iter().filter_map(|(l, e)| e.map(|e| (l, e)));
         let shapes = self
             .shapes
             .iter()

@@ -10,7 +10,9 @@ pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
     let nv = ps.int_or("nv", -1);
     let z = ps.floats("Pz").unwrap_or(&[]);
     if nu < 2 || nv < 2 {
-        return Err(b.err(format!("\"nu\" and \"nv\" must be at least 2 (got {nu}, {nv})")));
+        return Err(b.err(format!(
+            "\"nu\" and \"nv\" must be at least 2 (got {nu}, {nv})"
+        )));
     }
     let (nu, nv) = (nu as usize, nv as usize);
     if nu.checked_mul(nv) != Some(z.len()) {
@@ -33,8 +35,10 @@ pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
     let vert = |x: usize, y: usize| (x + y * nu) as i64;
     for y in 0..nv - 1 {
         for x in 0..nu - 1 {
-            data.tris.push([vert(x, y), vert(x + 1, y), vert(x + 1, y + 1)]);
-            data.tris.push([vert(x, y), vert(x + 1, y + 1), vert(x, y + 1)]);
+            data.tris
+                .push([vert(x, y), vert(x + 1, y), vert(x + 1, y + 1)]);
+            data.tris
+                .push([vert(x, y), vert(x + 1, y + 1), vert(x, y + 1)]);
         }
     }
     TriangleMesh::build(b, data)

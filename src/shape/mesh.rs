@@ -30,7 +30,11 @@ pub struct TriangleMesh {
     pub flip: bool,
 }
 
-const DEFAULT_UV: [Vec2; 3] = [Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0)];
+const DEFAULT_UV: [Vec2; 3] = [
+    Vec2::new(0.0, 0.0),
+    Vec2::new(1.0, 0.0),
+    Vec2::new(1.0, 1.0),
+];
 
 impl TriangleMesh {
     /// Validates `data` and transforms it into the target space of `b`.
@@ -81,7 +85,10 @@ impl TriangleMesh {
         let n = match data.n {
             Some(n) if n.len() == nv => Some(transform_normals(b, &n)),
             Some(n) => {
-                b.warn(&format!("{} normals for {nv} vertices: ignoring \"N\"", n.len()));
+                b.warn(&format!(
+                    "{} normals for {nv} vertices: ignoring \"N\"",
+                    n.len()
+                ));
                 None
             }
             None => None,
@@ -126,7 +133,9 @@ impl TriangleMesh {
             n = -n;
         }
         let ns = self.n.as_ref().and_then(|vn| {
-            let s = b[0] * vn[idx[0] as usize] + b[1] * vn[idx[1] as usize] + b[2] * vn[idx[2] as usize];
+            let s = b[0] * vn[idx[0] as usize]
+                + b[1] * vn[idx[1] as usize]
+                + b[2] * vn[idx[2] as usize];
             let s = s.normalize_or_zero();
             (s != Vec3A::ZERO).then_some(s)
         });
@@ -143,7 +152,7 @@ impl TriangleMesh {
             dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
             dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
         }
-        if !(dpdu.cross(dpdv).length_squared() > 0.0) {
+        if dpdu.cross(dpdv).length_squared().is_nan() || dpdu.cross(dpdv).length_squared() <= 0.0 {
             (dpdu, dpdv) = coordinate_system(n);
         }
         LocalGeometry {

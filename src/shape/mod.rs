@@ -47,7 +47,7 @@ pub struct ShapeError {
 #[derive(Clone, Debug)]
 pub enum Shape {
     Mesh(TriangleMesh),
-    Quadric(Quadric),
+    Quadric(Box<Quadric>),
 }
 
 impl Shape {
@@ -135,15 +135,19 @@ pub fn create(
         "plymesh" => plymesh::create(&b).map(Shape::Mesh),
         "stlmesh" => stlmesh::create(&b).map(Shape::Mesh),
         "heightfield" => heightfield::create(&b).map(Shape::Mesh),
-        "sphere" => sphere::create(&b).map(Shape::Quadric),
-        "disk" => disk::create(&b).map(Shape::Quadric),
-        "cylinder" => cylinder::create(&b).map(Shape::Quadric),
-        "cone" => cone::create(&b).map(Shape::Quadric),
-        "paraboloid" => paraboloid::create(&b).map(Shape::Quadric),
-        "hyperboloid" => hyperboloid::create(&b).map(Shape::Quadric),
+        "sphere" => sphere::create(&b).map(quadric),
+        "disk" => disk::create(&b).map(quadric),
+        "cylinder" => cylinder::create(&b).map(quadric),
+        "cone" => cone::create(&b).map(quadric),
+        "paraboloid" => paraboloid::create(&b).map(quadric),
+        "hyperboloid" => hyperboloid::create(&b).map(quadric),
         other => Err(b.err(format!("unsupported shape type \"{other}\""))),
     }
 }
 
 #[cfg(test)]
 pub(crate) mod test_util;
+
+fn quadric(q: Quadric) -> Shape {
+    Shape::Quadric(Box::new(q))
+}

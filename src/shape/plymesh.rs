@@ -22,8 +22,7 @@ pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
     tracing::info!("loading PLY mesh {}", path.display());
     let bytes = std::fs::read(&path)
         .map_err(|e| b.err(format!("cannot read PLY file {}: {e}", path.display())))?;
-    let mut data =
-        parse(&bytes).map_err(|e| b.err(format!("PLY file {}: {e}", path.display())))?;
+    let mut data = parse(&bytes).map_err(|e| b.err(format!("PLY file {}: {e}", path.display())))?;
     if data.n.is_some() && smooth {
         tracing::debug!("plymesh: \"smooth\" overrides the file's normals");
     }
@@ -39,7 +38,9 @@ pub fn smooth_normals(data: &MeshData) -> Vec<[f32; 3]> {
     let mut acc = vec![Vec3::ZERO; data.p.len()];
     let p = |i: i64| Vec3::from_array(data.p.get(i as usize).copied().unwrap_or_default());
     let mut add = |t: [i64; 3]| {
-        let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).normalize_or_zero();
+        let n = (p(t[1]) - p(t[0]))
+            .cross(p(t[2]) - p(t[0]))
+            .normalize_or_zero();
         for i in t {
             if let Some(a) = acc.get_mut(i as usize) {
                 *a += n;
@@ -53,7 +54,9 @@ pub fn smooth_normals(data: &MeshData) -> Vec<[f32; 3]> {
         add([q[0], q[1], q[2]]);
         add([q[0], q[2], q[3]]);
     }
-    acc.iter().map(|n| n.normalize_or_zero().to_array()).collect()
+    acc.iter()
+        .map(|n| n.normalize_or_zero().to_array())
+        .collect()
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -183,7 +186,9 @@ fn header(bytes: &[u8]) -> Result<(Format, Vec<Element>, &[u8]), String> {
             }
             ["element", name, count] => elements.push(Element {
                 name: name.to_string(),
-                count: count.parse().map_err(|_| format!("bad element count {count}"))?,
+                count: count
+                    .parse()
+                    .map_err(|_| format!("bad element count {count}"))?,
                 props: Vec::new(),
             }),
             ["property", "list", ct, it, name] => {
@@ -265,7 +270,8 @@ impl Reader<'_> {
         if tok.is_empty() {
             return Err("unexpected end of file".into());
         }
-        tok.parse::<f64>().map_err(|_| format!("bad number \"{tok}\""))
+        tok.parse::<f64>()
+            .map_err(|_| format!("bad number \"{tok}\""))
     }
 
     fn list_len(&mut self, ct: Scalar) -> Result<usize, String> {
@@ -289,7 +295,11 @@ impl Reader<'_> {
 }
 
 fn read_vertices(r: &mut Reader, el: &Element, data: &mut MeshData) -> Result<(), String> {
-    let find = |n: &str| el.props.iter().position(|p| p.name == n && p.list.is_none());
+    let find = |n: &str| {
+        el.props
+            .iter()
+            .position(|p| p.name == n && p.list.is_none())
+    };
     let xyz = [find("x"), find("y"), find("z")];
     let [Some(ix), Some(iy), Some(iz)] = xyz else {
         return Err("vertex element without x, y, z".into());

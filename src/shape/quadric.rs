@@ -83,7 +83,7 @@ pub struct Quadric {
 impl Quadric {
     pub(crate) fn new(b: &Build, surface: Surface, phimax: f64) -> Result<Quadric, ShapeError> {
         let (coef, zmin, zmax) = surface_coefficients(&surface);
-        if !(zmax >= zmin) || !coef.iter().all(|c| c.is_finite()) {
+        if zmax.is_nan() || zmin.is_nan() || zmax < zmin || !coef.iter().all(|c| c.is_finite()) {
             return Err(b.err("degenerate parameters (empty z range or non-finite values)"));
         }
         let mut q = Quadric {
@@ -119,7 +119,11 @@ impl Quadric {
             Surface::Cylinder { r, zmin, zmax } => (r, zmin, zmax),
             Surface::Cone { r, h } => (r, 0.0, h),
             Surface::Paraboloid {
-                r, zmin, zmax, zcap, ..
+                r,
+                zmin,
+                zmax,
+                zcap,
+                ..
             } => (r * (zmax / zcap).max(0.0).sqrt(), zmin, zmax),
             Surface::Hyperboloid { p1, p2 } => (
                 p1.truncate().length().max(p2.truncate().length()),
@@ -209,7 +213,7 @@ impl Quadric {
                 return None;
             }
             let t = (h - o.z) / d.z;
-            if !(t > 0.0 && t < t_max) {
+            if t.is_nan() || t <= 0.0 || t >= t_max {
                 return None;
             }
             let mut p = o + d * t;
@@ -222,7 +226,7 @@ impl Quadric {
         let qc = o.x * o.x + o.y * o.y - self.r_of_z(o.z);
         let roots = solve_quadratic(qa, qb, qc)?;
         for t in roots {
-            if !(t > 0.0) {
+            if t.is_nan() || t <= 0.0 {
                 continue;
             }
             if t >= t_max {
@@ -278,7 +282,11 @@ impl Quadric {
     /// (u, v), dp/du and dp/dv at an object-space surface point.
     fn parametrisation(&self, p: DVec3) -> (Vec2, DVec3, DVec3) {
         let phi = self.phi(p);
-        let u = if self.phimax > 0.0 { phi / self.phimax } else { 0.0 };
+        let u = if self.phimax > 0.0 {
+            phi / self.phimax
+        } else {
+            0.0
+        };
         let dpdu = DVec3::new(-self.phimax * p.y, self.phimax * p.x, 0.0);
         let (cos_phi, sin_phi) = (phi.cos(), phi.sin());
         let (v, dpdv) = match self.surface {
@@ -291,7 +299,11 @@ impl Quadric {
                 let cos_t = (p.z / r).clamp(-1.0, 1.0);
                 let theta = cos_t.acos();
                 let dt = theta_zmax - theta_zmin;
-                let v = if dt != 0.0 { (theta - theta_zmin) / dt } else { 0.0 };
+                let v = if dt != 0.0 {
+                    (theta - theta_zmin) / dt
+                } else {
+                    0.0
+                };
                 let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
                 let rxy = p.truncate().length();
                 let (c, s) = if rxy > 0.0 {
@@ -367,7 +379,8 @@ impl Quadric {
         };
         let err = DVec3::splat(residual + p.abs().max_element() * 1e-13);
         let (pt, p_error) = self.to_space.point64_with_error(p, err);
-        let mut n = crate::geometry::transform::to_f32(self.to_space.normal(n_obj)).normalize_or_zero();
+        let mut n =
+            crate::geometry::transform::to_f32(self.to_space.normal(n_obj)).normalize_or_zero();
         if self.reverse {
             n = -n;
         }
@@ -395,7 +408,11 @@ impl Quadric {
                 let w: Vec<f64> = (0..BANDS)
                     .map(|i| {
                         let z0 = self.zmin + dz * i as f64;
-                        let (a, m, b) = (self.da_dz(z0), self.da_dz(z0 + 0.5 * dz), self.da_dz(z0 + dz));
+                        let (a, m, b) = (
+                            self.da_dz(z0),
+                            self.da_dz(z0 + 0.5 * dz),
+                            self.da_dz(z0 + dz),
+                        );
                         dz / 6.0 * (a + 4.0 * m + b)
                     })
                     .collect();
@@ -505,7 +522,11 @@ fn surface_coefficients(s: &Surface) -> ([f64; 3], f64, f64) {
             ([k, -2.0 * k * h, k * h * h], 0.0, h)
         }
         Surface::Paraboloid {
-            r, zmin, zmax, zcap, ..
+            r,
+            zmin,
+            zmax,
+            zcap,
+            ..
         } => ([0.0, r * r / zcap, 0.0], zmin, zmax),
         Surface::Hyperboloid { p1, p2 } => {
             let d = p2 - p1;
@@ -533,9 +554,7 @@ fn similarity_factor(t: &Transform) -> Option<f64> {
     let g = l.transpose() * l;
     let s2 = (g.x_axis.x + g.y_axis.y + g.z_axis.z) / 3.0;
     let off = (g - DMat3::from_diagonal(DVec3::splat(s2))).to_cols_array();
-    off.iter()
-        .all(|e| e.abs() <= 1e-9 * s2)
-        .then_some(s2)
+    off.iter().all(|e| e.abs() <= 1e-9 * s2).then_some(s2)
 }
 
 /// Real roots of a t² + b t + c in increasing order (numerically stable form).
@@ -552,17 +571,21 @@ pub fn solve_quadratic(a: f64, b: f64, c: f64) -> Option<[f64; 2]> {
         return None;
     }
     let root = disc.sqrt();
-    let q = if b < 0.0 { -0.5 * (b - root) } else { -0.5 * (b + root) };
-    let (t0, t1) = if q == 0.0 {
-        (0.0, 0.0)
+    let q = if b < 0.0 {
+        -0.5 * (b - root)
     } else {
-        (q / a, c / q)
+        -0.5 * (b + root)
     };
+    let (t0, t1) = if q == 0.0 { (0.0, 0.0) } else { (q / a, c / q) };
     Some(if t0 <= t1 { [t0, t1] } else { [t1, t0] })
 }
 
 /// Sphere/cylinder/paraboloid z range from `zmin`/`zmax` parameters (swapped if reversed).
-pub(crate) fn z_range(b: &Build, zmin_default: f32, zmax_default: f32) -> Result<(f64, f64), ShapeError> {
+pub(crate) fn z_range(
+    b: &Build,
+    zmin_default: f32,
+    zmax_default: f32,
+) -> Result<(f64, f64), ShapeError> {
     let z0 = b.float("zmin", zmin_default)?;
     let z1 = b.float("zmax", zmax_default)?;
     Ok((z0.min(z1), z0.max(z1)))

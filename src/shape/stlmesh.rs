@@ -17,9 +17,7 @@ pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
         .ok_or_else(|| b.err("missing \"string filename\""))?
         .to_string();
     let recenter = b.params().bool_or("recenter_mesh", false);
-    for ignored in ["type"] {
-        let _ = b.params().string(ignored);
-    }
+    let _ = b.params().string("type");
     check_unsupported(b)?;
     let path = b.ctx.base_dir.join(&name);
     tracing::info!("loading STL mesh {}", path.display());
@@ -112,7 +110,10 @@ fn parse_ascii(bytes: &[u8]) -> Result<Vec<[f32; 3]>, String> {
         }
     }
     if p.is_empty() || p.len() % 3 != 0 {
-        return Err(format!("{} vertices is not a whole number of triangles", p.len()));
+        return Err(format!(
+            "{} vertices is not a whole number of triangles",
+            p.len()
+        ));
     }
     Ok(p)
 }

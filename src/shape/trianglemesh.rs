@@ -21,14 +21,14 @@ pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
     if tris_raw.is_empty() && quads_raw.is_empty() {
         return Err(b.err("missing \"integer indices\" (or triindices/quadindices)"));
     }
-    if tris_raw.len() % 3 != 0 {
+    if !tris_raw.len().is_multiple_of(3) {
         b.warn(&format!(
             "{} triangle indices is not a multiple of 3: the last {} are ignored",
             tris_raw.len(),
             tris_raw.len() % 3
         ));
     }
-    if quads_raw.len() % 4 != 0 {
+    if !quads_raw.len().is_multiple_of(4) {
         b.warn("quad index count is not a multiple of 4: the remainder is ignored");
     }
     let tris = tris_raw
@@ -41,7 +41,9 @@ pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
         .collect();
     let uv_raw = ps.floats("uv").or_else(|| ps.floats("st"));
     let uv = match uv_raw {
-        Some(f) if f.len() == 2 * p.len() => Some(f.chunks_exact(2).map(|c| [c[0], c[1]]).collect()),
+        Some(f) if f.len() == 2 * p.len() => {
+            Some(f.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
+        }
         Some(f) => {
             b.warn(&format!(
                 "{} uv values for {} vertices (need 2 per vertex): ignoring uv",
@@ -94,7 +96,10 @@ pub(crate) fn check_unsupported(b: &Build) -> Result<(), ShapeError> {
             ));
         }
     }
-    let levels = ps.int("nsubdivlevels").or_else(|| ps.int("nlevels")).unwrap_or(0);
+    let levels = ps
+        .int("nsubdivlevels")
+        .or_else(|| ps.int("nlevels"))
+        .unwrap_or(0);
     if levels > 0 {
         return Err(b.err(format!(
             "subdivision (nsubdivlevels {levels}) is not implemented"

@@ -1,5 +1,6 @@
 //! CIE 1931 2° colour matching functions, 360–830 nm every 5 nm (the standard CIE table; the
 //! same values LuxRender's 1 nm table takes at multiples of 5 nm), with linear interpolation.
+#![allow(clippy::excessive_precision)]
 
 /// First wavelength of the table, nm.
 pub const CIE_START: f32 = 360.0;

@@ -4,6 +4,7 @@
 //!
 //! An RGB triple becomes `min * white + (mid - min) * secondary + (max - mid) * primary`
 //! where the secondary is the mix of the two largest channels and the primary the largest.
+#![allow(clippy::excessive_precision)]
 
 /// Basis start/end wavelengths (nm) and bin count.
 pub const START: f32 = 380.0;

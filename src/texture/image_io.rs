@@ -91,7 +91,9 @@ fn load_exr(path: &Path) -> Result<ImageData, String> {
         |res: Vec2<usize>, _channels: &RgbaChannels| {
             (res.width(), vec![[0.0f32; 4]; res.width() * res.height()])
         },
-        |storage: &mut (usize, Vec<[f32; 4]>), pos: Vec2<usize>, (r, g, b, a): (f32, f32, f32, f32)| {
+        |storage: &mut (usize, Vec<[f32; 4]>),
+         pos: Vec2<usize>,
+         (r, g, b, a): (f32, f32, f32, f32)| {
             let w = storage.0;
             if let Some(t) = storage.1.get_mut(pos.y() * w + pos.x()) {
                 *t = [r, g, b, a];

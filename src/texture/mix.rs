@@ -22,7 +22,12 @@ impl MixTex {
 }
 
 pub fn build(set: &mut TextureSet, t: &TextureDesc) -> Result<TexNode, TextureError> {
-    let amount = set.node_param(TextureType::Float, &t.entity.params, "amount", Rgb::splat(0.5))?;
+    let amount = set.node_param(
+        TextureType::Float,
+        &t.entity.params,
+        "amount",
+        Rgb::splat(0.5),
+    )?;
     let (tex1, tex2) = set.operands(t, 0.0, 1.0)?;
     Ok(TexNode::Mix(MixTex { amount, tex1, tex2 }))
 }

@@ -129,7 +129,7 @@ pub fn param_loc(params: &ParamSet, name: &str, fallback: &Loc) -> Loc {
         .params
         .iter()
         .rev()
-        .find(|p| p.name == name)
+        .find(|p| p.name == name && !p.loc.file.is_empty())
         .map(|p| p.loc.clone())
         .unwrap_or_else(|| fallback.clone())
 }
@@ -279,7 +279,11 @@ impl<'a> TextureSet<'a> {
         let node = self.build(tdesc);
         self.building.pop();
         let node = Arc::new(node?);
-        tracing::debug!("built {} texture \"{name}\" ({})", type_name(ty), tdesc.entity.kind);
+        tracing::debug!(
+            "built {} texture \"{name}\" ({})",
+            type_name(ty),
+            tdesc.entity.kind
+        );
         self.built.insert(key, node.clone());
         Ok(node)
     }

@@ -21,7 +21,7 @@ pub mod params;
 pub mod reinhard;
 
 pub use colorspace::{ColorAdaptation, ColorSystem};
-pub use params::{ClampMethod, ColorSpaceParams, GroupParams, Kernel, TonemapParams};
+pub use params::{ClampMethod, ColorSpaceParams, Flavour, GroupParams, Kernel, TonemapParams};
 
 use crate::film::{BufferType, Film, PIXEL_VALUES};
 use rayon::prelude::*;
@@ -143,6 +143,12 @@ pub fn apply_kernel(img: &mut XyzImage, params: &TonemapParams) {
         .for_each(|p| *p = p.map(|c| if c > 0.0 { c } else { 0.0 }));
     let xyz = &mut img.xyz;
     match params.kernel {
+        Kernel::Reinhard if params.flavour == Flavour::Lux06 => reinhard::map_06(
+            xyz,
+            params.reinhard_prescale,
+            params.reinhard_postscale,
+            params.reinhard_burn,
+        ),
         Kernel::Reinhard => reinhard::map(
             xyz,
             params.reinhard_prescale,
@@ -191,13 +197,19 @@ pub fn untonemapped(film: &Film, params: &TonemapParams) -> RgbImage {
     )
 }
 
-/// Brings a tonemapped image to display values in [0, 1]: LDR clamp, then gamma.
+/// Brings a tonemapped image to display values in [0, 1]: LDR clamp, then gamma (LuxRender
+/// 0.6/0.7: gamma, then clamp).
 pub fn to_display(img: &mut RgbImage, params: &TonemapParams) {
     let cs = ColorSystem::new(&params.colorspace);
     let inv_gamma = 1.0 / params.gamma;
+    let gamma = move |p: [f32; 3]| p.map(|c| if c > 0.0 { c.powf(inv_gamma) } else { 0.0 });
+    let (method, legacy) = (params.clamp_method, params.flavour == Flavour::Lux06);
     img.rgb.par_iter_mut().for_each(|p| {
-        let l = cs.limit(*p, params.clamp_method);
-        *p = l.map(|c| if c > 0.0 { c.powf(inv_gamma) } else { 0.0 });
+        *p = if legacy {
+            cs.limit(gamma(*p), method)
+        } else {
+            gamma(cs.limit(*p, method))
+        };
     });
 }
 

@@ -126,6 +126,17 @@ impl Default for GroupParams {
     }
 }
 
+/// Which LuxRender generation's imaging pipeline to follow.
+///
+/// LuxRender 0.6 and 0.7 (FLM headers without the LDR clamp parameter, id 64) computed the
+/// Reinhard adaptation luminance as the arithmetic mean of Y and applied the gamma before the
+/// LDR clamp; LuxRender 1.x uses the log-average and clamps first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flavour {
+    Lux1,
+    Lux06,
+}
+
 /// Everything the imaging pipeline needs besides the film itself.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TonemapParams {
@@ -144,6 +155,7 @@ pub struct TonemapParams {
     pub clamp_method: ClampMethod,
     /// Per group settings by group index; groups beyond the list use the defaults.
     pub groups: Vec<GroupParams>,
+    pub flavour: Flavour,
 }
 
 impl Default for TonemapParams {
@@ -163,6 +175,7 @@ impl Default for TonemapParams {
             colorspace: ColorSpaceParams::default(),
             clamp_method: ClampMethod::Cut,
             groups: Vec::new(),
+            flavour: Flavour::Lux1,
         }
     }
 }

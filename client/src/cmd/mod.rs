@@ -1,5 +1,6 @@
 //! One module per subcommand (farm commands share `farm_remote` and `farm_bundle`).
 
+pub mod bench_bvh;
 pub mod cancel;
 pub mod farm_bundle;
 pub mod farm_remote;

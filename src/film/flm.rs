@@ -1,0 +1,317 @@
+//! FLM v0 files, byte-compatible with LuxRender: a gzip stream holding a little-endian header
+//! (see `flm_header`) and, per buffer group, a double sample count then per buffer
+//! configuration, row by row, five f32 per pixel (X, Y, Z, alpha, weight sums).
+//!
+//! Reading decodes the stream row by row straight into the film (no second copy of the
+//! decompressed file). Merging a delta into an existing film first decodes the delta's f32
+//! data into a reusable scratch buffer and validates it, then adds it in parallel: a corrupt
+//! or truncated upload is refused without touching the accumulated film. Writing converts
+//! row by row into the compressor; files are written to a temporary name then renamed.
+
+use super::flm_header::{params_for, read_f64, FlmHeader};
+use super::{BufferType, Film, FilmError, FilmParams, PIXEL_VALUES};
+use flate2::read::GzDecoder;
+use flate2::write::GzEncoder;
+use flate2::Compression;
+use rayon::prelude::*;
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+
+/// gzip level of written FLMs (LuxRender 1.x uses 4; see the `bench flm` measurements).
+pub const DEFAULT_LEVEL: u32 = 1;
+
+fn corrupt(context: &'static str) -> impl Fn(std::io::Error) -> FilmError {
+    move |source| FilmError::Corrupt { context, source }
+}
+
+/// Reads the whole gzip stream to its end so that the CRC and length are checked, and
+/// refuses data after the film.
+fn finish<R: Read>(r: &mut R) -> Result<(), FilmError> {
+    let mut b = [0u8; 64];
+    let n = r.read(&mut b).map_err(corrupt("end of stream"))?;
+    if n > 0 {
+        return Err(FilmError::BadHeader(
+            "data continues after the last buffer".into(),
+        ));
+    }
+    Ok(())
+}
+
+fn sample_count<R: Read>(r: &mut R, group: usize) -> Result<f64, FilmError> {
+    let n = read_f64(r, "sample count")?;
+    if !n.is_finite() || n < 0.0 {
+        return Err(FilmError::BadHeader(format!(
+            "group {group} has sample count {n}"
+        )));
+    }
+    Ok(n)
+}
+
+/// Reads an FLM (gzip-compressed, as LuxRender writes it) into a new film.
+pub fn read_flm(r: impl Read) -> Result<(Film, FlmHeader), FilmError> {
+    let mut r = GzDecoder::new(BufReader::with_capacity(1 << 16, r));
+    let header = FlmHeader::read(&mut r)?;
+    let mut film = Film::with_buffers(
+        header.width,
+        header.height,
+        header.group_names(),
+        header.buffer_types.clone(),
+    )?;
+    let width = header.width as usize;
+    let mut row = vec![0u8; width * PIXEL_VALUES * 4];
+    for g in 0..header.groups as usize {
+        let n = sample_count(&mut r, g)?;
+        film.set_sample_count(g, n);
+        for b in 0..header.buffer_types.len() {
+            let Some(buf) = film.buffer_mut(g, b) else {
+                return Err(FilmError::BadHeader("buffer layout".into()));
+            };
+            for (y, dst) in buf.chunks_exact_mut(width * PIXEL_VALUES).enumerate() {
+                r.read_exact(&mut row).map_err(corrupt("pixel data"))?;
+                decode_row(&row, dst).map_err(|x| non_finite(g, b, x, y, width))?;
+            }
+        }
+    }
+    finish(&mut r)?;
+    Ok((film, header))
+}
+
+fn non_finite(group: usize, buffer: usize, index: usize, y: usize, width: usize) -> FilmError {
+    FilmError::NonFinite {
+        group,
+        buffer,
+        x: (index / PIXEL_VALUES % width.max(1)) as u32,
+        y: y as u32,
+    }
+}
+
+/// Converts one row of little-endian f32 into f64; `Err(i)`: value i is not finite.
+fn decode_row(row: &[u8], dst: &mut [f64]) -> Result<(), usize> {
+    let mut ok = true;
+    for (d, b) in dst.iter_mut().zip(row.chunks_exact(4)) {
+        let v = f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+        ok &= v.is_finite();
+        *d = f64::from(v);
+    }
+    if ok {
+        return Ok(());
+    }
+    Err(dst.iter().position(|v| !v.is_finite()).unwrap_or(0))
+}
+
+/// A decoded FLM delta: header, sample counts and the raw f32 sums, ready to be added.
+#[derive(Clone, Debug, Default)]
+pub struct FlmDelta {
+    pub header: Option<FlmHeader>,
+    pub samples: Vec<f64>,
+    /// Group-major, then buffer, then rows: 5 f32 per pixel.
+    pub data: Vec<f32>,
+}
+
+impl FlmDelta {
+    /// Decodes an FLM into this delta, reusing its memory.
+    pub fn decode(&mut self, r: impl Read) -> Result<&FlmHeader, FilmError> {
+        self.header = None;
+        let mut r = GzDecoder::new(BufReader::with_capacity(1 << 16, r));
+        let header = FlmHeader::read(&mut r)?;
+        let per_buffer = header.width as usize * header.height as usize * PIXEL_VALUES;
+        let nbuf = header.buffer_types.len();
+        self.data.clear();
+        self.data
+            .resize(per_buffer * nbuf * header.groups as usize, 0.0);
+        self.samples.clear();
+        for (g, chunk) in self.data.chunks_exact_mut(per_buffer * nbuf).enumerate() {
+            self.samples.push(sample_count(&mut r, g)?);
+            let bytes: &mut [u8] = bytemuck::cast_slice_mut(chunk);
+            r.read_exact(bytes).map_err(corrupt("pixel data"))?;
+        }
+        finish(&mut r)?;
+        if cfg!(target_endian = "big") {
+            self.data
+                .iter_mut()
+                .for_each(|v| *v = f32::from_bits(v.to_bits().swap_bytes()));
+        }
+        self.check_finite(&header)?;
+        Ok(self.header.insert(header))
+    }
+
+    fn check_finite(&self, h: &FlmHeader) -> Result<(), FilmError> {
+        const CHUNK: usize = 1 << 16;
+        let bad = self
+            .data
+            .par_chunks(CHUNK)
+            .enumerate()
+            .find_map_first(|(c, s)| s.iter().position(|v| !v.is_finite()).map(|i| c * CHUNK + i));
+        let Some(i) = bad else { return Ok(()) };
+        let w = h.width as usize;
+        let per_buffer = w * h.height as usize * PIXEL_VALUES;
+        let nbuf = h.buffer_types.len().max(1);
+        let (gb, within) = (i / per_buffer.max(1), i % per_buffer.max(1));
+        let px = within / PIXEL_VALUES;
+        Err(FilmError::NonFinite {
+            group: gb / nbuf,
+            buffer: gb % nbuf,
+            x: (px % w.max(1)) as u32,
+            y: (px / w.max(1)) as u32,
+        })
+    }
+}
+
+impl Film {
+    /// Whether an FLM header describes this film's layout.
+    pub fn check_flm_layout(&self, h: &FlmHeader) -> Result<(), FilmError> {
+        if h.width != self.width() || h.height != self.height() {
+            return Err(FilmError::Mismatch(format!(
+                "FLM is {}x{}, film is {}x{}",
+                h.width,
+                h.height,
+                self.width(),
+                self.height()
+            )));
+        }
+        if h.groups as usize != self.groups().len() {
+            return Err(FilmError::Mismatch(format!(
+                "FLM has {} light groups, film has {}",
+                h.groups,
+                self.groups().len()
+            )));
+        }
+        if h.buffer_types != self.buffer_types() {
+            return Err(FilmError::Mismatch(format!(
+                "FLM buffers {:?}, film buffers {:?}",
+                h.buffer_types,
+                self.buffer_types()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Adds a decoded delta (sums and sample counts), in parallel.
+    pub fn add_delta(&mut self, d: &FlmDelta) -> Result<(), FilmError> {
+        let Some(h) = &d.header else {
+            return Err(FilmError::Mismatch("empty delta".into()));
+        };
+        self.check_flm_layout(h)?;
+        let per_buffer = self.pixel_count() * PIXEL_VALUES;
+        for g in 0..self.groups().len() {
+            for b in 0..self.buffer_types().len() {
+                let start = (g * self.buffer_types().len() + b) * per_buffer;
+                let src = d.data.get(start..start + per_buffer);
+                let (Some(src), Some(dst)) = (src, self.buffer_mut(g, b)) else {
+                    return Err(FilmError::Mismatch("delta data size".into()));
+                };
+                add_f32(dst, src);
+            }
+            let n = self.sample_count(g) + d.samples.get(g).copied().unwrap_or(0.0);
+            self.set_sample_count(g, n);
+        }
+        Ok(())
+    }
+}
+
+fn add_f32(dst: &mut [f64], src: &[f32]) {
+    const CHUNK: usize = 1 << 15;
+    dst.par_chunks_mut(CHUNK)
+        .zip(src.par_chunks(CHUNK))
+        .for_each(|(d, s)| d.iter_mut().zip(s).for_each(|(a, &b)| *a += f64::from(b)));
+}
+
+/// Decodes an FLM delta and adds it to `film`; on any error the film is unchanged.
+pub fn merge_flm(film: &mut Film, r: impl Read) -> Result<FlmHeader, FilmError> {
+    let mut delta = FlmDelta::default();
+    delta.decode(r)?;
+    film.add_delta(&delta)?;
+    delta
+        .header
+        .ok_or_else(|| FilmError::Mismatch("empty delta".into()))
+}
+
+/// Writes a film as an FLM with the parameters LuxRender writes (gzip level [`DEFAULT_LEVEL`]).
+pub fn write_flm(film: &Film, params: &FilmParams, w: impl Write) -> Result<(), FilmError> {
+    write_flm_level(film, params, w, DEFAULT_LEVEL)
+}
+
+/// The header an FLM of this film carries.
+pub fn header_for(film: &Film, params: &FilmParams) -> FlmHeader {
+    FlmHeader {
+        width: film.width(),
+        height: film.height(),
+        groups: film.groups().len() as u32,
+        buffer_types: film.buffer_types().to_vec(),
+        params: params_for(params, film.groups()),
+    }
+}
+
+/// Writes a film as an FLM at a given gzip level (0-9).
+pub fn write_flm_level(
+    film: &Film,
+    params: &FilmParams,
+    w: impl Write,
+    level: u32,
+) -> Result<(), FilmError> {
+    let mut enc = GzEncoder::new(w, Compression::new(level.min(9)));
+    header_for(film, params).write(&mut enc)?;
+    let width = film.width() as usize;
+    let mut row = vec![0u8; width * PIXEL_VALUES * 4];
+    for g in 0..film.groups().len() {
+        enc.write_all(&film.sample_count(g).to_le_bytes())?;
+        for b in 0..film.buffer_types().len() {
+            let Some(buf) = film.buffer(g, b) else {
+                continue;
+            };
+            for src in buf.chunks_exact(width * PIXEL_VALUES) {
+                for (d, &v) in row.chunks_exact_mut(4).zip(src) {
+                    d.copy_from_slice(&(v as f32).to_le_bytes());
+                }
+                enc.write_all(&row)?;
+            }
+        }
+    }
+    enc.finish()?.flush()?;
+    Ok(())
+}
+
+/// Reads an FLM file.
+pub fn read_flm_file(path: &Path) -> Result<(Film, FlmHeader), FilmError> {
+    let f = File::open(path).map_err(|e| FilmError::file(path, e))?;
+    read_flm(f)
+}
+
+/// Writes `path` atomically: a temporary file beside it, synced, then renamed over it.
+pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> Result<(), FilmError>,
+) -> Result<(), FilmError> {
+    let tmp = temp_path(path);
+    let result = (|| {
+        let f = File::create(&tmp).map_err(|e| FilmError::file(&tmp, e))?;
+        let mut w = BufWriter::with_capacity(1 << 16, f);
+        write(&mut w)?;
+        let f = w
+            .into_inner()
+            .map_err(|e| FilmError::file(&tmp, e.into_error()))?;
+        f.sync_all().map_err(|e| FilmError::file(&tmp, e))?;
+        std::fs::rename(&tmp, path).map_err(|e| FilmError::file(path, e))
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+fn temp_path(path: &Path) -> PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(format!(".{}.tmp", std::process::id()));
+    path.with_file_name(name)
+}
+
+/// Writes a film to an FLM file atomically.
+pub fn write_flm_file(path: &Path, film: &Film, params: &FilmParams) -> Result<(), FilmError> {
+    write_atomic(path, |w| write_flm(film, params, w))
+}
+
+/// The buffer types LuxRender's fleximage uses for an ordinary render.
+pub fn default_buffers() -> Vec<BufferType> {
+    vec![BufferType::PerPixel]
+}

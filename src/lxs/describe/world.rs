@@ -1,0 +1,400 @@
+//! World statements of the description builder: textures, materials, lights, shapes, object
+//! definitions and instances, volumes, and the camera's transform.
+
+use super::refs;
+use super::state::BlockKind;
+use super::{xform, DescriptionBuilder};
+use crate::lxs::description::{
+    AreaLightDesc, Entity, InstanceDesc, LightDesc, MaterialDesc, ObjectDesc, ShapeDesc,
+    TextureDesc, TextureType, VolumeDesc, Xform,
+};
+use crate::lxs::error::{LxsError, LxsErrorKind, LxsResult};
+use crate::lxs::params::{Loc, ParamSet, ParamValue};
+use std::rc::Rc;
+
+impl DescriptionBuilder {
+    /// The camera's world-to-camera transform: the CTM, or with `"string endtransform"` naming
+    /// a coordinate system, a two-key motion from shutteropen to shutterclose (LuxRender).
+    pub(super) fn camera_transform(&mut self, e: &mut Entity) -> LxsResult<Xform> {
+        let Some(end_name) = e.params.string("endtransform").map(str::to_string) else {
+            return Ok(self.ctm.clone());
+        };
+        if end_name.is_empty() {
+            return Ok(self.ctm.clone());
+        }
+        let Some(end) = self.coord_systems.get(&end_name).cloned() else {
+            let known = self.coord_systems.keys().map(String::as_str).collect();
+            return Err(self.undefined(
+                &e.loc,
+                "coordinate system (endtransform)",
+                &end_name,
+                known,
+            ));
+        };
+        if self.ctm.keys.len() != 1 {
+            self.warn(&e.loc, "both a motion transform and endtransform given for the camera: endtransform ignored, as LuxRender does");
+            return Ok(self.ctm.clone());
+        }
+        let open = e.params.float_or("shutteropen", 0.0);
+        let close = e.params.float_or("shutterclose", 1.0);
+        Ok(Xform {
+            keys: vec![(open, self.ctm.start()), (close, end.start())],
+        })
+    }
+
+    /// The light group lights get now ("default" when none is set), registered on first use.
+    fn current_light_group(&mut self) -> String {
+        if self.gs.light_group.is_empty() {
+            self.gs.light_group = "default".to_string();
+        }
+        let g = self.gs.light_group.clone();
+        if !self.desc.light_groups.contains(&g) {
+            self.desc.light_groups.push(g.clone());
+        }
+        g
+    }
+
+    pub(super) fn define_texture(
+        &mut self,
+        name: &str,
+        value_type: &str,
+        e: Entity,
+    ) -> LxsResult<()> {
+        let ty = match value_type {
+            "float" => TextureType::Float,
+            "color" => TextureType::Color,
+            "fresnel" => {
+                return Err(LxsError::new(
+                    LxsErrorKind::Unsupported,
+                    e.loc,
+                    format!("fresnel texture \"{name}\": fresnel textures are not supported"),
+                ))
+            }
+            other => {
+                return Err(LxsError::new(
+                    LxsErrorKind::WrongValueType,
+                    e.loc,
+                    format!("Texture \"{name}\": value type must be \"float\" or \"color\", found \"{other}\""),
+                ))
+            }
+        };
+        self.check_texture_refs(&e.params, Some(ty), &e.loc)?;
+        if self.gs.textures(ty).contains_key(name) {
+            self.warn(&e.loc, format!("{value_type} texture \"{name}\" redefined"));
+        }
+        let index = self.desc.textures.len();
+        self.desc.textures.push(TextureDesc {
+            name: name.to_string(),
+            value_type: ty,
+            entity: e,
+            object_to_world: self.ctm.clone(),
+        });
+        self.desc
+            .named_textures
+            .insert((ty, name.to_string()), index);
+        self.gs.textures_mut(ty).insert(name.to_string(), index);
+        Ok(())
+    }
+
+    /// Every `"texture X" "name"` parameter must name a texture defined in scope, in the
+    /// namespace the parameter reads (float or color) when that is known.
+    pub(super) fn check_texture_refs(
+        &self,
+        params: &ParamSet,
+        own: Option<TextureType>,
+        _loc: &Loc,
+    ) -> LxsResult<()> {
+        for p in &params.params {
+            let ParamValue::Texture(tex) = &p.value else {
+                continue;
+            };
+            let found = |ty| self.gs.textures(ty).contains_key(tex.as_str());
+            let ok = match refs::namespace(&p.name, own) {
+                Some(ty) => found(ty),
+                None => found(TextureType::Float) || found(TextureType::Color),
+            };
+            if !ok {
+                let ns = match refs::namespace(&p.name, own) {
+                    Some(TextureType::Float) => "float texture",
+                    Some(TextureType::Color) => "color texture",
+                    None => "texture",
+                };
+                let mut known: Vec<&str> =
+                    self.gs.float_textures.keys().map(String::as_str).collect();
+                known.extend(self.gs.color_textures.keys().map(String::as_str));
+                let err = self.undefined(&p.loc, ns, tex, known);
+                return Err(LxsError {
+                    message: format!("parameter '{}': {}", p.name, err.message),
+                    ..err
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Mix and layered materials name other materials in `namedmaterialN` strings.
+    fn check_material_refs(&self, params: &ParamSet) -> LxsResult<()> {
+        for p in &params.params {
+            let ParamValue::String(names) = &p.value else {
+                continue;
+            };
+            if !p.name.starts_with("namedmaterial") {
+                continue;
+            }
+            for n in names {
+                if !n.is_empty() && !self.gs.named_materials.contains_key(n.as_str()) {
+                    let known = self.gs.named_materials.keys().map(String::as_str).collect();
+                    let err = self.undefined(&p.loc, "named material", n, known);
+                    return Err(LxsError {
+                        message: format!("parameter '{}': {}", p.name, err.message),
+                        ..err
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn define_material(&mut self, name: Option<&str>, e: Entity) -> LxsResult<()> {
+        self.check_texture_refs(&e.params, None, &e.loc)?;
+        self.check_material_refs(&e.params)?;
+        let index = self.desc.materials.len();
+        let loc = e.loc.clone();
+        self.desc.materials.push(MaterialDesc {
+            name: name.map(str::to_string),
+            entity: e,
+        });
+        match name {
+            Some(n) => {
+                if self.gs.named_materials.contains_key(n) {
+                    self.warn(&loc, format!("named material \"{n}\" redefined"));
+                }
+                self.desc.named_materials.insert(n.to_string(), index);
+                Rc::make_mut(&mut self.gs.named_materials).insert(n.to_string(), index);
+            }
+            None => self.gs.material = Some(index),
+        }
+        Ok(())
+    }
+
+    pub(super) fn add_light(&mut self, e: Entity) -> LxsResult<()> {
+        self.check_texture_refs(&e.params, None, &e.loc)?;
+        let kind = e.kind.clone();
+        let light = LightDesc {
+            entity: e,
+            light_to_world: self.ctm.clone(),
+            light_group: self.current_light_group(),
+            exterior: self.gs.exterior.clone(),
+        };
+        match self.current_object {
+            Some(obj) => self.object_lights.entry(obj).or_default().push(light),
+            None => self.desc.lights.push(light),
+        }
+        self.gs.current_light = Some(kind);
+        Ok(())
+    }
+
+    pub(super) fn add_shape(&mut self, e: Entity, portal: bool) -> LxsResult<()> {
+        let mut area_light = None;
+        if !portal {
+            if let Some(al) = self.gs.area_light.clone() {
+                if self.current_object.is_some() {
+                    self.warn(&e.loc, "area lights are not supported on shapes inside ObjectBegin: ignored, as LuxRender does");
+                } else {
+                    area_light = Some(AreaLightDesc {
+                        entity: (*al).clone(),
+                        light_group: self.current_light_group(),
+                    });
+                }
+            }
+        }
+        if portal && self.gs.current_light.is_none() {
+            self.warn(
+                &e.loc,
+                "PortalShape without a preceding LightSource in scope",
+            );
+        }
+        let shape = ShapeDesc {
+            entity: e,
+            object_to_world: self.ctm.clone(),
+            material: self.gs.material,
+            area_light,
+            reverse_orientation: self.gs.reverse_orientation,
+            interior: self.gs.interior.clone(),
+            exterior: self.gs.exterior.clone(),
+            portal,
+        };
+        match self.current_object {
+            Some(obj) if !portal => {
+                if let Some(o) = self.desc.objects.get_mut(obj) {
+                    o.shapes.push(shape);
+                }
+            }
+            _ => self.desc.shapes.push(shape),
+        }
+        Ok(())
+    }
+
+    pub(super) fn begin_object(&mut self, name: &str, loc: &Loc) -> LxsResult<()> {
+        if let Some(cur) = self.current_object.and_then(|i| self.desc.objects.get(i)) {
+            return Err(LxsError::new(
+                LxsErrorKind::WrongBlock,
+                loc.clone(),
+                format!(
+                    "ObjectBegin \"{name}\" inside the definition of \"{}\" begun at {}",
+                    cur.name, cur.loc
+                ),
+            ));
+        }
+        self.push_block(BlockKind::Object, loc);
+        let index = self.desc.objects.len();
+        self.desc.objects.push(ObjectDesc {
+            name: name.to_string(),
+            shapes: Vec::new(),
+            loc: loc.clone(),
+        });
+        self.objects_by_name.insert(name.to_string(), index);
+        self.current_object = Some(index);
+        Ok(())
+    }
+
+    pub(super) fn end_object(&mut self, loc: &Loc) -> LxsResult<()> {
+        if self.current_object.is_none() {
+            return Err(LxsError::new(
+                LxsErrorKind::UnmatchedEnd,
+                loc.clone(),
+                "ObjectEnd without ObjectBegin",
+            ));
+        }
+        self.pop_block(BlockKind::Object, loc)?;
+        self.current_object = None;
+        Ok(())
+    }
+
+    fn object_index(&self, name: &str, loc: &Loc) -> LxsResult<usize> {
+        match self.objects_by_name.get(name) {
+            Some(&i) if Some(i) == self.current_object => Err(LxsError::new(
+                LxsErrorKind::InvalidValue,
+                loc.clone(),
+                format!("object \"{name}\" instances itself inside its own definition"),
+            )),
+            Some(&i) => Ok(i),
+            None => {
+                let known = self.objects_by_name.keys().map(String::as_str).collect();
+                Err(self.undefined(loc, "object", name, known))
+            }
+        }
+    }
+
+    /// ObjectInstance / PortalInstance with the current CTM.
+    pub(super) fn instance(&mut self, name: &str, loc: &Loc, portal: bool) -> LxsResult<()> {
+        let object = self.object_index(name, loc)?;
+        if portal && self.gs.current_light.is_none() {
+            self.warn(
+                loc,
+                format!(
+                    "PortalInstance \"{name}\" ignored: no LightSource in scope, as LuxRender does"
+                ),
+            );
+            return Ok(());
+        }
+        let ctm = self.ctm.clone();
+        self.place_instance(object, ctm, loc, portal)
+    }
+
+    fn place_instance(
+        &mut self,
+        object: usize,
+        to_world: Xform,
+        loc: &Loc,
+        portal: bool,
+    ) -> LxsResult<()> {
+        if let Some(cur) = self.current_object.filter(|_| !portal) {
+            // An instance inside another definition: copy the shapes in, transformed.
+            let shapes = self
+                .desc
+                .objects
+                .get(object)
+                .map(|o| o.shapes.clone())
+                .unwrap_or_default();
+            let mut moved = Vec::with_capacity(shapes.len());
+            for mut s in shapes {
+                s.object_to_world = xform::mul(&to_world, &s.object_to_world, loc)?;
+                moved.push(s);
+            }
+            if let Some(o) = self.desc.objects.get_mut(cur) {
+                o.shapes.extend(moved);
+            }
+        } else {
+            self.desc.instances.push(InstanceDesc {
+                object,
+                instance_to_world: to_world.clone(),
+                loc: loc.clone(),
+                portal,
+            });
+        }
+        if portal {
+            return Ok(());
+        }
+        let lights = self.object_lights.get(&object).cloned().unwrap_or_default();
+        for mut l in lights {
+            l.light_to_world = xform::mul(&to_world, &l.light_to_world, loc)?;
+            match self.current_object {
+                Some(cur) => self.object_lights.entry(cur).or_default().push(l),
+                None => self.desc.lights.push(l),
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn motion_instance_impl(
+        &mut self,
+        name: &str,
+        start: f32,
+        end: f32,
+        to: &str,
+        loc: &Loc,
+    ) -> LxsResult<()> {
+        self.warn(loc, format!("MotionInstance \"{name}\" is deprecated: use ObjectInstance inside a MotionBegin/MotionEnd block"));
+        let object = self.object_index(name, loc)?;
+        let Some(end_xf) = self.coord_systems.get(to).cloned() else {
+            let known = self.coord_systems.keys().map(String::as_str).collect();
+            return Err(self.undefined(loc, "coordinate system", to, known));
+        };
+        let xf = Xform {
+            keys: vec![(start, self.ctm.start()), (end, end_xf.start())],
+        };
+        self.place_instance(object, xf, loc, false)
+    }
+
+    pub(super) fn add_volume(&mut self, name: Option<&str>, e: Entity) -> LxsResult<()> {
+        let index = self.desc.volumes.len();
+        let loc = e.loc.clone();
+        self.desc.volumes.push(VolumeDesc {
+            name: name.map(str::to_string),
+            entity: e,
+            object_to_world: self.ctm.clone(),
+        });
+        if let Some(n) = name {
+            if self.gs.named_volumes.contains_key(n) {
+                self.warn(&loc, format!("named volume \"{n}\" redefined"));
+            }
+            self.desc.named_volumes.insert(n.to_string(), index);
+            Rc::make_mut(&mut self.gs.named_volumes).insert(n.to_string(), index);
+        }
+        Ok(())
+    }
+
+    /// Interior/Exterior: "" clears; otherwise the named volume must be defined in scope.
+    pub(super) fn volume_ref(&self, name: &str, loc: &Loc) -> LxsResult<Option<String>> {
+        if name.is_empty() {
+            return Ok(None);
+        }
+        if self.gs.named_volumes.contains_key(name) {
+            Ok(Some(name.to_string()))
+        } else {
+            let known = self.gs.named_volumes.keys().map(String::as_str).collect();
+            Err(self.undefined(loc, "named volume", name, known))
+        }
+    }
+}

@@ -1,0 +1,222 @@
+//! `Bsdf`: a material's scattering at one hit, in world space. Directions are converted to the
+//! shading frame (`SurfaceInteraction.shading`: normal and a tangent from `dpdu`), and the
+//! geometric normal decides reflection against transmission so that shading normals never let
+//! light leak through a surface: a lobe contributes only when the local and geometric sides
+//! agree.
+
+use super::bxdf::asperity::Asperity;
+use super::bxdf::diffuse::Diffuse;
+use super::bxdf::microfacet::MicrofacetReflection;
+use super::bxdf::rough_dielectric::RoughDielectric;
+use super::bxdf::schlick::Coating;
+use super::bxdf::specular::{pass_through, SpecularDielectric, SpecularReflection};
+use super::bxdf::translucent::Translucent;
+use super::bxdf::LocalSample;
+use crate::geometry::SurfaceInteraction;
+use crate::spectrum::Rgb;
+use glam::{Vec2, Vec3A};
+
+/// A sampled direction in world space. `f` has no cosine; for specular samples `pdf` is the
+/// lobe's discrete probability and `f` already holds the 1/|cos| of a delta lobe.
+#[derive(Clone, Copy, Debug)]
+pub struct BsdfSample {
+    pub wi: Vec3A,
+    pub f: Rgb,
+    pub pdf: f32,
+    pub specular: bool,
+}
+
+/// Orthonormal shading frame.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    pub s: Vec3A,
+    pub t: Vec3A,
+    pub n: Vec3A,
+}
+
+impl Frame {
+    /// From a normal and a (not necessarily orthogonal) tangent.
+    pub fn new(n: Vec3A, dpdu: Vec3A) -> Frame {
+        let n = n.normalize_or(Vec3A::Z);
+        let mut s = (dpdu - n * n.dot(dpdu)).normalize_or_zero();
+        if s == Vec3A::ZERO {
+            s = n.any_orthonormal_vector();
+        }
+        let t = n.cross(s);
+        Frame { s, t, n }
+    }
+
+    pub fn to_local(&self, v: Vec3A) -> Vec3A {
+        Vec3A::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
+    }
+
+    pub fn to_world(&self, v: Vec3A) -> Vec3A {
+        self.s * v.x + self.t * v.y + self.n * v.z
+    }
+}
+
+/// The scattering model of a hit (closed set: enum dispatch).
+#[derive(Clone, Copy, Debug)]
+pub enum Lobes {
+    /// Absorbs everything.
+    Black,
+    Diffuse(Diffuse),
+    /// Diffuse reflection and transmission.
+    Translucent(Translucent),
+    /// Velvet (asperity scattering).
+    Velvet(Asperity),
+    Coating(Coating),
+    Microfacet(MicrofacetReflection),
+    /// Shinymetal: glossy conductor plus a mirror term, each picked with probability
+    /// proportional to its weight.
+    GlossyMirror {
+        glossy: MicrofacetReflection,
+        mirror: SpecularReflection,
+        p_mirror: f32,
+    },
+    Mirror(SpecularReflection),
+    Dielectric(SpecularDielectric),
+    RoughDielectric(RoughDielectric),
+    Null,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct Bsdf {
+    pub frame: Frame,
+    /// Geometric normal.
+    pub ng: Vec3A,
+    pub lobes: Lobes,
+}
+
+impl Bsdf {
+    /// A BSDF in the shading frame of `si`.
+    pub fn new(si: &SurfaceInteraction, lobes: Lobes) -> Bsdf {
+        let n = if si.shading.n == Vec3A::ZERO {
+            si.it.n
+        } else {
+            si.shading.n
+        };
+        let dpdu = if si.shading.dpdu == Vec3A::ZERO {
+            si.dpdu
+        } else {
+            si.shading.dpdu
+        };
+        Bsdf {
+            frame: Frame::new(n, dpdu),
+            ng: si.it.n.normalize_or(n),
+            lobes,
+        }
+    }
+
+    /// Whether some lobe is not a delta distribution (light sampling is worthwhile).
+    pub fn has_non_specular(&self) -> bool {
+        matches!(
+            self.lobes,
+            Lobes::Diffuse(_)
+                | Lobes::Translucent(_)
+                | Lobes::Velvet(_)
+                | Lobes::Coating(_)
+                | Lobes::Microfacet(_)
+                | Lobes::GlossyMirror { .. }
+                | Lobes::RoughDielectric(_)
+        )
+    }
+
+    /// True when local and geometric sides agree on reflection vs transmission.
+    fn consistent(&self, wo_w: Vec3A, wi_w: Vec3A, wo: Vec3A, wi: Vec3A) -> bool {
+        let geo_reflect = wo_w.dot(self.ng) * wi_w.dot(self.ng) > 0.0;
+        let loc_reflect = wo.z * wi.z > 0.0;
+        geo_reflect == loc_reflect
+    }
+
+    /// BSDF value for the pair (no cosine), zero for delta lobes.
+    pub fn f(&self, wo_w: Vec3A, wi_w: Vec3A) -> Rgb {
+        let (wo, wi) = (self.frame.to_local(wo_w), self.frame.to_local(wi_w));
+        if wo.z == 0.0 || !self.consistent(wo_w, wi_w, wo, wi) {
+            return Rgb::BLACK;
+        }
+        let v = match &self.lobes {
+            Lobes::Diffuse(d) => d.f(wo, wi),
+            Lobes::Translucent(t) => t.f(wo, wi),
+            Lobes::Velvet(v) => v.f(wo, wi),
+            Lobes::Coating(c) => c.f(wo, wi),
+            Lobes::Microfacet(m) => m.f(wo, wi),
+            Lobes::GlossyMirror { glossy, .. } => glossy.f(wo, wi),
+            Lobes::RoughDielectric(r) => r.f(wo, wi),
+            Lobes::Black | Lobes::Mirror(_) | Lobes::Dielectric(_) | Lobes::Null => Rgb::BLACK,
+        };
+        if v.is_finite() {
+            v
+        } else {
+            Rgb::BLACK
+        }
+    }
+
+    /// Density of [`Bsdf::sample_f`] producing `wi` (solid angle), zero for delta lobes.
+    pub fn pdf(&self, wo_w: Vec3A, wi_w: Vec3A) -> f32 {
+        let (wo, wi) = (self.frame.to_local(wo_w), self.frame.to_local(wi_w));
+        if wo.z == 0.0 || !self.consistent(wo_w, wi_w, wo, wi) {
+            return 0.0;
+        }
+        match &self.lobes {
+            Lobes::Diffuse(d) => d.pdf(wo, wi),
+            Lobes::Translucent(t) => t.pdf(wo, wi),
+            Lobes::Velvet(v) => v.pdf(wo, wi),
+            Lobes::Coating(c) => c.pdf(wo, wi),
+            Lobes::Microfacet(m) => m.pdf(wo, wi),
+            Lobes::GlossyMirror {
+                glossy, p_mirror, ..
+            } => (1.0 - p_mirror) * glossy.pdf(wo, wi),
+            Lobes::RoughDielectric(r) => r.pdf(wo, wi),
+            Lobes::Black | Lobes::Mirror(_) | Lobes::Dielectric(_) | Lobes::Null => 0.0,
+        }
+    }
+
+    /// Samples an incident direction. `u` picks a lobe, `u2` the direction within it.
+    pub fn sample_f(&self, wo_w: Vec3A, u: f32, u2: Vec2) -> Option<BsdfSample> {
+        let wo = self.frame.to_local(wo_w);
+        if wo.z == 0.0 {
+            return None;
+        }
+        let s: LocalSample = match &self.lobes {
+            Lobes::Black => return None,
+            Lobes::Diffuse(d) => d.sample(wo, u2)?,
+            Lobes::Translucent(t) => t.sample(wo, u, u2)?,
+            Lobes::Velvet(v) => v.sample(wo, u2)?,
+            Lobes::Coating(c) => c.sample(wo, u, u2)?,
+            Lobes::Microfacet(m) => m.sample(wo, u2)?,
+            Lobes::GlossyMirror {
+                glossy,
+                mirror,
+                p_mirror,
+            } => {
+                if u < *p_mirror {
+                    let mut s = mirror.sample(wo)?;
+                    s.pdf *= p_mirror;
+                    s
+                } else {
+                    let mut s = glossy.sample(wo, u2)?;
+                    s.pdf *= 1.0 - p_mirror;
+                    s
+                }
+            }
+            Lobes::Mirror(m) => m.sample(wo)?,
+            Lobes::Dielectric(d) => d.sample(wo, u)?,
+            Lobes::RoughDielectric(r) => r.sample(wo, u, u2)?,
+            Lobes::Null => pass_through(wo)?,
+        };
+        let wi_w = self.frame.to_world(s.wi);
+        if !s.specular && !self.consistent(wo_w, wi_w, wo, s.wi) {
+            return None;
+        }
+        if !(s.pdf > 0.0 && s.pdf.is_finite() && s.f.is_finite()) {
+            return None;
+        }
+        Some(BsdfSample {
+            wi: wi_w,
+            f: s.f,
+            pdf: s.pdf,
+            specular: s.specular,
+        })
+    }
+}

@@ -1,0 +1,119 @@
+//! `metal`: a glossy conductor. `name` is a preset (`amorphous carbon`, `silver`, `gold`,
+//! `copper`, `aluminium`, the default) or an `.nk` file (relative to the scene directory;
+//! LuxRender tries the file first). Unknown names fall back to aluminium with a warning, as in
+//! LuxRender. The spectral n, k are averaged over red/green/blue bands (see
+//! [`NkTable::to_rgb`]). `uroughness`/`vroughness` default 0.1 (Blinn exponent 1/roughness);
+//! unequal values use their geometric mean (isotropic), with a warning; the 0.x `roughness`
+//! is accepted when neither is given.
+
+use super::bsdf::Lobes;
+use super::bxdf::microfacet::{Blinn, MicrofacetReflection};
+use super::nk_data::NkTable;
+use super::{Builder, MaterialError};
+use crate::geometry::SurfaceInteraction;
+use crate::lxs::Entity;
+use crate::spectrum::Rgb;
+use crate::texture::{param_loc, FloatTex};
+
+#[derive(Debug)]
+pub struct Metal {
+    pub n: Rgb,
+    pub k: Rgb,
+    pub u: FloatTex,
+    pub v: FloatTex,
+}
+
+/// `uroughness`/`vroughness` with a warning when they are constant and differ. Scenes written
+/// for LuxRender 0.x give a single `roughness`: it is used for both when neither of the two
+/// newer parameters is present.
+pub fn roughness_pair(
+    b: &mut Builder,
+    e: &Entity,
+    default: f32,
+) -> Result<(FloatTex, FloatTex), MaterialError> {
+    let p = &e.params;
+    if p.contains("roughness") && !p.contains("uroughness") && !p.contains("vroughness") {
+        let r = b.textures.float_param(p, "roughness", default)?;
+        return Ok((r.clone(), r));
+    }
+    let u = b.textures.float_param(&e.params, "uroughness", default)?;
+    let v = b.textures.float_param(&e.params, "vroughness", default)?;
+    if let (Some(a), Some(c)) = (u.as_const(), v.as_const()) {
+        if a != c {
+            let loc = param_loc(&e.params, "vroughness", &e.loc);
+            b.warn(
+                &loc,
+                format!(
+                    "anisotropic roughness ({a} / {c}) is rendered isotropic with roughness {}",
+                    (a * c).max(0.0).sqrt()
+                ),
+            );
+        }
+    }
+    Ok((u, v))
+}
+
+fn load_nk(b: &mut Builder, e: &Entity, name: &str) -> NkTable {
+    let path = b.ctx.base_dir.join(name);
+    if path.is_file() {
+        match std::fs::read_to_string(&path)
+            .map_err(|err| err.to_string())
+            .and_then(|t| NkTable::parse(&t))
+        {
+            Ok(t) => return t,
+            Err(err) => {
+                let loc = param_loc(&e.params, "name", &e.loc);
+                b.warn(
+                    &loc,
+                    format!(
+                        "cannot read nk file {}: {err}; using aluminium",
+                        path.display()
+                    ),
+                );
+            }
+        }
+    } else if NkTable::preset(name).is_none() {
+        let loc = param_loc(&e.params, "name", &e.loc);
+        b.warn(
+            &loc,
+            format!("metal \"{name}\" not found, using the default (aluminium)"),
+        );
+    }
+    NkTable::preset(name)
+        .or_else(|| NkTable::preset("aluminium"))
+        .unwrap_or(NkTable {
+            wl: vec![550.0],
+            n: vec![1.0],
+            k: vec![5.0],
+        })
+}
+
+impl Metal {
+    pub fn build(b: &mut Builder, e: &Entity) -> Result<Metal, MaterialError> {
+        let name = e.params.string_or("name", "aluminium").to_string();
+        let name = if name.is_empty() {
+            "aluminium".to_string()
+        } else {
+            name
+        };
+        let table = load_nk(b, e, &name);
+        let (n, k) = table.to_rgb();
+        let (u, v) = roughness_pair(b, e, 0.1)?;
+        Ok(Metal {
+            n: Rgb::from_array(n),
+            k: Rgb::from_array(k),
+            u,
+            v,
+        })
+    }
+
+    pub fn lobes(&self, si: &SurfaceInteraction) -> Lobes {
+        let r = (self.u.eval(si) * self.v.eval(si)).max(0.0).sqrt();
+        Lobes::Microfacet(MicrofacetReflection {
+            scale: Rgb::WHITE,
+            n: self.n,
+            k: self.k,
+            dist: Blinn::from_roughness(r),
+        })
+    }
+}

@@ -1,0 +1,50 @@
+//! `roughglass`: rough dielectric with `Kr`, `Kt` (default 1), `index` (1.5), `uroughness`
+//! and `vroughness` (0.001, Blinn exponent 1/roughness). Dispersion (`cauchyb`) is ignored with
+//! a warning. Unequal u/v roughness uses their geometric mean (isotropic).
+
+use super::bsdf::Lobes;
+use super::bxdf::microfacet::Blinn;
+use super::bxdf::rough_dielectric::RoughDielectric;
+use super::glass::check_dispersion;
+use super::metal::roughness_pair;
+use super::{Builder, MaterialError};
+use crate::geometry::SurfaceInteraction;
+use crate::lxs::Entity;
+use crate::spectrum::Rgb;
+use crate::texture::{ColorTex, FloatTex};
+
+#[derive(Debug)]
+pub struct RoughGlass {
+    pub kr: ColorTex,
+    pub kt: ColorTex,
+    pub index: FloatTex,
+    pub u: FloatTex,
+    pub v: FloatTex,
+}
+
+impl RoughGlass {
+    pub fn build(b: &mut Builder, e: &Entity) -> Result<RoughGlass, MaterialError> {
+        let p = &e.params;
+        check_dispersion(b, e)?;
+        let (u, v) = roughness_pair(b, e, 0.001)?;
+        Ok(RoughGlass {
+            kr: b.textures.color_param(p, "Kr", Rgb::WHITE)?,
+            kt: b.textures.color_param(p, "Kt", Rgb::WHITE)?,
+            index: b.textures.float_param(p, "index", 1.5)?,
+            u,
+            v,
+        })
+    }
+
+    pub fn lobes(&self, si: &SurfaceInteraction) -> Lobes {
+        let clamp = |c: Rgb| c.map(|v| v.clamp(0.0, 1.0));
+        let eta = self.index.eval(si);
+        let r = (self.u.eval(si) * self.v.eval(si)).max(0.0).sqrt();
+        Lobes::RoughDielectric(RoughDielectric {
+            kr: clamp(self.kr.eval(si)),
+            kt: clamp(self.kt.eval(si)),
+            eta: if eta > 0.0 { eta } else { 1.0 },
+            dist: Blinn::from_roughness(r),
+        })
+    }
+}

@@ -1,0 +1,493 @@
+//! Material tests: white furnace (albedo ≤ 1, sampling estimates equal numeric integrals),
+//! pdfs integrating to the fraction of successful samples, sample/f/pdf consistency, Fresnel
+//! at normal incidence, mix selection, bump mapping, building from a scene description.
+
+use super::bxdf::diffuse::Diffuse;
+use super::bxdf::microfacet::{Blinn, MicrofacetReflection};
+use super::bxdf::rough_dielectric::RoughDielectric;
+use super::bxdf::schlick::{Coating, SchlickDist};
+use super::*;
+use crate::lxs::{MaterialDesc, ParamSet, ParamValue, SceneDescription};
+use crate::spectrum::Rgb;
+use crate::texture::tests::{loc, si_at};
+use glam::{Vec2, Vec3A};
+use std::f32::consts::PI;
+
+/// Small deterministic generator (xorshift64*).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let v = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d);
+        (v >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn next2(&mut self) -> Vec2 {
+        Vec2::new(self.next(), self.next())
+    }
+}
+
+fn flat_si() -> SurfaceInteraction {
+    si_at(0.5, 0.5, Vec3A::ZERO)
+}
+
+fn dir(theta_deg: f32, phi_deg: f32) -> Vec3A {
+    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+    Vec3A::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+}
+
+/// Numeric ∫ g(wi) dω over the sphere (midpoint rule, uniform in z and φ).
+fn sphere_integral(nz: usize, nphi: usize, g: impl Fn(Vec3A) -> f64) -> f64 {
+    let mut sum = 0.0;
+    for i in 0..nz {
+        let z = -1.0 + (i as f32 + 0.5) * 2.0 / nz as f32;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        for j in 0..nphi {
+            let phi = (j as f32 + 0.5) * 2.0 * PI / nphi as f32;
+            sum += g(Vec3A::new(r * phi.cos(), r * phi.sin(), z));
+        }
+    }
+    sum * (2.0 / nz as f64) * (2.0 * std::f64::consts::PI / nphi as f64)
+}
+
+/// (MC estimate of ∫ f cos, fraction of successful samples), averaged over channels.
+fn sampled_albedo(b: &Bsdf, wo: Vec3A, n: usize) -> (f64, f64) {
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let (mut sum, mut ok) = (0.0f64, 0usize);
+    for _ in 0..n {
+        let u = rng.next();
+        if let Some(s) = b.sample_f(wo, u, rng.next2()) {
+            ok += 1;
+            sum += (s.f.average() * s.wi.dot(b.frame.n).abs() / s.pdf) as f64;
+        }
+    }
+    (sum / n as f64, ok as f64 / n as f64)
+}
+
+fn numeric_albedo(b: &Bsdf, wo: Vec3A) -> f64 {
+    sphere_integral(1200, 600, |wi| {
+        (b.f(wo, wi).average() * wi.dot(b.frame.n).abs()) as f64
+    })
+}
+
+fn numeric_pdf(b: &Bsdf, wo: Vec3A) -> f64 {
+    sphere_integral(1200, 600, |wi| b.pdf(wo, wi) as f64)
+}
+
+/// Checks sampling against evaluation for one BSDF and outgoing direction.
+fn check_lobe(name: &str, b: &Bsdf, wo: Vec3A, max_albedo: f64) {
+    let (mc, success) = sampled_albedo(b, wo, 200_000);
+    let num = numeric_albedo(b, wo);
+    let pdf_int = numeric_pdf(b, wo);
+    assert!(num <= max_albedo, "{name}: albedo {num} > {max_albedo}");
+    assert!(
+        (mc - num).abs() <= 0.02 * num.max(0.05),
+        "{name}: sampled albedo {mc} vs numeric {num}"
+    );
+    assert!(
+        (pdf_int - success).abs() < 0.02,
+        "{name}: pdf integrates to {pdf_int}, {success} of samples succeed"
+    );
+    // Every sample agrees with f() and pdf().
+    let mut rng = Rng(7);
+    for _ in 0..2000 {
+        let u = rng.next();
+        if let Some(s) = b.sample_f(wo, u, rng.next2()) {
+            assert!(!s.specular);
+            let f = b.f(wo, s.wi);
+            let p = b.pdf(wo, s.wi);
+            for i in 0..3 {
+                assert!(
+                    (f[i] - s.f[i]).abs() <= 1e-4 * f[i].abs().max(1.0),
+                    "{name}: f"
+                );
+            }
+            assert!(
+                (p - s.pdf).abs() <= 1e-3 * p.max(1e-3),
+                "{name}: pdf {p} vs {}",
+                s.pdf
+            );
+        }
+    }
+}
+
+fn bsdf(lobes: Lobes) -> Bsdf {
+    Bsdf::new(&flat_si(), lobes)
+}
+
+#[test]
+fn lambertian_white_furnace_is_one() {
+    let b = bsdf(Lobes::Diffuse(Diffuse::lambert(Rgb::WHITE)));
+    for theta in [0.0, 45.0, 80.0] {
+        let wo = dir(theta, 30.0);
+        let (mc, success) = sampled_albedo(&b, wo, 10_000);
+        assert!((mc - 1.0).abs() < 1e-4, "{mc}");
+        assert_eq!(success, 1.0);
+        assert!((numeric_albedo(&b, wo) - 1.0).abs() < 2e-3);
+    }
+    check_lobe("lambert", &b, dir(30.0, 0.0), 1.001);
+}
+
+#[test]
+fn oren_nayar_conserves_energy_and_samples_consistently() {
+    let b = bsdf(Lobes::Diffuse(Diffuse::oren_nayar(Rgb::WHITE, 20.0)));
+    for theta in [10.0, 60.0] {
+        check_lobe("oren-nayar", &b, dir(theta, 0.0), 1.001);
+    }
+}
+
+fn coating(u: f32, v: f32, ks: f32, mb: bool) -> Coating {
+    Coating {
+        base: Diffuse::lambert(Rgb::WHITE),
+        ks: Rgb::splat(ks),
+        ka: Rgb::BLACK,
+        depth: 0.0,
+        dist: SchlickDist::from_uv(u, v),
+        multibounce: mb,
+    }
+}
+
+/// LuxRender's glossy blends the base with `1 - S(|wi·h|)` per direction while the coating
+/// reflects `S`: away from grazing the white furnace stays at or below 1; at grazing angles
+/// the model itself reflects up to ~15% more than it receives (r = 0.01, 75°). We keep the
+/// model for compatibility and bound that excess here.
+#[test]
+fn glossy_white_furnace_at_most_one() {
+    for (u, v) in [(0.1, 0.1), (0.3, 0.3), (0.05, 0.2)] {
+        let b = bsdf(Lobes::Coating(coating(u, v, 0.04, false)));
+        for theta in [0.0, 40.0] {
+            check_lobe("glossy", &b, dir(theta, 20.0), 1.0 + 1e-3);
+        }
+        check_lobe("glossy grazing", &b, dir(75.0, 20.0), 1.16);
+    }
+    // Back side: only the base reflects.
+    let b = bsdf(Lobes::Coating(coating(0.1, 0.1, 0.04, false)));
+    check_lobe("glossy back", &b, -dir(30.0, 0.0), 1.001);
+}
+
+#[test]
+fn glossy_absorption_and_multibounce_sample_consistently() {
+    let mut c = coating(0.2, 0.2, 0.5, true);
+    c.ka = Rgb::new(0.5, 1.0, 2.0);
+    c.depth = 0.1;
+    let b = bsdf(Lobes::Coating(c));
+    check_lobe("glossy mb", &b, dir(35.0, 10.0), 2.0);
+}
+
+#[test]
+fn metal_lobes_sample_consistently() {
+    let (n, k) = nk_data::NkTable::preset("gold").unwrap().to_rgb();
+    let m = MicrofacetReflection {
+        scale: Rgb::WHITE,
+        n: Rgb::from_array(n),
+        k: Rgb::from_array(k),
+        dist: Blinn::from_roughness(0.1),
+    };
+    let b = bsdf(Lobes::Microfacet(m));
+    for theta in [0.0, 50.0] {
+        check_lobe("metal", &b, dir(theta, 0.0), 1.0);
+    }
+}
+
+#[test]
+fn rough_glass_samples_consistently_from_both_sides() {
+    let r = RoughDielectric {
+        kr: Rgb::WHITE,
+        kt: Rgb::WHITE,
+        eta: 1.5,
+        dist: Blinn::from_roughness(0.1),
+    };
+    let b = bsdf(Lobes::RoughDielectric(r));
+    check_lobe("roughglass outside", &b, dir(30.0, 0.0), 1.2);
+    check_lobe("roughglass inside", &b, -dir(20.0, 0.0), 2.5);
+}
+
+#[test]
+fn glass_fresnel_at_normal_incidence() {
+    for eta in [1.33f32, 1.5, 2.0] {
+        let lobes = Lobes::Dielectric(super::bxdf::specular::SpecularDielectric {
+            kr: Rgb::WHITE,
+            kt: Rgb::WHITE,
+            eta,
+            architectural: false,
+        });
+        let b = bsdf(lobes);
+        let r0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
+        let s = b.sample_f(Vec3A::Z, 0.0, Vec2::ZERO).unwrap();
+        assert!(s.specular);
+        assert!((s.wi - Vec3A::Z).length() < 1e-6);
+        assert!((s.f.r * s.wi.z - r0).abs() < 1e-6, "F = {} vs {r0}", s.f.r);
+        assert!((s.pdf - r0).abs() < 1e-6);
+        let t = b.sample_f(Vec3A::Z, 0.999, Vec2::ZERO).unwrap();
+        assert!((t.wi + Vec3A::Z).length() < 1e-6);
+        // Throughput f cos / pdf of the transmitted sample: radiance scaled by 1/eta^2.
+        assert!((t.f.r * t.wi.z.abs() / t.pdf - 1.0 / (eta * eta)).abs() < 1e-5);
+        assert!(!b.has_non_specular());
+        assert_eq!(b.f(Vec3A::Z, Vec3A::Z), Rgb::BLACK);
+    }
+}
+
+#[test]
+fn shading_normals_do_not_leak_light_through_the_surface() {
+    let mut si = flat_si();
+    // Shading normal tilted 30° away from the geometric one.
+    si.shading.n = dir(30.0, 0.0);
+    si.shading.dpdu = Vec3A::new(si.shading.n.z, 0.0, -si.shading.n.x);
+    let b = Bsdf::new(&si, Lobes::Diffuse(Diffuse::lambert(Rgb::WHITE)));
+    let wo = dir(40.0, 0.0);
+    // wi above the shading plane but below the geometric surface.
+    let wi = Vec3A::new(0.99, 0.0, -0.1).normalize();
+    assert!(wi.dot(si.shading.n) > 0.0);
+    assert_eq!(b.f(wo, wi), Rgb::BLACK);
+    assert_eq!(b.pdf(wo, wi), 0.0);
+}
+
+fn mat(name: &str, kind: &str, params: Vec<(&str, ParamValue)>, line: u32) -> MaterialDesc {
+    let mut ps = ParamSet::new();
+    for (n, v) in params {
+        ps.add(n, v);
+    }
+    MaterialDesc {
+        name: Some(name.to_string()),
+        entity: crate::lxs::Entity {
+            kind: kind.to_string(),
+            params: ps,
+            loc: loc(line),
+        },
+    }
+}
+
+fn scene(mats: Vec<MaterialDesc>) -> SceneDescription {
+    let mut d = SceneDescription::default();
+    for m in mats {
+        if let Some(n) = &m.name {
+            d.named_materials.insert(n.clone(), d.materials.len());
+        }
+        d.materials.push(m);
+    }
+    d
+}
+
+fn s(v: &str) -> ParamValue {
+    ParamValue::String(vec![v.to_string()])
+}
+
+fn f(v: f32) -> ParamValue {
+    ParamValue::Float(vec![v])
+}
+
+#[test]
+fn building_only_used_materials_with_defaults_and_fallbacks() {
+    let d = scene(vec![
+        mat("a", "matte", vec![], 1),
+        mat("b", "carpaint2000", vec![], 2),
+        mat("c", "metal", vec![("name", s("gold"))], 3),
+        mat("d", "glass", vec![("cauchyb", f(0.01))], 4),
+    ]);
+    let set = MaterialSet::build(&d, &[0, 1, 3], &MaterialCtx::default()).unwrap();
+    assert!(set.is_built(0) && set.is_built(1) && !set.is_built(2) && set.is_built(3));
+    // Matte default Kd is 0.9; so is the default material.
+    let si = flat_si();
+    for m in [set.get(Some(0)), set.get(None), set.get(Some(1))] {
+        match m.bsdf(&si, 0.5).lobes {
+            Lobes::Diffuse(dd) => assert_eq!(dd.r, Rgb::splat(0.9)),
+            other => panic!("{other:?}"),
+        }
+    }
+    let msgs: Vec<String> = set.warnings.iter().map(|w| w.to_string()).collect();
+    assert!(msgs
+        .iter()
+        .any(|m| m.starts_with("scene.lxs:2:1: material \"carpaint2000\"")));
+    assert!(msgs.iter().any(|m| m.contains("dispersion")));
+}
+
+#[test]
+fn mix_selects_components_with_amount_and_detects_cycles() {
+    let d = scene(vec![
+        mat("white", "matte", vec![], 1),
+        mat("mirror", "mirror", vec![], 2),
+        mat(
+            "mix",
+            "mix",
+            vec![
+                ("namedmaterial1", s("white")),
+                ("namedmaterial2", s("mirror")),
+                ("amount", f(0.3)),
+            ],
+            3,
+        ),
+    ]);
+    let set = MaterialSet::build(&d, &[2], &MaterialCtx::default()).unwrap();
+    assert!(set.is_built(0) && set.is_built(1));
+    let m = set.get(Some(2));
+    let si = flat_si();
+    let n = 1000;
+    let mirrors = (0..n)
+        .filter(|i| {
+            matches!(
+                m.bsdf(&si, (*i as f32 + 0.5) / n as f32).lobes,
+                Lobes::Mirror(_)
+            )
+        })
+        .count();
+    assert_eq!(mirrors, 300);
+
+    let d = scene(vec![mat(
+        "loop",
+        "mix",
+        vec![("namedmaterial1", s("loop")), ("namedmaterial2", s("loop"))],
+        7,
+    )]);
+    let e = MaterialSet::build(&d, &[0], &MaterialCtx::default())
+        .err()
+        .unwrap();
+    assert!(e.to_string().starts_with("scene.lxs:7:1"), "{e}");
+}
+
+#[test]
+fn null_material_passes_light_through() {
+    let d = scene(vec![mat("n", "null", vec![], 1)]);
+    let set = MaterialSet::build(&d, &[0], &MaterialCtx::default()).unwrap();
+    let m = set.get(Some(0));
+    assert!(m.is_null());
+    let wo = dir(30.0, 10.0);
+    let s = m
+        .bsdf(&flat_si(), 0.5)
+        .sample_f(wo, 0.5, Vec2::ZERO)
+        .unwrap();
+    assert!((s.wi + wo).length() < 1e-6);
+    assert!((s.f.r * s.wi.z.abs() / s.pdf - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn bump_map_tilts_the_shading_normal_by_the_slope() {
+    use crate::texture::mapping::Mapping2D;
+    use crate::texture::uv::UvTex;
+    use crate::texture::{FloatTex, TexNode};
+    use std::sync::Arc;
+    // Displacement d = 0.5 u: the normal tilts to (-0.5, 0, 1).
+    let tex = FloatTex(Arc::new(TexNode::Scale(
+        Arc::new(TexNode::Uv(UvTex {
+            mapping: Mapping2D::Uv {
+                scale: Vec2::ONE,
+                delta: Vec2::ZERO,
+            },
+        })),
+        Arc::new(TexNode::Const(Rgb::splat(0.5))),
+    )));
+    let si = si_at(0.25, 0.25, Vec3A::ZERO);
+    let b = bump::apply(&tex, &si);
+    let expect = Vec3A::new(-0.5, 0.0, 1.0).normalize();
+    assert!((b.shading.n - expect).length() < 1e-3, "{:?}", b.shading.n);
+    assert_eq!(b.it.n, Vec3A::Z, "geometric normal unchanged");
+    // A constant bump map changes nothing.
+    let flat = bump::apply(&FloatTex::constant(0.3), &si);
+    assert!((flat.shading.n - Vec3A::Z).length() < 1e-6);
+}
+
+#[test]
+fn mirror_and_shinymetal_specular_lobes() {
+    let d = scene(vec![
+        mat(
+            "m",
+            "mirror",
+            vec![("Kr", ParamValue::Color(vec![[0.5, 0.6, 0.7]]))],
+            1,
+        ),
+        mat("s", "shinymetal", vec![], 2),
+    ]);
+    let set = MaterialSet::build(&d, &[0, 1], &MaterialCtx::default()).unwrap();
+    let wo = dir(40.0, 0.0);
+    let b = set.get(Some(0)).bsdf(&flat_si(), 0.0);
+    let s = b.sample_f(wo, 0.3, Vec2::new(0.2, 0.7)).unwrap();
+    assert!(s.specular);
+    assert!((s.wi - Vec3A::new(-wo.x, -wo.y, wo.z)).length() < 1e-6);
+    let w = s.f * (s.wi.z / s.pdf);
+    assert!((w.r - 0.5).abs() < 1e-5 && (w.b - 0.7).abs() < 1e-5);
+    let sm = set.get(Some(1)).bsdf(&flat_si(), 0.0);
+    assert!(sm.has_non_specular());
+    // Glossy samples agree with f/pdf; mirror samples carry the lobe probability.
+    let wo = dir(30.0, 0.0);
+    let Lobes::GlossyMirror { p_mirror, .. } = sm.lobes else {
+        panic!("{:?}", sm.lobes)
+    };
+    assert!((p_mirror - 0.5).abs() < 1e-6);
+    let mut rng = Rng(3);
+    let (mut glossy_mc, n) = (0.0f64, 100_000);
+    for _ in 0..n {
+        let u = rng.next();
+        if let Some(s) = sm.sample_f(wo, u, rng.next2()) {
+            if s.specular {
+                assert!((s.pdf - p_mirror).abs() < 1e-6);
+                assert!((s.wi - Vec3A::new(-wo.x, -wo.y, wo.z)).length() < 1e-5);
+            } else {
+                assert!((sm.pdf(wo, s.wi) - s.pdf).abs() <= 1e-3 * s.pdf);
+                glossy_mc += (s.f.average() * s.wi.z / s.pdf) as f64;
+            }
+        }
+    }
+    let num = numeric_albedo(&sm, wo);
+    assert!(
+        (glossy_mc / n as f64 - num).abs() < 0.02 * num,
+        "{glossy_mc} vs {num}"
+    );
+}
+
+#[test]
+fn matte_translucent_splits_energy_and_samples_consistently() {
+    let d = scene(vec![
+        mat(
+            "t",
+            "mattetranslucent",
+            vec![
+                ("Kr", ParamValue::Color(vec![[0.5, 0.5, 0.5]])),
+                ("Kt", ParamValue::Color(vec![[1.0, 1.0, 1.0]])),
+                ("energyconserving", ParamValue::Bool(vec![true])),
+            ],
+            1,
+        ),
+        mat(
+            "m",
+            "metal",
+            vec![("name", s("gold")), ("roughness", f(0.05))],
+            2,
+        ),
+    ]);
+    let set = MaterialSet::build(&d, &[0, 1], &MaterialCtx::default()).unwrap();
+    let b = set.get(Some(0)).bsdf(&flat_si(), 0.5);
+    let wo = dir(30.0, 0.0);
+    // Reflection 0.5 plus transmission 1 * (1 - 0.5): a white furnace of exactly 1.
+    let num = numeric_albedo(&b, wo);
+    assert!((num - 1.0).abs() < 3e-3, "{num}");
+    check_lobe("mattetranslucent", &b, wo, 1.003);
+    let below = b.f(wo, -dir(30.0, 90.0));
+    assert!((below.r - 0.5 / PI).abs() < 1e-5);
+    // The legacy single roughness reaches the metal (Blinn exponent 1 / 0.05).
+    match set.get(Some(1)).bsdf(&flat_si(), 0.5).lobes {
+        Lobes::Microfacet(m) => assert!((m.dist.exponent - 20.0).abs() < 1e-3),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn velvet_samples_consistently() {
+    let d = scene(vec![mat("v", "velvet", vec![], 1)]);
+    let set = MaterialSet::build(&d, &[0], &MaterialCtx::default()).unwrap();
+    let b = set.get(Some(0)).bsdf(&flat_si(), 0.5);
+    assert!(matches!(b.lobes, Lobes::Velvet(_)));
+    for theta in [10.0, 70.0] {
+        check_lobe("velvet", &b, dir(theta, 0.0), 1.0);
+    }
+}
+
+#[test]
+fn materials_and_textures_are_shareable_between_threads() {
+    fn assert_send_sync<T: Send + Sync>() {}
+    assert_send_sync::<MaterialSet>();
+    assert_send_sync::<Material>();
+    assert_send_sync::<Bsdf>();
+    assert_send_sync::<crate::texture::ColorTex>();
+    assert_send_sync::<crate::texture::FloatTex>();
+}
