@@ -87,7 +87,7 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         // wrong resolution: refused, job untouched
         let err = upload(&mut c, w, &a.lease_id, 2, &delta(16, 6, 1.0, 1.0)).await.unwrap_err();
         assert_eq!(err.code(), tonic::Code::InvalidArgument, "{err:?}");
-        let v = get_json(&format!("{}/api/v1/jobs/{id}", s.url()));
+        let v = tokio::task::block_in_place(|| get_json(&format!("{}/api/v1/jobs/{id}", s.url())));
         assert_eq!(v["samples"], 48.0, "{v}");
         assert_eq!(v["merged_deltas"], 1);
         assert_eq!(v["state"], "rendering");
@@ -116,7 +116,7 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
             pb::UploadChunk { part: Some(pb::upload_chunk::Part::Data(codec::encode(&empty))) },
         ];
         c.upload_delta(tokio_stream::iter(chunks)).await.unwrap();
-        let v = wait_job(&s, &id, 30, |v| v["state"] == "done");
+        let v = tokio::task::block_in_place(|| wait_job(&s, &id, 30, |v| v["state"] == "done"));
         assert_eq!(v["state"], "done", "{v}");
         assert_eq!(v["samples"], 48.0 * 3.0);
         // after the end, a late upload is refused as a conflict
@@ -138,8 +138,21 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         expect.merge(&empty).unwrap();
         assert_eq!(merged, expect);
         // outputs are served
-        let png = http().get(format!("{}/api/v1/jobs/{id}/image.png", s.url())).send().unwrap();
-        assert_eq!(png.status().as_u16(), 200);
-        assert!(png.bytes().unwrap().starts_with(b"\x89PNG"));
+        tokio::task::block_in_place(|| {
+            let png = http().get(format!("{}/api/v1/jobs/{id}/image.png", s.url())).send().unwrap();
+            assert_eq!(png.status().as_u16(), 200);
+            let etag = png.headers()["etag"].to_str().unwrap().to_string();
+            assert!(png.bytes().unwrap().starts_with(b"\x89PNG"));
+            let again = http()
+                .get(format!("{}/api/v1/jobs/{id}/image.png", s.url()))
+                .header("if-none-match", etag)
+                .send()
+                .unwrap();
+            assert_eq!(again.status().as_u16(), 304);
+            let flm = http().get(format!("{}/api/v1/jobs/{id}/film.flm", s.url())).send().unwrap();
+            assert_eq!(flm.status().as_u16(), 200);
+            let (film, _) = luxfarm::film::flm::read_flm(&flm.bytes().unwrap()[..]).unwrap();
+            assert_eq!(film.total_samples(), 48.0 * 3.0);
+        });
     });
 }

@@ -172,7 +172,7 @@ fn unpack_zip(bytes: &[u8], dest: &Path, budget: &mut Budget) -> Result<Vec<Path
     for i in 0..archive.len() {
         budget.entry()?;
         let entry = archive.by_index(i).map_err(bad)?;
-        let name = entry.name().to_string();
+        let name = entry.name().map_err(bad)?.to_string();
         let rel = safe_relative(&name)?;
         if entry.is_symlink() {
             return Err(ServerError::BadRequest(format!(

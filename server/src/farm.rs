@@ -46,7 +46,7 @@ pub fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 }
 
 /// Submission options (halt overrides, seed, priority, scene choice).
-#[derive(Clone, Debug, Default, serde::Deserialize, utoipa::ToSchema, utoipa::IntoParams)]
+#[derive(Clone, Debug, Default)]
 pub struct SubmitOptions {
     /// Job name (default: the scene's file stem).
     pub name: Option<String>,

@@ -5,6 +5,7 @@ use crate::error::{ErrorBody, Result, ServerError};
 use crate::farm::{Farm, SubmitOptions};
 use crate::views::{self, JobView, WorkerView};
 use axum::body::Bytes;
+use axum::extract::rejection::QueryRejection;
 use axum::extract::{FromRequest, Multipart, Path, Query, Request, State};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
@@ -57,11 +58,37 @@ async fn blocking<T: Send + 'static>(
 /// Submission query parameters (halt overrides, seed, priority, scene, file name).
 #[derive(Debug, Default, serde::Deserialize, utoipa::IntoParams)]
 pub struct SubmitQuery {
-    #[serde(flatten)]
-    #[param(inline)]
-    pub opts: SubmitOptions,
+    /// Job name (default: the scene's file stem).
+    pub name: Option<String>,
+    pub haltspp: Option<f64>,
+    pub halttime: Option<f64>,
+    pub haltthreshold: Option<f64>,
+    pub seed: Option<u64>,
+    pub priority: Option<i32>,
+    /// Path of the .lxs inside a bundle holding several.
+    pub scene: Option<String>,
     /// Name of the uploaded file for a raw body (decides .lxs naming).
     pub filename: Option<String>,
+}
+
+impl SubmitQuery {
+    fn options(&self) -> SubmitOptions {
+        SubmitOptions {
+            name: self.name.clone(),
+            haltspp: self.haltspp,
+            halttime: self.halttime,
+            haltthreshold: self.haltthreshold,
+            seed: self.seed,
+            priority: self.priority,
+            scene: self.scene.clone(),
+        }
+    }
+}
+
+/// Query parameters, with a JSON 400 when they do not parse.
+fn query<T>(q: std::result::Result<Query<T>, QueryRejection>) -> Result<T> {
+    q.map(|Query(t)| t)
+        .map_err(|e| ServerError::BadRequest(e.body_text()))
 }
 
 /// Submit a job: a raw .lxs, a .zip or .tar bundle, or multipart/form-data with a `file` part
@@ -75,9 +102,10 @@ pub struct SubmitQuery {
               (status = 401, body = ErrorBody)))]
 async fn submit_job(
     State(farm): State<AppState>,
-    Query(q): Query<SubmitQuery>,
+    q: std::result::Result<Query<SubmitQuery>, QueryRejection>,
     req: Request,
 ) -> Result<Response> {
+    let q = query(q)?;
     let is_multipart = req
         .headers()
         .get(header::CONTENT_TYPE)
@@ -87,7 +115,7 @@ async fn submit_job(
         let mp = Multipart::from_request(req, &())
             .await
             .map_err(|e| ServerError::BadRequest(e.to_string()))?;
-        read_multipart(mp, q.opts).await?
+        read_multipart(mp, q.options()).await?
     } else {
         let name = q.filename.clone().unwrap_or_else(|| "scene.lxs".into());
         let bytes = Bytes::from_request(req, &())
@@ -96,7 +124,7 @@ async fn submit_job(
                 StatusCode::PAYLOAD_TOO_LARGE => ServerError::TooLarge(e.body_text()),
                 _ => ServerError::BadRequest(e.body_text()),
             })?;
-        (bytes.to_vec(), name, q.opts)
+        (bytes.to_vec(), name, q.options())
     };
     let f = farm.clone();
     let view = blocking(move || {
@@ -232,9 +260,10 @@ async fn output(
 async fn preview_png(
     State(farm): State<AppState>,
     Path(id): Path<String>,
-    Query(q): Query<PreviewQuery>,
+    q: std::result::Result<Query<PreviewQuery>, QueryRejection>,
     headers: HeaderMap,
 ) -> Result<Response> {
+    let q = query(q)?;
     output(farm, id, "png", q.max_size.or(Some(1024)), &headers, None).await
 }
 

@@ -5,6 +5,7 @@
 use crate::error::{Result, ServerError};
 use crate::codec;
 pub use luxfarm::film::Film;
+use luxfarm::film::convergence::{ConvergenceTest, YeeParams};
 use luxfarm::film::FilmParams;
 use luxfarm::lxs::{self, ParseOptions};
 use std::io::Write;
@@ -183,23 +184,28 @@ pub fn exr_bytes(film: &Film, info: &SceneInfo) -> Result<Vec<u8>> {
 }
 
 /// Whether [`convergence_update`] works in this build.
-pub const CONVERGENCE_AVAILABLE: bool = false;
+pub const CONVERGENCE_AVAILABLE: bool = true;
 
 /// State of a job's convergence test (haltthreshold).
 #[derive(Default)]
 pub struct Convergence {
     pub last_spp: f64,
+    pub test: Option<ConvergenceTest>,
     pub last_failing: Option<f64>,
 }
 
-/// Runs the convergence test on the film: the failing-pixel fraction, None when the test has
-/// no previous snapshot yet.
-pub fn convergence_update(
-    _c: &mut Convergence,
-    _film: &Film,
-    _info: &SceneInfo,
-) -> Result<Option<f64>> {
-    Err(ServerError::Unsupported(
-        "haltthreshold: the convergence test is not available in this build yet".into(),
-    ))
+/// Runs the convergence test (Yee perceptual difference against the previous snapshot of the
+/// display image): the failing-pixel fraction, None on the first snapshot.
+pub fn convergence_update(c: &mut Convergence, film: &Film, info: &SceneInfo) -> Result<Option<f64>> {
+    let image = luxfarm::tonemap::tonemap_display(film, &info.params.tonemap);
+    let first = c.test.is_none();
+    let test = c
+        .test
+        .get_or_insert_with(|| ConvergenceTest::new(YeeParams::default()));
+    let failing = test.update(&image);
+    if first {
+        return Ok(None);
+    }
+    c.last_failing = Some(failing);
+    Ok(Some(failing))
 }
