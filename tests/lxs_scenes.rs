@@ -68,6 +68,13 @@ fn sunsky_params_names_the_missing_include_and_its_location() {
     assert!(err.message.contains("SunSky_Params-geom.lxo"), "{err}");
     let shown = err.to_string();
     assert!(shown.contains("SunSky_Params.lxs:47:1:"), "{shown}");
+    // Its sibling includes the same missing geometry file.
+    let scene = shared().join("scenes/testsuite/sunsky_params/SunSky_Default.lxs");
+    let err = lxs::parse_file(&scene, &ParseOptions::default()).unwrap_err();
+    assert_eq!(
+        (err.kind, err.loc.line, err.loc.col),
+        (LxsErrorKind::MissingInclude, 45, 1)
+    );
 }
 
 fn cornell() -> SceneDescription {

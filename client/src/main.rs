@@ -23,6 +23,12 @@ struct Cli {
 enum Command {
     /// Parse a scene and print a summary, or its SceneDescription as JSON.
     Parse(cmd::parse::Args),
+    /// Render a scene locally on all cores and write the outputs its Film asks for.
+    Render(cmd::render::Args),
+    /// Compare two images (RMSE, relative MSE, mean ratio; the second is the reference).
+    CompareImage(cmd::compare_image::Args),
+    /// FLM film tools: info, merge, compare, tonemap.
+    Flm(cmd::flm::Args),
     /// Submit a scene (bundled with what it references) to a master.
     Submit(cmd::submit::Args),
     /// List the master's jobs.
@@ -44,7 +50,7 @@ enum Command {
     /// Render a scene on a local farm: embedded master + N worker processes.
     #[command(name = "render-farm")]
     RenderFarm(cmd::farm_render::Args),
-    /// Benchmarks.
+    /// Benchmarks (not tests).
     #[command(subcommand)]
     Bench(BenchCommand),
 }
@@ -53,6 +59,10 @@ enum Command {
 enum BenchCommand {
     /// Ray throughput of the BVH on incoherent rays (closest hit and any hit).
     Bvh(cmd::bench_bvh::Args),
+    /// Parse speed and peak memory on a generated mesh scene.
+    Parse(cmd::bench_parse::Args),
+    /// FLM decode + merge and encode throughput of a 1080p delta.
+    Flm(cmd::bench_flm::Args),
 }
 
 fn main() -> ExitCode {
@@ -60,6 +70,9 @@ fn main() -> ExitCode {
     init_logging(&cli.log);
     let result = match cli.command {
         Command::Parse(a) => cmd::parse::run(a),
+        Command::Render(a) => cmd::render::run(a),
+        Command::CompareImage(a) => cmd::compare_image::run(a),
+        Command::Flm(a) => cmd::flm::run(a),
         Command::Submit(a) => cmd::submit::run(a),
         Command::Jobs(a) => cmd::jobs::run(a),
         Command::Status(a) => cmd::status::run(a),
@@ -71,6 +84,8 @@ fn main() -> ExitCode {
         Command::Worker(a) => cmd::worker::run(a),
         Command::RenderFarm(a) => cmd::farm_render::run(a.into()),
         Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
+        Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
+        Command::Bench(BenchCommand::Flm(a)) => cmd::bench_flm::run(a),
     };
     match result {
         Ok(code) => code,

@@ -8,7 +8,7 @@
 use super::bvh::{BuildQuality, BvhLayout, BvhOptions};
 use super::{Geometry, GeometryBuilder};
 use crate::geometry::Ray;
-use crate::lxs::{Entity, Loc, ParamSet, ParamValue, ShapeDesc, Xform};
+use crate::lxs::{Entity, Loc, ParamSet, ParamValue, SceneDescription, ShapeDesc, Xform};
 use crate::shape::{ShapeCtx, ShapeError};
 use glam::{DMat4, Vec3A};
 use std::time::Instant;
@@ -71,21 +71,61 @@ pub fn incoherent_rays(g: &Geometry, n: usize, seed: u64) -> (Vec<Ray>, Vec<Ray>
     (closest, any)
 }
 
-/// Millions of rays per second of `f` over `rays` on `threads` threads, and the number of
-/// rays for which `f` returned true.
-pub fn throughput(rays: &[Ray], threads: usize, f: impl Fn(&Ray) -> bool + Sync) -> (f64, usize) {
+/// CPU time this thread has run, from Linux's `/proc/thread-self/schedstat` (None elsewhere).
+fn thread_cpu_secs() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = s.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
+/// Throughput of one run: wall-clock rate, and the rate per CPU-second actually received
+/// times the thread count (what an otherwise idle machine would give; the build machine is
+/// shared).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Throughput {
+    pub wall_mrays: f64,
+    pub cpu_mrays: f64,
+    pub hits: usize,
+}
+
+/// Runs `f` over `rays` split across `threads` threads.
+pub fn throughput(rays: &[Ray], threads: usize, f: impl Fn(&Ray) -> bool + Sync) -> Throughput {
     let threads = threads.max(1);
     let chunk = rays.len().div_ceil(threads).max(1);
     let start = Instant::now();
-    let hits: usize = std::thread::scope(|s| {
+    let per_thread: Vec<(usize, f64)> = std::thread::scope(|s| {
         let handles: Vec<_> = rays
             .chunks(chunk)
-            .map(|c| s.spawn(|| c.iter().filter(|r| f(r)).count()))
+            .map(|c| {
+                s.spawn(|| {
+                    let t0 = thread_cpu_secs();
+                    let hits = c.iter().filter(|r| f(r)).count();
+                    let cpu = match (t0, thread_cpu_secs()) {
+                        (Some(a), Some(b)) => b - a,
+                        _ => f64::NAN,
+                    };
+                    (hits, cpu)
+                })
+            })
             .collect();
-        handles.into_iter().map(|h| h.join().unwrap_or(0)).sum()
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or((0, f64::NAN)))
+            .collect()
     });
     let secs = start.elapsed().as_secs_f64().max(1e-9);
-    (rays.len() as f64 / secs / 1e6, hits)
+    let hits = per_thread.iter().map(|p| p.0).sum();
+    let cpu: f64 = per_thread.iter().map(|p| p.1).sum();
+    let n = rays.len() as f64;
+    Throughput {
+        wall_mrays: n / secs / 1e6,
+        cpu_mrays: if cpu > 0.0 {
+            n / cpu * threads as f64 / 1e6
+        } else {
+            f64::NAN
+        },
+        hits,
+    }
 }
 
 /// Result of one configuration.
@@ -93,10 +133,8 @@ pub fn throughput(rays: &[Ray], threads: usize, f: impl Fn(&Ray) -> bool + Sync)
 pub struct BenchResult {
     pub options: BvhOptions,
     pub build_secs: f64,
-    pub closest_mrays: f64,
-    pub any_mrays: f64,
-    pub closest_hits: usize,
-    pub any_hits: usize,
+    pub closest: Throughput,
+    pub any: Throughput,
     pub rays: usize,
 }
 
@@ -121,11 +159,10 @@ pub fn candidate_options() -> Vec<BvhOptions> {
     v
 }
 
-/// Builds the geometry of `shapes` with each option set and measures closest-hit and any-hit
+/// Builds the geometry with each option set (`build`) and measures closest-hit and any-hit
 /// throughput on the same `n` incoherent rays with `threads` threads.
 pub fn bench(
-    shapes: &[ShapeDesc],
-    ctx: &ShapeCtx,
+    build: impl Fn(BvhOptions) -> Result<Geometry, ShapeError>,
     options: &[BvhOptions],
     n: usize,
     threads: usize,
@@ -134,31 +171,60 @@ pub fn bench(
     let mut rays = None;
     for &opts in options {
         let start = Instant::now();
-        let mut b = GeometryBuilder::with_options(opts);
-        for (i, s) in shapes.iter().enumerate() {
-            b.add_shape(s, i as u32, ctx)?;
-        }
-        let g = b.build();
+        let g = build(opts)?;
         let build_secs = start.elapsed().as_secs_f64();
         let (closest, any) = rays.get_or_insert_with(|| incoherent_rays(&g, n, 7));
         // warm-up
         throughput(&closest[..closest.len().min(10_000)], threads, |r| {
             g.intersect(r).is_some()
         });
-        let (closest_mrays, closest_hits) =
-            throughput(closest, threads, |r| g.intersect(r).is_some());
-        let (any_mrays, any_hits) = throughput(any, threads, |r| g.intersect_p(r));
+        let closest_t = throughput(closest, threads, |r| g.intersect(r).is_some());
+        let any_t = throughput(any, threads, |r| g.intersect_p(r));
         out.push(BenchResult {
             options: opts,
             build_secs,
-            closest_mrays,
-            any_mrays,
-            closest_hits,
-            any_hits,
+            closest: closest_t,
+            any: any_t,
             rays: closest.len(),
         });
     }
     Ok(out)
+}
+
+/// Geometry of a parsed scene: world shapes (portals excluded), objects and instances.
+pub fn scene_geometry(
+    desc: &SceneDescription,
+    ctx: &ShapeCtx,
+    opts: BvhOptions,
+) -> Result<Geometry, ShapeError> {
+    let mut b = GeometryBuilder::with_options(opts);
+    for (i, s) in desc.shapes.iter().enumerate().filter(|(_, s)| !s.portal) {
+        b.add_shape(s, i as u32, ctx)?;
+    }
+    let mut ids = Vec::new();
+    for o in &desc.objects {
+        let prims: Vec<u32> = (0..o.shapes.len() as u32).collect();
+        ids.push(b.add_object(o, &prims, ctx)?);
+    }
+    for inst in desc.instances.iter().filter(|i| !i.portal) {
+        if let Some(&id) = ids.get(inst.object) {
+            b.add_instance(id, &inst.instance_to_world);
+        }
+    }
+    Ok(b.build())
+}
+
+/// Geometry of a list of world shapes.
+pub fn shapes_geometry(
+    shapes: &[ShapeDesc],
+    ctx: &ShapeCtx,
+    opts: BvhOptions,
+) -> Result<Geometry, ShapeError> {
+    let mut b = GeometryBuilder::with_options(opts);
+    for (i, s) in shapes.iter().enumerate() {
+        b.add_shape(s, i as u32, ctx)?;
+    }
+    Ok(b.build())
 }
 
 /// A synthetic scene: a closed box (12 triangles) holding `k`³ UV spheres of `seg` segments.

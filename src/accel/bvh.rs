@@ -47,7 +47,7 @@ impl Default for BvhOptions {
     fn default() -> Self {
         BvhOptions {
             layout: BvhLayout::Cwbvh,
-            quality: BuildQuality::Medium,
+            quality: BuildQuality::Slow,
             max_prims_per_leaf: 3,
         }
     }

@@ -1,1 +1,461 @@
 //! Cameras: perspective, orthographic, environment (one file per plugin).
+//!
+//! [`Camera::build`] reads a `Camera` statement with LuxRender's parameter names and defaults:
+//! `hither` (1e-3, at least 1e-4), `yon` (1e30), `shutteropen` (0), `shutterclose` (1),
+//! `shutterdistribution` (uniform|gaussian), `lensradius` (0), `focaldistance` (1e30),
+//! `autofocus` (false), `frameaspectratio` (xres/yres), `screenwindow`, perspective `fov` (90),
+//! `blades` (0), `distribution`, `power`.
+//!
+//! Conventions (LuxRender's): camera space looks down +z with +y up and +x to the right
+//! (LuxRender's `LookAt` builds `right = dir x up`, so a world point to the camera's right
+//! lands on the right of the image); raster coordinates cover the **full** image (the Film
+//! crop window does not move them), (0, 0) is the top-left corner, y grows downwards.
+//! [`Camera::generate_ray`] returns a world-space ray with a unit direction, starting on the
+//! near clipping plane and ending (`t_max`) on the far one, with the shutter time; the weight
+//! is 1 for all three models (as LuxRender's `GenerateRay`).
+
+mod environment;
+mod lens;
+mod motion;
+mod orthographic;
+mod perspective;
+
+pub use environment::Environment;
+pub use lens::{concentric_disc, Aperture, Shutter, ShutterDistribution};
+pub use motion::CameraMotion;
+pub use orthographic::Orthographic;
+pub use perspective::Perspective;
+
+use crate::geometry::Ray;
+use crate::lxs::{CameraDesc, Loc, ParamSet};
+use glam::{DVec3, Vec2, Vec3A};
+
+#[derive(Debug, thiserror::Error)]
+#[error("{loc}: {message}")]
+pub struct CameraError {
+    pub loc: Loc,
+    pub message: String,
+}
+
+/// The image the camera renders: full resolution and the Film `cropwindow` in NDC
+/// (`[xmin, xmax, ymin, ymax]`, [0, 1] each, y down).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilmGeometry {
+    pub xres: u32,
+    pub yres: u32,
+    pub crop: [f32; 4],
+}
+
+impl FilmGeometry {
+    /// A film without crop window.
+    pub fn new(xres: u32, yres: u32) -> FilmGeometry {
+        FilmGeometry {
+            xres,
+            yres,
+            crop: [0.0, 1.0, 0.0, 1.0],
+        }
+    }
+
+    /// The pixels of the crop window as LuxRender computes them: `[x0, x1, y0, y1]`,
+    /// half-open, `x0 = ceil(xres * crop[0])`, `x1 = max(x0 + 1, ceil(xres * crop[1]))`
+    /// (crop values ordered and clamped to [0, 1]).
+    pub fn pixel_bounds(&self) -> [u32; 4] {
+        let c = |v: f32| {
+            if v.is_finite() {
+                v.clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        };
+        let (a, b) = (c(self.crop[0]), c(self.crop[1]));
+        let (cx0, cx1) = (a.min(b), a.max(b));
+        let (a, b) = (c(self.crop[2]), c(self.crop[3]));
+        let (cy0, cy1) = (a.min(b), a.max(b));
+        let axis = |res: u32, lo: f32, hi: f32| {
+            let start = ((res as f32 * lo).ceil() as u32).min(res.saturating_sub(1));
+            let end = ((res as f32 * hi).ceil() as u32).min(res).max(start + 1);
+            (start, end)
+        };
+        let (x0, x1) = axis(self.xres, cx0, cx1);
+        let (y0, y1) = axis(self.yres, cy0, cy1);
+        [x0, x1, y0, y1]
+    }
+}
+
+/// Where a sample is: raster position over the full image, lens sample in [0, 1)², shutter
+/// sample in [0, 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraSample {
+    pub p_film: Vec2,
+    pub p_lens: Vec2,
+    pub time: f32,
+}
+
+/// Raster to screen mapping: raster (0, 0) is screen (xmin, ymax), raster (xres, yres) is
+/// screen (xmax, ymin).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RasterToScreen {
+    pub window: [f32; 4],
+    pub xres: f32,
+    pub yres: f32,
+}
+
+impl RasterToScreen {
+    pub fn apply(&self, p: Vec2) -> Vec2 {
+        let [x0, x1, y0, y1] = self.window;
+        Vec2::new(
+            x0 + (x1 - x0) * p.x / self.xres,
+            y1 + (y0 - y1) * p.y / self.yres,
+        )
+    }
+}
+
+/// The camera model.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CameraModel {
+    Perspective(Perspective),
+    Orthographic(Orthographic),
+    Environment(Environment),
+}
+
+/// A camera ready to generate rays.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    pub model: CameraModel,
+    pub motion: CameraMotion,
+    pub shutter: Shutter,
+    pub hither: f32,
+    pub yon: f32,
+    pub autofocus: bool,
+    film: FilmGeometry,
+}
+
+/// Common projective parameters.
+struct Projective {
+    screen: RasterToScreen,
+    lens_radius: f32,
+    focal_distance: f32,
+    aperture: Aperture,
+}
+
+impl Camera {
+    /// Builds the camera of a `Camera` statement for a film of this geometry.
+    pub fn build(desc: &CameraDesc, film: &FilmGeometry) -> Result<Camera, CameraError> {
+        let e = &desc.entity;
+        let err = |message: String| CameraError {
+            loc: e.loc.clone(),
+            message,
+        };
+        if film.xres == 0 || film.yres == 0 {
+            return Err(err(format!(
+                "film resolution {}x{} is empty",
+                film.xres, film.yres
+            )));
+        }
+        let p = &e.params;
+        let motion = CameraMotion::from_xform(&desc.world_to_camera).map_err(err)?;
+        if let Some(name) = p.string("endtransform") {
+            tracing::warn!(
+                "{}: camera \"endtransform\" \"{name}\" is not supported here; use a MotionBegin block",
+                e.loc
+            );
+        }
+        let hither = p.float_or("hither", 1e-3).max(1e-4);
+        let yon = p.float_or("yon", 1e30).min(1e30).max(hither);
+        if !(hither.is_finite() && yon.is_finite()) {
+            return Err(err("hither/yon must be finite".into()));
+        }
+        let shutter = Camera::shutter(p, &e.loc)?;
+        let autofocus = p.bool_or("autofocus", false);
+        let model = match e.kind.as_str() {
+            "perspective" => {
+                let fov = p.float_or("fov", 90.0);
+                if !(fov > 0.0 && fov < 180.0) {
+                    return Err(err(format!(
+                        "perspective fov must be in (0, 180) degrees, got {fov}"
+                    )));
+                }
+                let pr = Camera::projective(p, film, &e.loc)?;
+                CameraModel::Perspective(Perspective {
+                    screen: pr.screen,
+                    tan_half_fov: (fov.to_radians() / 2.0).tan(),
+                    lens_radius: pr.lens_radius,
+                    focal_distance: pr.focal_distance,
+                    aperture: pr.aperture,
+                })
+            }
+            "orthographic" => {
+                let pr = Camera::projective(p, film, &e.loc)?;
+                CameraModel::Orthographic(Orthographic {
+                    screen: pr.screen,
+                    lens_radius: pr.lens_radius,
+                    focal_distance: pr.focal_distance,
+                    aperture: pr.aperture,
+                })
+            }
+            "environment" => {
+                // LuxRender reads and ignores these for the environment camera.
+                for name in [
+                    "lensradius",
+                    "focaldistance",
+                    "frameaspectratio",
+                    "screenwindow",
+                ] {
+                    let _ = p.floats(name);
+                }
+                CameraModel::Environment(Environment {
+                    xres: film.xres as f32,
+                    yres: film.yres as f32,
+                })
+            }
+            "realistic" => return Err(err("the \"realistic\" camera is not supported".into())),
+            other => {
+                return Err(err(format!(
+                    "unknown camera \"{other}\" (known: perspective, orthographic, environment)"
+                )))
+            }
+        };
+        if autofocus && matches!(model, CameraModel::Environment(_)) {
+            tracing::warn!(
+                "{}: autofocus has no effect on the environment camera",
+                e.loc
+            );
+        }
+        Ok(Camera {
+            model,
+            motion,
+            shutter,
+            hither,
+            yon,
+            autofocus,
+            film: *film,
+        })
+    }
+
+    fn shutter(p: &ParamSet, loc: &Loc) -> Result<Shutter, CameraError> {
+        let open = p.float_or("shutteropen", 0.0);
+        let close = p.float_or("shutterclose", 1.0);
+        if !(open.is_finite() && close.is_finite()) {
+            return Err(CameraError {
+                loc: loc.clone(),
+                message: "shutteropen/shutterclose must be finite".into(),
+            });
+        }
+        let distribution = match p.string_or("shutterdistribution", "uniform") {
+            "uniform" => ShutterDistribution::Uniform,
+            "gaussian" => ShutterDistribution::Gaussian,
+            other => {
+                tracing::warn!(
+                    "{loc}: shutter distribution \"{other}\" unknown, using \"uniform\""
+                );
+                ShutterDistribution::Uniform
+            }
+        };
+        Ok(Shutter {
+            open,
+            close,
+            distribution,
+        })
+    }
+
+    fn projective(p: &ParamSet, film: &FilmGeometry, loc: &Loc) -> Result<Projective, CameraError> {
+        let err = |message: String| CameraError {
+            loc: loc.clone(),
+            message,
+        };
+        let mut lens_radius = p.float_or("lensradius", 0.0);
+        let mut focal_distance = p.float_or("focaldistance", 1e30);
+        if !(lens_radius.is_finite() && lens_radius >= 0.0) {
+            return Err(err(format!("lensradius must be >= 0, got {lens_radius}")));
+        }
+        // Old exporters write "focaldistance" [0] next to a zero lens radius: only a lens needs
+        // a usable focal distance (autofocus may still provide it).
+        if !(focal_distance.is_finite() && focal_distance > 0.0) {
+            if lens_radius > 0.0 && !p.bool_or("autofocus", false) {
+                tracing::warn!(
+                    "{loc}: focaldistance {focal_distance} is unusable; depth of field disabled"
+                );
+                lens_radius = 0.0;
+            }
+            focal_distance = 1e30;
+        }
+        let frame = p.float_or("frameaspectratio", film.xres as f32 / film.yres as f32);
+        if !(frame.is_finite() && frame > 0.0) {
+            return Err(err(format!("frameaspectratio must be > 0, got {frame}")));
+        }
+        let mut window = if frame > 1.0 {
+            [-frame, frame, -1.0, 1.0]
+        } else {
+            [-1.0, 1.0, -1.0 / frame, 1.0 / frame]
+        };
+        match p.floats("screenwindow") {
+            Some(sw) if sw.len() == 4 && sw.iter().all(|v| v.is_finite()) => {
+                window.copy_from_slice(sw);
+            }
+            Some(sw) => {
+                tracing::warn!("{loc}: screenwindow needs 4 finite values, got {sw:?}; ignored")
+            }
+            None => {}
+        }
+        let blades = p.int_or("blades", 0);
+        let distribution = p.string_or("distribution", "uniform").to_string();
+        let _ = p.int("power");
+        let aperture = if blades >= 3 {
+            if distribution != "uniform" {
+                tracing::warn!("{loc}: lens distribution \"{distribution}\" is not supported, using \"uniform\"");
+            }
+            Aperture::Polygon(blades as u32)
+        } else {
+            Aperture::Disc
+        };
+        if p.floats("clippingplane").is_some() {
+            tracing::warn!("{loc}: camera clipping plane is not supported (LuxRender supports it only in LuxCore)");
+        }
+        Ok(Projective {
+            screen: RasterToScreen {
+                window,
+                xres: film.xres as f32,
+                yres: film.yres as f32,
+            },
+            lens_radius,
+            focal_distance,
+            aperture,
+        })
+    }
+
+    pub fn film(&self) -> &FilmGeometry {
+        &self.film
+    }
+
+    /// The world-space ray for a camera sample, and its weight (1). `None` when the sample is
+    /// not finite.
+    pub fn generate_ray(&self, s: &CameraSample) -> Option<(Ray, f32)> {
+        if !(s.p_film.is_finite() && s.p_lens.is_finite() && s.time.is_finite()) {
+            return None;
+        }
+        let time = self.shutter.time(s.time);
+        let (o, d, t_far) = self.camera_ray(s.p_film, s.p_lens);
+        self.to_world(o, d, t_far, time).map(|r| (r, 1.0))
+    }
+
+    /// Camera-space origin (on the near plane), unit direction and parametric far distance.
+    fn camera_ray(&self, p: Vec2, lens: Vec2) -> (Vec3A, Vec3A, f32) {
+        match &self.model {
+            CameraModel::Perspective(c) => {
+                let (o, d) = c.ray(p, lens);
+                let d = d.normalize();
+                // Near and far clipping planes are z = hither, z = yon.
+                (
+                    o + d * (self.hither / d.z),
+                    d,
+                    (self.yon - self.hither) / d.z,
+                )
+            }
+            CameraModel::Orthographic(c) => {
+                let (o, d) = c.ray(p, lens, self.hither);
+                let d = d.normalize();
+                (o, d, (self.yon - self.hither) / d.z)
+            }
+            CameraModel::Environment(c) => {
+                let d = c.direction(p);
+                (d * self.hither, d, self.yon - self.hither)
+            }
+        }
+    }
+
+    fn to_world(&self, o: Vec3A, d: Vec3A, t_far: f32, time: f32) -> Option<Ray> {
+        let c2w = self.motion.at(time);
+        let ow = c2w.transform_point3(DVec3::new(o.x as f64, o.y as f64, o.z as f64));
+        let dw = c2w.transform_vector3(DVec3::new(d.x as f64, d.y as f64, d.z as f64));
+        let len = dw.length();
+        if !(len > 0.0 && len.is_finite() && ow.is_finite()) {
+            return None;
+        }
+        let dw = dw / len;
+        Some(Ray {
+            o: Vec3A::new(ow.x as f32, ow.y as f32, ow.z as f32),
+            d: Vec3A::new(dw.x as f32, dw.y as f32, dw.z as f32),
+            t_max: (t_far as f64 * len).min(f32::MAX as f64) as f32,
+            time,
+        })
+    }
+
+    /// Whether the scene asked for autofocus (perspective or orthographic).
+    pub fn needs_autofocus(&self) -> bool {
+        self.autofocus && !matches!(self.model, CameraModel::Environment(_))
+    }
+
+    /// The focal distance in use (projective cameras).
+    pub fn focal_distance(&self) -> Option<f32> {
+        match &self.model {
+            CameraModel::Perspective(c) => Some(c.focal_distance),
+            CameraModel::Orthographic(c) => Some(c.focal_distance),
+            CameraModel::Environment(_) => None,
+        }
+    }
+
+    /// LuxRender's autofocus: when `autofocus` is set, traces the pinhole ray through the
+    /// image centre at shutter open (`trace` returns the hit distance along the ray) and
+    /// sets the focal distance to the camera-space depth of the hit. Without a hit the focal
+    /// distance is kept (with a warning). Returns the focal distance in use.
+    pub fn autofocus(&mut self, trace: impl Fn(&Ray) -> Option<f32>) -> Option<f32> {
+        if !self.needs_autofocus() {
+            return self.focal_distance();
+        }
+        let centre = Vec2::new(self.film.xres as f32 / 2.0, self.film.yres as f32 / 2.0);
+        let time = self.shutter.open;
+        let (o, d, t_far) = match &self.model {
+            CameraModel::Perspective(c) => {
+                let pin = Perspective {
+                    lens_radius: 0.0,
+                    ..c.clone()
+                };
+                let (o, d) = pin.ray(centre, Vec2::ZERO);
+                let d = d.normalize();
+                (
+                    o + d * (self.hither / d.z),
+                    d,
+                    (self.yon - self.hither) / d.z,
+                )
+            }
+            CameraModel::Orthographic(c) => {
+                let s = c.screen.apply(centre);
+                (
+                    Vec3A::new(s.x, s.y, self.hither),
+                    Vec3A::Z,
+                    self.yon - self.hither,
+                )
+            }
+            CameraModel::Environment(_) => return None,
+        };
+        let ray = self.to_world(o, d, t_far, time)?;
+        let w2c = self.motion.at(time).inverse();
+        let depth = trace(&ray).filter(|t| t.is_finite() && *t >= 0.0).map(|t| {
+            let hit = ray.o + ray.d * t;
+            // Camera-space depth of the hit point.
+            w2c.transform_point3(DVec3::new(hit.x as f64, hit.y as f64, hit.z as f64))
+                .z as f32
+        });
+        match depth {
+            Some(z) if z > 0.0 => {
+                tracing::info!("autofocus focal distance: {z}");
+                self.set_focal_distance(z);
+            }
+            _ => tracing::warn!(
+                "unable to define the autofocus focal distance: the centre ray hits nothing"
+            ),
+        }
+        self.focal_distance()
+    }
+
+    fn set_focal_distance(&mut self, z: f32) {
+        match &mut self.model {
+            CameraModel::Perspective(c) => c.focal_distance = z,
+            CameraModel::Orthographic(c) => c.focal_distance = z,
+            CameraModel::Environment(_) => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -21,5 +21,7 @@ pub use params::{Channels, ExrCompression, FilmParams, ImageOutput, ZBufNorm};
 pub mod flm;
 pub mod flm_header;
 
-pub use flm::{merge_flm, read_flm, read_flm_file, write_flm, write_flm_file, FlmDelta};
+pub use flm::{
+    merge_flm, merge_flm_bytes, read_flm, read_flm_file, write_flm, write_flm_file, FlmDelta,
+};
 pub use flm_header::{FlmHeader, FlmParam, FlmValue};

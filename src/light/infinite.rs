@@ -226,7 +226,7 @@ pub fn load_image(path: &Path) -> Result<(usize, usize, Vec<Rgb>), String> {
         )
         .map_err(|e| format!("{}: {e}", path.display()))?;
         let (w, px) = img.layer_data.channel_data.pixels;
-        let h = if w > 0 { px.len() / w } else { 0 };
+        let h = px.len().checked_div(w).unwrap_or(0);
         Ok((w, h, px))
     } else {
         let img = image::open(path)

@@ -142,7 +142,7 @@ pub enum Light {
     Point(PointLight),
     Spot(SpotLight),
     Distant(DistantLight),
-    Infinite(InfiniteLight),
+    Infinite(Box<InfiniteLight>),
     Area(AreaLight),
 }
 

@@ -276,6 +276,77 @@ impl<'a> Lexer<'a> {
         Ok(v)
     }
 
+    /// Reads a run of numbers separated by whitespace, handing each parsed value to `sink`,
+    /// and stops before the first byte that is neither (a bracket, quote, comment, letter) or
+    /// at the end of input. This is the hot loop for big arrays: it scans the buffer in place
+    /// and only leaves it to refill.
+    #[inline]
+    pub fn number_run<T>(
+        &mut self,
+        parse: fn(&[u8]) -> Result<T, String>,
+        mut sink: impl FnMut(T),
+    ) -> LxsResult<()> {
+        loop {
+            let end = self.end;
+            let base = self.base;
+            let mut i = self.pos;
+            let mut line = self.line;
+            let mut line_start = self.line_start;
+            let mut stop = false;
+            let mut failure: Option<(usize, LxsErrorKind, String)> = None;
+            {
+                let buf = &self.buf[..end];
+                while i < end {
+                    let b = buf[i];
+                    if b == b' ' || b == b'\t' || b == b'\r' {
+                        i += 1;
+                    } else if b == b'\n' {
+                        line = line.saturating_add(1);
+                        line_start = base + i as u64 + 1;
+                        i += 1;
+                    } else if is_number_start(b) {
+                        let mut j = i + 1;
+                        while j < end && is_number_byte(buf[j]) {
+                            j += 1;
+                        }
+                        if j == end && !self.eof {
+                            break; // the number may continue in the next chunk
+                        }
+                        if j < end && !is_delimiter(buf[j]) {
+                            let msg = format!(
+                                "number runs into unexpected character '{}'",
+                                char::from(buf[j]).escape_default()
+                            );
+                            failure = Some((i, LxsErrorKind::Syntax, msg));
+                            break;
+                        }
+                        match parse(&buf[i..j]) {
+                            Ok(v) => sink(v),
+                            Err(m) => {
+                                failure = Some((i, LxsErrorKind::InvalidNumber, m));
+                                break;
+                            }
+                        }
+                        i = j;
+                    } else {
+                        stop = true;
+                        break;
+                    }
+                }
+            }
+            self.pos = i;
+            self.line = line;
+            self.line_start = line_start;
+            if let Some((at, kind, msg)) = failure {
+                self.pos = at;
+                return Err(self.err(kind, msg));
+            }
+            if stop || !self.fill(self.pos)? {
+                return Ok(());
+            }
+        }
+    }
+
     /// Reads a quoted string (the current byte is the opening quote), decoding escapes. A
     /// newline or the end of input before the closing quote is an error at the opening quote.
     pub fn string(&mut self) -> LxsResult<String> {
@@ -488,5 +559,24 @@ mod tests {
         let loc = l.loc();
         assert_eq!((loc.line, loc.col), (2, 3));
         assert_eq!(l.number(parse_f32).unwrap(), -300.0);
+
+        let mut l = Lexer::new(
+            Box::new(OneByte(b"10 2.5\n -3e1 7]x")),
+            Arc::from("t"),
+            Rc::new(Cell::new(u64::MAX)),
+        );
+        let mut got = Vec::new();
+        l.number_run(parse_f32, |v| got.push(v)).unwrap();
+        assert_eq!(got, vec![10.0, 2.5, -30.0, 7.0]);
+        assert_eq!(l.peek().unwrap(), Peek::RBrack);
+        assert_eq!((l.loc().line, l.loc().col), (2, 8));
+        l.bump();
+        let mut l2 = Lexer::new(
+            Box::new(&b"1 2x"[..]),
+            Arc::from("t"),
+            Rc::new(Cell::new(u64::MAX)),
+        );
+        let e = l2.number_run(parse_f32, |_| {}).unwrap_err();
+        assert_eq!((e.kind, e.loc.col), (LxsErrorKind::Syntax, 3));
     }
 }

@@ -67,6 +67,37 @@ impl Acc {
         }
         Ok(())
     }
+
+    /// Parses a run of numbers (the hot path for big arrays) into the accumulator.
+    fn number_run(&mut self, lex: &mut Lexer) -> LxsResult<()> {
+        match self {
+            Acc::Ints(v, truncated) => lex.number_run(parse_i32, |(x, t)| {
+                *truncated |= t;
+                v.push(x);
+            }),
+            Acc::Floats(v) | Acc::Spectrum(v, _) => lex.number_run(parse_f32, |x| v.push(x)),
+            Acc::Triples(v, pending, k) => lex.number_run(parse_f32, |x| {
+                pending[*k] = x;
+                *k += 1;
+                if *k == 3 {
+                    v.push(*pending);
+                    *k = 0;
+                }
+            }),
+            Acc::Strings(_) => Ok(()),
+        }
+    }
+
+    /// Number of values collected so far.
+    fn count(&self) -> usize {
+        match self {
+            Acc::Ints(v, _) => v.len(),
+            Acc::Floats(v) => v.len(),
+            Acc::Triples(v, _, k) => v.len() * 3 + k,
+            Acc::Strings(v) => v.len(),
+            Acc::Spectrum(v, s) => v.len() + s.len(),
+        }
+    }
 }
 
 impl ValueReader {
@@ -158,7 +189,6 @@ impl ValueReader {
         loc: &Loc,
         open_loc: Loc,
     ) -> LxsResult<()> {
-        let mut count: usize = 0;
         loop {
             lex.skip_ws()?;
             match lex.peek()? {
@@ -166,7 +196,7 @@ impl ValueReader {
                     lex.bump();
                     return Ok(());
                 }
-                Peek::Number if acc.wants_numbers() => acc.number(lex)?,
+                Peek::Number if acc.wants_numbers() => acc.number_run(lex)?,
                 Peek::Str => {
                     let item_loc = lex.loc();
                     let s = lex.string()?;
@@ -210,8 +240,7 @@ impl ValueReader {
                     ))
                 }
             }
-            count += 1;
-            if count > self.max_array_len {
+            if acc.count() > self.max_array_len {
                 return Err(LxsError::new(
                     LxsErrorKind::ArrayTooLong,
                     loc.clone(),

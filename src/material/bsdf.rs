@@ -5,7 +5,9 @@
 //! agree.
 
 use super::bxdf::asperity::Asperity;
+use super::bxdf::carpaint::CarPaintLobes;
 use super::bxdf::diffuse::Diffuse;
+use super::bxdf::glossy_translucent::GlossyTranslucentLobes;
 use super::bxdf::microfacet::MicrofacetReflection;
 use super::bxdf::rough_dielectric::RoughDielectric;
 use super::bxdf::schlick::Coating;
@@ -65,6 +67,10 @@ pub enum Lobes {
     Translucent(Translucent),
     /// Velvet (asperity scattering).
     Velvet(Asperity),
+    /// Car paint: microfacet layers over a diffuse base.
+    CarPaint(CarPaintLobes),
+    /// Double-sided coating with diffuse transmission.
+    GlossyTranslucent(GlossyTranslucentLobes),
     Coating(Coating),
     Microfacet(MicrofacetReflection),
     /// Shinymetal: glossy conductor plus a mirror term, each picked with probability
@@ -115,6 +121,8 @@ impl Bsdf {
             Lobes::Diffuse(_)
                 | Lobes::Translucent(_)
                 | Lobes::Velvet(_)
+                | Lobes::CarPaint(_)
+                | Lobes::GlossyTranslucent(_)
                 | Lobes::Coating(_)
                 | Lobes::Microfacet(_)
                 | Lobes::GlossyMirror { .. }
@@ -139,6 +147,8 @@ impl Bsdf {
             Lobes::Diffuse(d) => d.f(wo, wi),
             Lobes::Translucent(t) => t.f(wo, wi),
             Lobes::Velvet(v) => v.f(wo, wi),
+            Lobes::CarPaint(c) => c.f(wo, wi),
+            Lobes::GlossyTranslucent(g) => g.f(wo, wi),
             Lobes::Coating(c) => c.f(wo, wi),
             Lobes::Microfacet(m) => m.f(wo, wi),
             Lobes::GlossyMirror { glossy, .. } => glossy.f(wo, wi),
@@ -162,6 +172,8 @@ impl Bsdf {
             Lobes::Diffuse(d) => d.pdf(wo, wi),
             Lobes::Translucent(t) => t.pdf(wo, wi),
             Lobes::Velvet(v) => v.pdf(wo, wi),
+            Lobes::CarPaint(c) => c.pdf(wo, wi),
+            Lobes::GlossyTranslucent(g) => g.pdf(wo, wi),
             Lobes::Coating(c) => c.pdf(wo, wi),
             Lobes::Microfacet(m) => m.pdf(wo, wi),
             Lobes::GlossyMirror {
@@ -183,6 +195,8 @@ impl Bsdf {
             Lobes::Diffuse(d) => d.sample(wo, u2)?,
             Lobes::Translucent(t) => t.sample(wo, u, u2)?,
             Lobes::Velvet(v) => v.sample(wo, u2)?,
+            Lobes::CarPaint(c) => c.sample(wo, u, u2)?,
+            Lobes::GlossyTranslucent(g) => g.sample(wo, u, u2)?,
             Lobes::Coating(c) => c.sample(wo, u, u2)?,
             Lobes::Microfacet(m) => m.sample(wo, u2)?,
             Lobes::GlossyMirror {

@@ -1,15 +1,21 @@
 //! Bump mapping as LuxRender's `Material::Bump`: the `bumpmap` float texture displaces the
-//! surface along the shading normal; its finite differences (steps of 0.001 in u and v, the
-//! value LuxRender uses without ray differentials) tilt the shading tangents and normal. The
-//! new normal stays on the side of the original shading normal.
+//! surface along the shading normal; its finite differences over `bumpmapsampledistance`
+//! (default 0.001, the step LuxRender uses without ray differentials) in u and v tilt the
+//! shading tangents and normal, which is then oriented to the side of the geometric normal.
 
 use crate::geometry::{Shading, SurfaceInteraction};
 use crate::texture::FloatTex;
 use glam::{Vec2, Vec3A};
 
-const DELTA: f32 = 0.001;
+/// LuxRender's default `bumpmapsampledistance`.
+pub const DEFAULT_DISTANCE: f32 = 0.001;
 
-pub fn apply(bump: &FloatTex, si: &SurfaceInteraction) -> SurfaceInteraction {
+pub fn apply(bump: &FloatTex, distance: f32, si: &SurfaceInteraction) -> SurfaceInteraction {
+    let delta = if distance > 0.0 {
+        distance
+    } else {
+        DEFAULT_DISTANCE
+    };
     let n = if si.shading.n == Vec3A::ZERO {
         si.it.n
     } else {
@@ -27,20 +33,20 @@ pub fn apply(bump: &FloatTex, si: &SurfaceInteraction) -> SurfaceInteraction {
     };
     let d = bump.eval(si);
     let mut su = *si;
-    su.it.p += dpdu * DELTA;
-    su.uv += Vec2::new(DELTA, 0.0);
+    su.it.p += dpdu * delta;
+    su.uv += Vec2::new(delta, 0.0);
     let du = bump.eval(&su);
     let mut sv = *si;
-    sv.it.p += dpdv * DELTA;
-    sv.uv += Vec2::new(0.0, DELTA);
+    sv.it.p += dpdv * delta;
+    sv.uv += Vec2::new(0.0, delta);
     let dv = bump.eval(&sv);
-    let new_dpdu = dpdu + n * ((du - d) / DELTA);
-    let new_dpdv = dpdv + n * ((dv - d) / DELTA);
+    let new_dpdu = dpdu + n * ((du - d) / delta);
+    let new_dpdv = dpdv + n * ((dv - d) / delta);
     let mut nn = new_dpdu.cross(new_dpdv).normalize_or_zero();
     if nn == Vec3A::ZERO || !nn.is_finite() {
         return *si;
     }
-    if nn.dot(n) < 0.0 {
+    if nn.dot(si.it.n) < 0.0 {
         nn = -nn;
     }
     let mut out = *si;

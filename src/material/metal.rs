@@ -2,9 +2,8 @@
 //! `copper`, `aluminium`, the default) or an `.nk` file (relative to the scene directory;
 //! LuxRender tries the file first). Unknown names fall back to aluminium with a warning, as in
 //! LuxRender. The spectral n, k are averaged over red/green/blue bands (see
-//! [`NkTable::to_rgb`]). `uroughness`/`vroughness` default 0.1 (Blinn exponent 1/roughness);
-//! unequal values use their geometric mean (isotropic), with a warning; the 0.x `roughness`
-//! is accepted when neither is given.
+//! [`NkTable::to_rgb`]). `uroughness`/`vroughness` default 0.1 (Blinn exponents 1/roughness,
+//! anisotropic when they differ); the 0.x `roughness` is accepted when neither is given.
 
 use super::bsdf::Lobes;
 use super::bxdf::microfacet::{Blinn, MicrofacetReflection};
@@ -23,9 +22,8 @@ pub struct Metal {
     pub v: FloatTex,
 }
 
-/// `uroughness`/`vroughness` with a warning when they are constant and differ. Scenes written
-/// for LuxRender 0.x give a single `roughness`: it is used for both when neither of the two
-/// newer parameters is present.
+/// `uroughness`/`vroughness`. Scenes written for LuxRender 0.x give a single `roughness`: it is
+/// used for both when neither of the two newer parameters is present.
 pub fn roughness_pair(
     b: &mut Builder,
     e: &Entity,
@@ -38,18 +36,6 @@ pub fn roughness_pair(
     }
     let u = b.textures.float_param(&e.params, "uroughness", default)?;
     let v = b.textures.float_param(&e.params, "vroughness", default)?;
-    if let (Some(a), Some(c)) = (u.as_const(), v.as_const()) {
-        if a != c {
-            let loc = param_loc(&e.params, "vroughness", &e.loc);
-            b.warn(
-                &loc,
-                format!(
-                    "anisotropic roughness ({a} / {c}) is rendered isotropic with roughness {}",
-                    (a * c).max(0.0).sqrt()
-                ),
-            );
-        }
-    }
     Ok((u, v))
 }
 
@@ -108,12 +94,11 @@ impl Metal {
     }
 
     pub fn lobes(&self, si: &SurfaceInteraction) -> Lobes {
-        let r = (self.u.eval(si) * self.v.eval(si)).max(0.0).sqrt();
         Lobes::Microfacet(MicrofacetReflection {
             scale: Rgb::WHITE,
             n: self.n,
             k: self.k,
-            dist: Blinn::from_roughness(r),
+            dist: Blinn::from_uv(self.u.eval(si), self.v.eval(si)),
         })
     }
 }

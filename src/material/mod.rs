@@ -9,8 +9,10 @@
 pub mod bsdf;
 pub mod bump;
 pub mod bxdf;
+pub mod carpaint;
 pub mod glass;
 pub mod glossy;
+pub mod glossytranslucent;
 pub mod matte;
 pub mod mattetranslucent;
 pub mod metal;
@@ -54,12 +56,14 @@ pub struct MaterialCtx {
 /// The closed set of materials.
 #[derive(Debug)]
 pub enum MaterialKind {
+    CarPaint(carpaint::CarPaint),
     Matte(matte::Matte),
     MatteTranslucent(mattetranslucent::MatteTranslucent),
     Mirror(mirror::Mirror),
     Glass(glass::Glass),
     RoughGlass(roughglass::RoughGlass),
     Glossy(glossy::Glossy),
+    GlossyTranslucent(glossytranslucent::GlossyTranslucent),
     Metal(metal::Metal),
     ShinyMetal(shinymetal::ShinyMetal),
     Velvet(velvet::Velvet),
@@ -72,6 +76,8 @@ pub struct Material {
     pub kind: MaterialKind,
     /// `bumpmap` float texture (displacement along the shading normal).
     pub bump: Option<FloatTex>,
+    /// `bumpmapsampledistance` (finite-difference step in u and v).
+    pub bump_distance: f32,
     /// Type name as written (for logs).
     pub type_name: String,
 }
@@ -82,6 +88,7 @@ impl Material {
         Material {
             kind: MaterialKind::Matte(matte::Matte::default_params()),
             bump: None,
+            bump_distance: bump::DEFAULT_DISTANCE,
             type_name: "matte".into(),
         }
     }
@@ -96,18 +103,20 @@ impl Material {
         let bumped;
         let si = match &self.bump {
             Some(b) => {
-                bumped = bump::apply(b, si);
+                bumped = bump::apply(b, self.bump_distance, si);
                 &bumped
             }
             None => si,
         };
         let lobes = match &self.kind {
+            MaterialKind::CarPaint(m) => m.lobes(si),
             MaterialKind::Matte(m) => m.lobes(si),
             MaterialKind::MatteTranslucent(m) => m.lobes(si),
             MaterialKind::Mirror(m) => m.lobes(si),
             MaterialKind::Glass(m) => m.lobes(si),
             MaterialKind::RoughGlass(m) => m.lobes(si),
             MaterialKind::Glossy(m) => m.lobes(si),
+            MaterialKind::GlossyTranslucent(m) => m.lobes(si),
             MaterialKind::Metal(m) => m.lobes(si),
             MaterialKind::ShinyMetal(m) => m.lobes(si),
             MaterialKind::Velvet(m) => m.lobes(si),
@@ -122,16 +131,16 @@ impl Material {
 }
 
 /// Everything a material builder needs.
-pub struct Builder<'a> {
+pub struct Builder<'a, 't> {
     pub desc: &'a SceneDescription,
-    pub textures: TextureSet<'a>,
+    pub textures: &'t mut TextureSet<'a>,
     pub ctx: MaterialCtx,
     built: Vec<Option<Arc<Material>>>,
     building: Vec<usize>,
     pub warnings: Vec<Diagnostic>,
 }
 
-impl Builder<'_> {
+impl Builder<'_, '_> {
     pub fn warn(&mut self, loc: &Loc, message: String) {
         tracing::warn!("{loc}: {message}");
         self.warnings.push(Diagnostic {
@@ -186,6 +195,8 @@ impl Builder<'_> {
 
     fn build_entity(&mut self, e: &Entity) -> Result<Material, MaterialError> {
         let p = &e.params;
+        // MakeNamedMaterial's "type" became `kind`: it is not an unused parameter.
+        let _ = p.string("type");
         let kind = match e.kind.as_str() {
             "matte" => MaterialKind::Matte(matte::Matte::build(self, e)?),
             "mattetranslucent" => {
@@ -200,6 +211,12 @@ impl Builder<'_> {
                      with index 1.5"
                         .into(),
                 );
+                if p.bool_or("dispersion", false) {
+                    self.warn(
+                        &e.loc,
+                        "dispersion needs spectral rendering, which is not built: ignored".into(),
+                    );
+                }
                 MaterialKind::Glass(glass::Glass::build(self, e)?)
             }
             "roughglass" => MaterialKind::RoughGlass(roughglass::RoughGlass::build(self, e)?),
@@ -208,6 +225,10 @@ impl Builder<'_> {
             }
             "metal" => MaterialKind::Metal(metal::Metal::build(self, e)?),
             "shinymetal" => MaterialKind::ShinyMetal(shinymetal::ShinyMetal::build(self, e)?),
+            "glossytranslucent" => MaterialKind::GlossyTranslucent(
+                glossytranslucent::GlossyTranslucent::build(self, e)?,
+            ),
+            "carpaint" => MaterialKind::CarPaint(carpaint::CarPaint::build(self, e)?),
             "velvet" => MaterialKind::Velvet(velvet::Velvet::build(self, e)?),
             "mix" => MaterialKind::Mix(mix::MixMaterial::build(self, e)?),
             "null" => MaterialKind::Null,
@@ -220,9 +241,15 @@ impl Builder<'_> {
             }
         };
         let bump = self.textures.optional_float(p, "bumpmap")?;
+        let bump_distance = if bump.is_some() {
+            p.float_or("bumpmapsampledistance", bump::DEFAULT_DISTANCE)
+        } else {
+            bump::DEFAULT_DISTANCE
+        };
         Ok(Material {
             kind,
             bump,
+            bump_distance,
             type_name: e.kind.clone(),
         })
     }
@@ -245,12 +272,25 @@ impl MaterialSet {
         used: &[usize],
         ctx: &MaterialCtx,
     ) -> Result<MaterialSet, MaterialError> {
-        let textures = TextureSet::new(
+        let mut textures = TextureSet::new(
             desc,
             TextureCtx {
                 base_dir: ctx.base_dir.clone(),
             },
         );
+        let mut set = MaterialSet::build_with_textures(desc, used, ctx, &mut textures)?;
+        set.warnings.append(&mut textures.warnings);
+        Ok(set)
+    }
+
+    /// As [`MaterialSet::build`], with a texture set shared with other users (lights), so that
+    /// an image referenced by both is loaded once. Texture warnings stay in `textures`.
+    pub fn build_with_textures<'a>(
+        desc: &'a SceneDescription,
+        used: &[usize],
+        ctx: &MaterialCtx,
+        textures: &mut TextureSet<'a>,
+    ) -> Result<MaterialSet, MaterialError> {
         let mut b = Builder {
             desc,
             textures,
@@ -262,8 +302,6 @@ impl MaterialSet {
         for &i in used {
             b.material(i, &Loc::default())?;
         }
-        let mut warnings = b.warnings;
-        warnings.append(&mut b.textures.warnings);
         let count = b.built.iter().filter(|m| m.is_some()).count();
         tracing::info!(
             "built {count} of {} materials, {} textures, {} images",
@@ -275,7 +313,7 @@ impl MaterialSet {
             images_loaded: b.textures.images_loaded(),
             materials: b.built,
             default: Arc::new(Material::default_matte()),
-            warnings,
+            warnings: b.warnings,
         })
     }
 

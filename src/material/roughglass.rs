@@ -1,6 +1,6 @@
 //! `roughglass`: rough dielectric with `Kr`, `Kt` (default 1), `index` (1.5), `uroughness`
 //! and `vroughness` (0.001, Blinn exponent 1/roughness). Dispersion (`cauchyb`) is ignored with
-//! a warning. Unequal u/v roughness uses their geometric mean (isotropic).
+//! a warning. Unequal u/v roughness gives an anisotropic distribution.
 
 use super::bsdf::Lobes;
 use super::bxdf::microfacet::Blinn;
@@ -39,12 +39,11 @@ impl RoughGlass {
     pub fn lobes(&self, si: &SurfaceInteraction) -> Lobes {
         let clamp = |c: Rgb| c.map(|v| v.clamp(0.0, 1.0));
         let eta = self.index.eval(si);
-        let r = (self.u.eval(si) * self.v.eval(si)).max(0.0).sqrt();
         Lobes::RoughDielectric(RoughDielectric {
             kr: clamp(self.kr.eval(si)),
             kt: clamp(self.kt.eval(si)),
             eta: if eta > 0.0 { eta } else { 1.0 },
-            dist: Blinn::from_roughness(r),
+            dist: Blinn::from_uv(self.u.eval(si), self.v.eval(si)),
         })
     }
 }

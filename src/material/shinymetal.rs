@@ -39,12 +39,11 @@ impl ShinyMetal {
         let (ks, kr) = (clamp(self.ks.eval(si)), clamp(self.kr.eval(si)));
         let (sn, sk) = approx_conductor(ks);
         let (rn, rk) = approx_conductor(kr);
-        let r = (self.u.eval(si) * self.v.eval(si)).max(0.0).sqrt();
         let glossy = MicrofacetReflection {
             scale: Rgb::WHITE,
             n: sn,
             k: sk,
-            dist: Blinn::from_roughness(r),
+            dist: Blinn::from_uv(self.u.eval(si), self.v.eval(si)),
         };
         let mirror = SpecularReflection {
             kr: Rgb::WHITE,

@@ -38,18 +38,22 @@ fn dir(theta_deg: f32, phi_deg: f32) -> Vec3A {
     Vec3A::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
 }
 
-/// Numeric ∫ g(wi) dω over the sphere (midpoint rule, uniform in z and φ).
-fn sphere_integral(nz: usize, nphi: usize, g: impl Fn(Vec3A) -> f64) -> f64 {
-    let mut sum = 0.0;
+/// Numeric ∫ g(wi) dω over the sphere (midpoint rule, uniform in z and φ), for two integrands
+/// at once.
+fn sphere_integral(nz: usize, nphi: usize, g: impl Fn(Vec3A) -> (f64, f64)) -> (f64, f64) {
+    let mut sum = (0.0, 0.0);
     for i in 0..nz {
         let z = -1.0 + (i as f32 + 0.5) * 2.0 / nz as f32;
         let r = (1.0 - z * z).max(0.0).sqrt();
         for j in 0..nphi {
             let phi = (j as f32 + 0.5) * 2.0 * PI / nphi as f32;
-            sum += g(Vec3A::new(r * phi.cos(), r * phi.sin(), z));
+            let v = g(Vec3A::new(r * phi.cos(), r * phi.sin(), z));
+            sum.0 += v.0;
+            sum.1 += v.1;
         }
     }
-    sum * (2.0 / nz as f64) * (2.0 * std::f64::consts::PI / nphi as f64)
+    let w = (2.0 / nz as f64) * (2.0 * std::f64::consts::PI / nphi as f64);
+    (sum.0 * w, sum.1 * w)
 }
 
 /// (MC estimate of ∫ f cos, fraction of successful samples), averaged over channels.
@@ -66,21 +70,22 @@ fn sampled_albedo(b: &Bsdf, wo: Vec3A, n: usize) -> (f64, f64) {
     (sum / n as f64, ok as f64 / n as f64)
 }
 
-fn numeric_albedo(b: &Bsdf, wo: Vec3A) -> f64 {
+/// (∫ f cos dω, ∫ pdf dω) by numeric integration.
+fn numeric(b: &Bsdf, wo: Vec3A) -> (f64, f64) {
     sphere_integral(1200, 600, |wi| {
-        (b.f(wo, wi).average() * wi.dot(b.frame.n).abs()) as f64
+        let f = (b.f(wo, wi).average() * wi.dot(b.frame.n).abs()) as f64;
+        (f, b.pdf(wo, wi) as f64)
     })
 }
 
-fn numeric_pdf(b: &Bsdf, wo: Vec3A) -> f64 {
-    sphere_integral(1200, 600, |wi| b.pdf(wo, wi) as f64)
+fn numeric_albedo(b: &Bsdf, wo: Vec3A) -> f64 {
+    numeric(b, wo).0
 }
 
 /// Checks sampling against evaluation for one BSDF and outgoing direction.
 fn check_lobe(name: &str, b: &Bsdf, wo: Vec3A, max_albedo: f64) {
     let (mc, success) = sampled_albedo(b, wo, 200_000);
-    let num = numeric_albedo(b, wo);
-    let pdf_int = numeric_pdf(b, wo);
+    let (num, pdf_int) = numeric(b, wo);
     assert!(num <= max_albedo, "{name}: albedo {num} > {max_albedo}");
     assert!(
         (mc - num).abs() <= 0.02 * num.max(0.05),
@@ -188,6 +193,14 @@ fn metal_lobes_sample_consistently() {
     let b = bsdf(Lobes::Microfacet(m));
     for theta in [0.0, 50.0] {
         check_lobe("metal", &b, dir(theta, 0.0), 1.0);
+    }
+    let aniso = MicrofacetReflection {
+        dist: Blinn::from_uv(0.05, 0.3),
+        ..m
+    };
+    let b = bsdf(Lobes::Microfacet(aniso));
+    for (theta, phi) in [(0.0, 0.0), (40.0, 30.0), (60.0, 100.0)] {
+        check_lobe("anisotropic metal", &b, dir(theta, phi), 1.0);
     }
 }
 
@@ -378,12 +391,12 @@ fn bump_map_tilts_the_shading_normal_by_the_slope() {
         Arc::new(TexNode::Const(Rgb::splat(0.5))),
     )));
     let si = si_at(0.25, 0.25, Vec3A::ZERO);
-    let b = bump::apply(&tex, &si);
+    let b = bump::apply(&tex, 0.001, &si);
     let expect = Vec3A::new(-0.5, 0.0, 1.0).normalize();
     assert!((b.shading.n - expect).length() < 1e-3, "{:?}", b.shading.n);
     assert_eq!(b.it.n, Vec3A::Z, "geometric normal unchanged");
     // A constant bump map changes nothing.
-    let flat = bump::apply(&FloatTex::constant(0.3), &si);
+    let flat = bump::apply(&FloatTex::constant(0.3), 0.001, &si);
     assert!((flat.shading.n - Vec3A::Z).length() < 1e-6);
 }
 
@@ -490,4 +503,93 @@ fn materials_and_textures_are_shareable_between_threads() {
     assert_send_sync::<Bsdf>();
     assert_send_sync::<crate::texture::ColorTex>();
     assert_send_sync::<crate::texture::FloatTex>();
+}
+
+#[test]
+fn carpaint_presets_sample_consistently() {
+    let d = scene(vec![
+        mat("a", "carpaint", vec![("name", s("polaris silber"))], 1),
+        mat("b", "carpaint", vec![("name", s("no such paint"))], 2),
+        mat(
+            "c",
+            "carpaint",
+            vec![("Kd", ParamValue::Color(vec![[0.5, 0.1, 0.1]]))],
+            3,
+        ),
+    ]);
+    let set = MaterialSet::build(&d, &[0, 1, 2], &MaterialCtx::default()).unwrap();
+    assert!(set
+        .warnings
+        .iter()
+        .any(|w| w.to_string().contains("no such paint")));
+    for i in 0..3 {
+        let b = set.get(Some(i)).bsdf(&flat_si(), 0.5);
+        assert!(matches!(b.lobes, Lobes::CarPaint(_)));
+        for theta in [20.0, 60.0] {
+            check_lobe("carpaint", &b, dir(theta, 0.0), 1.0);
+        }
+    }
+}
+
+#[test]
+fn glossy_translucent_samples_consistently_on_both_faces() {
+    let c = |v: f32| ParamValue::Color(vec![[v, v, v]]);
+    let d = scene(vec![
+        mat(
+            "a",
+            "glossytranslucent",
+            vec![("Kd", c(0.5)), ("Kt", c(0.8)), ("Ks", c(0.04))],
+            1,
+        ),
+        mat(
+            "b",
+            "glossytranslucent",
+            vec![
+                ("Kd", c(0.3)),
+                ("Ks", c(0.1)),
+                ("onesided", ParamValue::Bool(vec![false])),
+                ("backface_Ks", c(0.5)),
+                ("backface_uroughness", f(0.3)),
+                ("backface_vroughness", f(0.3)),
+                ("d", f(0.1)),
+                ("Ka", c(0.5)),
+            ],
+            2,
+        ),
+    ]);
+    let set = MaterialSet::build(&d, &[0, 1], &MaterialCtx::default()).unwrap();
+    for i in 0..2 {
+        let b = set.get(Some(i)).bsdf(&flat_si(), 0.5);
+        assert!(matches!(b.lobes, Lobes::GlossyTranslucent(_)));
+        check_lobe("glossytranslucent front", &b, dir(30.0, 0.0), 1.05);
+        check_lobe("glossytranslucent back", &b, -dir(50.0, 40.0), 1.05);
+    }
+}
+
+#[test]
+fn a_shared_texture_set_builds_each_texture_once() {
+    use crate::lxs::TextureType;
+    use crate::texture::{TextureCtx, TextureSet};
+    let mut d = scene(vec![mat(
+        "m",
+        "matte",
+        vec![("Kd", ParamValue::Texture("t".into()))],
+        1,
+    )]);
+    crate::texture::tests::add_tex(
+        &mut d,
+        "t",
+        TextureType::Color,
+        "constant",
+        vec![("value", ParamValue::Color(vec![[0.1, 0.2, 0.3]]))],
+    );
+    let mut textures = TextureSet::new(&d, TextureCtx::default());
+    let set =
+        MaterialSet::build_with_textures(&d, &[0], &MaterialCtx::default(), &mut textures).unwrap();
+    assert!(set.is_built(0));
+    let mut ps = ParamSet::new();
+    ps.add("L", ParamValue::Texture("t".into()));
+    let light_tex = textures.color_param(&ps, "L", Rgb::WHITE).unwrap();
+    assert_eq!(light_tex.as_const(), Some(Rgb::new(0.1, 0.2, 0.3)));
+    assert_eq!(textures.built_names(), vec!["t".to_string()]);
 }

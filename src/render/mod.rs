@@ -1,1 +1,179 @@
-//! Render sessions: seeded sample streams over the frame, splatting into the film, halt rules.
+//! Render sessions: the frame is cut into tiles rendered in parallel (rayon) into per-tile
+//! films, merged into the session film in fixed tile order, so the result depends only on
+//! (seed, stream, pass index) — never on the thread count. Every sample's randomness comes
+//! from the sampler keyed by (seed, stream, pixel, sample index).
+//!
+//! Samples whose XYZ is NaN/Inf or whose Y is negative are discarded and counted, never
+//! splatted (LuxRender's rule).
+
+mod tile;
+
+use crate::film::{Film, FilmParams};
+use crate::lxs::SceneDescription;
+use crate::scene::{Scene, SceneError};
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+pub use tile::{tiles, Tile, TILE_SIZE};
+
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error("cannot start the render threads: {0}")]
+    Threads(String),
+    #[error("{0}")]
+    Film(#[from] crate::film::FilmError),
+}
+
+/// How a session samples: thread count (0: all cores), job seed and stream id (a farm gives
+/// each worker its own stream).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SessionOptions {
+    pub threads: usize,
+    pub seed: u64,
+    pub stream: u64,
+}
+
+/// What one pass did.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PassStats {
+    /// Camera samples taken (pixels × pixelsamples).
+    pub samples: u64,
+    /// Contributions discarded as NaN/Inf/negative.
+    pub rejected: u64,
+    pub seconds: f64,
+    /// False when the pass was cancelled (its partial work is discarded).
+    pub complete: bool,
+}
+
+pub struct Session {
+    scene: Arc<Scene>,
+    film: Film,
+    opts: SessionOptions,
+    pass: u64,
+    pool: rayon::ThreadPool,
+    cancel: Arc<AtomicBool>,
+    rejected: u64,
+}
+
+impl Session {
+    pub fn new(
+        desc: &SceneDescription,
+        base_dir: &Path,
+        opts: SessionOptions,
+    ) -> Result<Session, RenderError> {
+        let scene = Scene::build(desc, base_dir)?;
+        Session::from_scene(scene, opts)
+    }
+
+    pub fn from_scene(scene: Scene, opts: SessionOptions) -> Result<Session, RenderError> {
+        let fp = &scene.film_params;
+        let film = Film::new(fp.x_pixel_count, fp.y_pixel_count, scene.groups.clone());
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(opts.threads)
+            .build()
+            .map_err(|e| RenderError::Threads(e.to_string()))?;
+        Ok(Session {
+            scene: Arc::new(scene),
+            film,
+            opts,
+            pass: 0,
+            pool,
+            cancel: Arc::new(AtomicBool::new(false)),
+            rejected: 0,
+        })
+    }
+
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    pub fn film_params(&self) -> &FilmParams {
+        &self.scene.film_params
+    }
+
+    pub fn film(&self) -> &Film {
+        &self.film
+    }
+
+    /// Passes rendered so far.
+    pub fn passes(&self) -> u64 {
+        self.pass
+    }
+
+    /// Camera samples per pixel per pass.
+    pub fn pixel_samples(&self) -> u32 {
+        self.scene.sampler.pixel_samples()
+    }
+
+    /// The accumulated film since the last take; the session film is cleared.
+    pub fn take_film(&mut self) -> Film {
+        let fresh = Film::new(
+            self.film.width(),
+            self.film.height(),
+            self.scene.groups.clone(),
+        );
+        std::mem::replace(&mut self.film, fresh)
+    }
+
+    /// Samples discarded (NaN/Inf/negative) over the whole session.
+    pub fn rejected_samples(&self) -> u64 {
+        self.rejected
+    }
+
+    /// Set it to stop the current pass between tiles (the pass is then discarded).
+    pub fn cancel_flag(&self) -> Arc<AtomicBool> {
+        self.cancel.clone()
+    }
+
+    /// Renders one more pass of `pixelsamples` samples over every pixel into the film.
+    pub fn render_pass(&mut self) -> PassStats {
+        use rayon::prelude::*;
+        let start = Instant::now();
+        let scene = &*self.scene;
+        let fp = &scene.film_params;
+        let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
+        let spp = scene.sampler.pixel_samples().max(1);
+        let pass = self.pass;
+        let (seed, stream) = (self.opts.seed, self.opts.stream);
+        let cancel = &self.cancel;
+        let results: Vec<Option<(Film, Tile, u64)>> = self.pool.install(|| {
+            list.par_iter()
+                .map(|t| {
+                    if cancel.load(Ordering::Relaxed) {
+                        return None;
+                    }
+                    Some(tile::render_tile(scene, t, pass, spp, seed, stream))
+                })
+                .collect()
+        });
+        if results.iter().any(Option::is_none) {
+            return PassStats {
+                seconds: start.elapsed().as_secs_f64(),
+                ..Default::default()
+            };
+        }
+        let mut rejected = 0;
+        for (tf, t, rej) in results.into_iter().flatten() {
+            // Layouts match by construction; an error here would be a bug, not input.
+            if let Err(e) = self.film.merge_at(&tf, t.fx0, t.fy0) {
+                tracing::error!("tile merge failed: {e}");
+            }
+            rejected += rej;
+        }
+        let samples = u64::from(fp.x_pixel_count) * u64::from(fp.y_pixel_count) * u64::from(spp);
+        self.film.add_sample_count(samples as f64);
+        self.film.add_rejected(rejected);
+        self.rejected += rejected;
+        self.pass += 1;
+        PassStats {
+            samples,
+            rejected,
+            seconds: start.elapsed().as_secs_f64(),
+            complete: true,
+        }
+    }
+}

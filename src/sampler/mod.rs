@@ -1,1 +1,280 @@
-//! Samplers: random, lowdiscrepancy, sobol; every value derived from (seed, stream, pixel, sample).
+//! Samplers: random, lowdiscrepancy, sobol; every value derived from (seed, stream, pixel,
+//! sample index, dimension).
+//!
+//! [`Sampler::from_entity`] reads a `Sampler` statement with LuxRender's names and defaults
+//! (random with 4 samples per pixel when the scene has none, as LuxRender). LuxRender's other
+//! samplers fall back with a warning: `bestcandidate`, `stratified` and `halton` to
+//! lowdiscrepancy, `metropolis` and `erpt` to random.
+//!
+//! [`Sampler::start`] opens the [`SampleStream`] of one sample: a pure function of
+//! `(seed, stream, px, py, index)` and of how many dimensions have been drawn, never of
+//! threads or call order. Two stream ids give statistically independent estimates.
+//!
+//! # Dimension layout (every integrator must follow it)
+//!
+//! | dims | drawn with | meaning |
+//! |------|------------|---------|
+//! | 0, 1 | `next_2d` | film position within the pixel (`p_film = (px, py) + u`) |
+//! | 2, 3 | `next_2d` | lens position |
+//! | 4    | `next_1d` | time (shutter) |
+//! | 5 .. | either    | the integrator's, in a fixed order per path vertex |
+//!
+//! [`SampleStream::camera_sample`] draws dims 0..5 in that order. Dimensions are counted:
+//! `next_1d` uses one, `next_2d` two. For the best stratification, draw 2D quantities with
+//! `next_2d` (lowdiscrepancy and sobol stratify each 2D request jointly).
+
+pub mod bench;
+mod hash;
+mod lowdiscrepancy;
+mod random;
+mod sobol;
+
+pub use hash::{mix64, pixel_key};
+
+use crate::camera::CameraSample;
+use crate::lxs::{Entity, Loc};
+use glam::Vec2;
+
+#[derive(Debug, thiserror::Error)]
+#[error("{loc}: {message}")]
+pub struct SamplerError {
+    pub loc: Loc,
+    pub message: String,
+}
+
+/// The sequence family.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplerKind {
+    Random,
+    LowDiscrepancy,
+    Sobol,
+}
+
+/// A sampler: its sequence and samples per pixel per pass.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Sampler {
+    kind: SamplerKind,
+    pixel_samples: u32,
+    /// log2 of `pixel_samples` for lowdiscrepancy (a power of two there).
+    log2_n: u32,
+}
+
+/// LuxRender's default `pixelsamples`.
+pub const DEFAULT_PIXEL_SAMPLES: u32 = 4;
+
+impl Sampler {
+    /// Builds the sampler of a `Sampler` statement (`None`: LuxRender's default, random with
+    /// 4 samples per pixel).
+    pub fn from_entity(e: Option<&Entity>) -> Result<Sampler, SamplerError> {
+        let Some(e) = e else {
+            return Sampler::new(SamplerKind::Random, DEFAULT_PIXEL_SAMPLES);
+        };
+        let err = |message: String| SamplerError {
+            loc: e.loc.clone(),
+            message,
+        };
+        let p = &e.params;
+        let pixelsamples = || -> Result<u32, SamplerError> {
+            let n = p.int_or("pixelsamples", DEFAULT_PIXEL_SAMPLES as i32);
+            u32::try_from(n).ok().filter(|&n| n >= 1).ok_or_else(|| {
+                err(format!(
+                    "sampler \"{}\": pixelsamples must be at least 1, got {n}",
+                    e.kind
+                ))
+            })
+        };
+        // LuxRender's pixel visiting order: irrelevant to a deterministic per-pixel sampler.
+        let _ = p.string("pixelsampler");
+        if p.bool("noiseaware") == Some(true) {
+            tracing::warn!(
+                "{}: noise-aware sampling is not supported; sampling uniformly",
+                e.loc
+            );
+        }
+        let (kind, n) = match e.kind.as_str() {
+            "random" => {
+                let mut n = pixelsamples()?;
+                let (xs, ys) = (p.int("xsamples"), p.int("ysamples"));
+                if xs.is_some() || ys.is_some() {
+                    tracing::warn!("{}: 'xsamples'/'ysamples' are deprecated, use 'pixelsamples'", e.loc);
+                    let prod = i64::from(xs.unwrap_or(2)) * i64::from(ys.unwrap_or(2));
+                    n = u32::try_from(prod)
+                        .ok()
+                        .filter(|&n| n >= 1)
+                        .ok_or_else(|| err(format!("xsamples * ysamples must be at least 1, got {prod}")))?;
+                }
+                (SamplerKind::Random, n)
+            }
+            "lowdiscrepancy" => (SamplerKind::LowDiscrepancy, pixelsamples()?),
+            "sobol" => (SamplerKind::Sobol, pixelsamples()?),
+            "stratified" => {
+                let xs = p.int_or("xsamples", 2);
+                let ys = p.int_or("ysamples", 2);
+                let _ = p.bool("jitter");
+                let prod = i64::from(xs) * i64::from(ys);
+                let n = u32::try_from(prod)
+                    .ok()
+                    .filter(|&n| n >= 1)
+                    .ok_or_else(|| err(format!("xsamples * ysamples must be at least 1, got {prod}")))?;
+                Sampler::warn_fallback(e, "lowdiscrepancy");
+                (SamplerKind::LowDiscrepancy, n)
+            }
+            "bestcandidate" | "halton" => {
+                Sampler::warn_fallback(e, "lowdiscrepancy");
+                (SamplerKind::LowDiscrepancy, pixelsamples()?)
+            }
+            "metropolis" | "erpt" => {
+                Sampler::warn_fallback(e, "random");
+                (SamplerKind::Random, pixelsamples()?)
+            }
+            other => {
+                return Err(err(format!(
+                    "unknown sampler \"{other}\" (known: random, lowdiscrepancy, sobol; bestcandidate, stratified, halton, metropolis, erpt fall back)"
+                )))
+            }
+        };
+        Sampler::new(kind, n).map_err(|mut x| {
+            x.loc = e.loc.clone();
+            x
+        })
+    }
+
+    fn warn_fallback(e: &Entity, to: &str) {
+        tracing::warn!(
+            "{}: sampler \"{}\" is not implemented; using \"{to}\" (unbiased, same samples per pixel)",
+            e.loc,
+            e.kind
+        );
+    }
+
+    /// A sampler of this kind; lowdiscrepancy rounds `pixel_samples` up to a power of two
+    /// (with a warning), as LuxRender does.
+    pub fn new(kind: SamplerKind, pixel_samples: u32) -> Result<Sampler, SamplerError> {
+        let mut n = pixel_samples.max(1);
+        if kind == SamplerKind::LowDiscrepancy && !n.is_power_of_two() {
+            let up = n.checked_next_power_of_two().ok_or_else(|| SamplerError {
+                loc: Loc::default(),
+                message: format!("pixelsamples {n} too large"),
+            })?;
+            tracing::warn!("lowdiscrepancy sampler: pixelsamples {n} rounded up to {up}");
+            n = up;
+        }
+        Ok(Sampler {
+            kind,
+            pixel_samples: n,
+            log2_n: n.trailing_zeros(),
+        })
+    }
+
+    pub fn kind(&self) -> SamplerKind {
+        self.kind
+    }
+
+    /// Samples per pixel in one pass.
+    pub fn pixel_samples(&self) -> u32 {
+        self.pixel_samples
+    }
+
+    /// The stream of sample `index` (counting over all passes: pass `k` uses indices
+    /// `k * pixel_samples ..`) of pixel (`px`, `py`).
+    pub fn start(&self, seed: u64, stream: u64, px: u32, py: u32, index: u64) -> SampleStream {
+        self.start_at(seed, stream, px as i32, py as i32, index)
+    }
+
+    /// [`Sampler::start`] for any pixel, including those left of or above the image:
+    /// LuxRender samples `filter.sample_extent(..)`, which reaches beyond the image by the
+    /// filter radius, so border pixels get full filter coverage. For pixels inside the image
+    /// both give the same values.
+    pub fn start_at(&self, seed: u64, stream: u64, px: i32, py: i32, index: u64) -> SampleStream {
+        let pk = pixel_key(seed, stream, px as u32, py as u32);
+        let key = match self.kind {
+            SamplerKind::Random => random::sample_key(pk, index),
+            SamplerKind::LowDiscrepancy => lowdiscrepancy::block_key(pk, index, self.log2_n),
+            SamplerKind::Sobol => sobol::run_key(pk, index),
+        };
+        SampleStream {
+            kind: self.kind,
+            key,
+            index,
+            log2_n: self.log2_n,
+            dim: 0,
+            px,
+            py,
+        }
+    }
+}
+
+/// The values of one sample, drawn dimension after dimension (see the module docs).
+#[derive(Clone, Debug)]
+pub struct SampleStream {
+    kind: SamplerKind,
+    /// Key of this sample's pixel and block (LD), run (sobol) or sample (random).
+    key: u64,
+    index: u64,
+    log2_n: u32,
+    dim: u32,
+    px: i32,
+    py: i32,
+}
+
+impl SampleStream {
+    /// The next dimension, in [0, 1).
+    pub fn next_1d(&mut self) -> f32 {
+        let d = self.dim;
+        self.dim = self.dim.saturating_add(1);
+        match self.kind {
+            SamplerKind::Random => random::value(self.key, d),
+            SamplerKind::LowDiscrepancy => {
+                lowdiscrepancy::value_1d(self.key, self.index, self.log2_n, d)
+            }
+            SamplerKind::Sobol => sobol::value_1d(self.key, self.index, d),
+        }
+    }
+
+    /// The next two dimensions, each in [0, 1).
+    pub fn next_2d(&mut self) -> Vec2 {
+        let d = self.dim;
+        self.dim = self.dim.saturating_add(2);
+        match self.kind {
+            SamplerKind::Random => {
+                Vec2::new(random::value(self.key, d), random::value(self.key, d + 1))
+            }
+            SamplerKind::LowDiscrepancy => {
+                lowdiscrepancy::value_2d(self.key, self.index, self.log2_n, d)
+            }
+            SamplerKind::Sobol => sobol::value_2d(self.key, self.index, d),
+        }
+    }
+
+    /// Dimensions drawn so far.
+    pub fn dimension(&self) -> u32 {
+        self.dim
+    }
+
+    /// Jumps to dimension `dim` (for a fixed per-bounce layout, e.g. `5 + bounce * K`, so
+    /// that a branch drawing fewer values does not shift the later ones).
+    pub fn set_dimension(&mut self, dim: u32) {
+        self.dim = dim;
+    }
+
+    /// The pixel this stream samples.
+    pub fn pixel(&self) -> (i32, i32) {
+        (self.px, self.py)
+    }
+
+    /// Draws dims 0..5 (film 2D, lens 2D, time) and returns the camera sample with `p_film`
+    /// in full-image raster coordinates. Call it first.
+    pub fn camera_sample(&mut self) -> CameraSample {
+        let u = self.next_2d();
+        let p_lens = self.next_2d();
+        let time = self.next_1d();
+        CameraSample {
+            p_film: Vec2::new(self.px as f32 + u.x, self.py as f32 + u.y),
+            p_lens,
+            time,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -100,6 +100,9 @@ impl Quadric {
             area: 0.0,
         };
         q.area_obj = q.object_area();
+        if q.area_obj.is_nan() || q.area_obj <= 0.0 || !q.area_obj.is_finite() {
+            return Err(b.err("the surface has no area (check radius, z range and phimax)"));
+        }
         q.area = match q.similarity {
             Some(s2) => s2 * q.area_obj,
             None => q.estimate_area(),

@@ -1,8 +1,9 @@
 //! Colour: RGB values used by the renderer (the default, RGB unless a scene needs spectra),
 //! XYZ conversion for the film, and blackbody emission.
 //!
-//! [`rgb_to_xyz`] reproduces LuxRender's RGB -> illuminant spectrum -> CIE XYZ chain (with its
-//! 683 lm/W factor); see [`xyz`] for the derivation.
+//! [`rgb_to_xyz`] reproduces LuxRender's RGB -> spectrum -> CIE XYZ chain (Smits bases, 683 lm/W
+//! factor) for reflected light under white illumination; [`illuminant_xyz`] is LuxRender's
+//! value for a light colour. See [`xyz`] for the derivation.
 
 pub mod cie;
 pub mod rgb;
@@ -10,4 +11,4 @@ pub mod smits;
 pub mod xyz;
 
 pub use rgb::Rgb;
-pub use xyz::{blackbody, illuminant_y, rgb_to_xyz, xyz_to_rgb};
+pub use xyz::{blackbody, illuminant_xyz, illuminant_y, rgb_to_xyz, xyz_to_rgb};

@@ -1,6 +1,7 @@
 //! `checkerboard` texture: `dimension` 2 (a 2D mapping; `tex1` where floor(s) + floor(t) is
 //! even, `tex2` elsewhere) or 3 (the same with the three texture-space coordinates).
 //! `tex1` defaults to 1 and `tex2` to 0. Antialiasing (`aamode`) is not done: point sampling.
+//! The 3D variant reads the 3D mapping options (see [`Mapping3D`]).
 
 use super::mapping::{Mapping2D, Mapping3D};
 use super::{param_loc, TexNode, TextureError, TextureSet};
@@ -65,11 +66,18 @@ pub fn build(set: &mut TextureSet, t: &TextureDesc) -> Result<TexNode, TextureEr
             tex1,
             tex2,
         })),
-        3 => Ok(TexNode::Checker3D(Checker3D {
-            mapping: Mapping3D::from_desc(t),
-            tex1,
-            tex2,
-        })),
+        3 => {
+            let (mapping, warning) = Mapping3D::from_desc(t);
+            if let Some(w) = warning {
+                let loc = param_loc(p, "coordinates", &t.entity.loc);
+                set.warn(&loc, w);
+            }
+            Ok(TexNode::Checker3D(Checker3D {
+                mapping,
+                tex1,
+                tex2,
+            }))
+        }
         d => Err(TextureError::BadParam {
             loc: param_loc(p, "dimension", &t.entity.loc),
             message: format!("checkerboard dimension must be 2 or 3, got {d}"),

@@ -2,7 +2,8 @@
 //! `gain` (default 1), `filtertype` (`bilinear` default, `nearest`; `mipmap_trilinear`,
 //! `mipmap_ewa` and `ewa` fall back to bilinear with a warning), `wrap` (`repeat` default,
 //! `black`, `clamp`), `channel` for float textures (`mean` default, `red`, `green`, `blue`,
-//! `alpha`, `colored_mean`) and a 2D mapping. v = 0 is the bottom row of the image.
+//! `alpha`, `colored_mean`) and a 2D mapping. t = 0 is the top row of the image, as in
+//! LuxRender (Blender exporters write `vscale -1` to flip their bottom-up v).
 
 use super::image_io::ImageData;
 use super::mapping::Mapping2D;
@@ -57,7 +58,7 @@ impl ImageTex {
     pub fn lookup(&self, st: Vec2) -> Rgb {
         let (w, h) = (self.image.width as f32, self.image.height as f32);
         let x = st.x * w - 0.5;
-        let y = (1.0 - st.y) * h - 0.5;
+        let y = st.y * h - 0.5;
         let t = match self.filter {
             Filter::Nearest => self.texel((x + 0.5).floor() as i64, (y + 0.5).floor() as i64),
             Filter::Bilinear => {

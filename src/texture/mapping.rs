@@ -1,11 +1,21 @@
-//! Texture coordinate mappings: 2D (`uv`, `spherical`, `cylindrical`, `planar`, with LuxRender's
-//! `uscale`/`vscale`/`udelta`/`vdelta`, or `v1`/`v2` for planar) and the 3D mapping of solid
-//! textures (world space into the texture's own space, the inverse of its `object_to_world`).
+//! Texture coordinate mappings, as LuxRender 1.x defines them.
+//!
+//! 2D (`mapping`): `uv` (s = uscale·u + udelta, t = vscale·v + vdelta), `spherical` (s from
+//! the azimuth φ/2π, t from θ/π of the point in texture space, scaled and offset the same way),
+//! `cylindrical` (s = uscale·φ/2π + udelta, t = 0.5 − 0.5·z; LuxRender ignores vscale/vdelta
+//! there) and `planar` (s = udelta + p·v1, t = vdelta + p·v2 with the world-space point).
+//!
+//! 3D (`coordinates`): `global` (world point in texture space: the inverse of the texture's
+//! `object_to_world`), `uv` ((u, v, 0) in texture space), `globalnormal` (the normal), then the
+//! texture's `scale`, `rotate` (degrees about X, Y, Z) and `translate` options applied as
+//! LuxRender does (`W2T · Scale(1/s) · RotX · RotY · RotZ · Translate(−t)`). `local` and
+//! `localnormal` need the hit object's own transform, which a hit does not carry: they fall
+//! back to the global variants with a warning.
 
 use super::{param_loc, TextureError};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::{ParamSet, TextureDesc};
-use glam::{Affine3A, Mat4, Vec2, Vec3A};
+use glam::{Affine3A, Mat4, Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 
 /// A 2D mapping from a hit to texture coordinates (s, t).
@@ -26,7 +36,6 @@ pub enum Mapping2D {
         delta: Vec2,
     },
     Planar {
-        world_to_tex: Affine3A,
         v1: Vec3A,
         v2: Vec3A,
         delta: Vec2,
@@ -66,12 +75,7 @@ impl Mapping2D {
             "planar" => {
                 let v1 = Vec3A::from(p.vector("v1").unwrap_or([1.0, 0.0, 0.0]));
                 let v2 = Vec3A::from(p.vector("v2").unwrap_or([0.0, 1.0, 0.0]));
-                Mapping2D::Planar {
-                    world_to_tex,
-                    v1,
-                    v2,
-                    delta,
-                }
+                Mapping2D::Planar { v1, v2, delta }
             }
             other => {
                 return Err(TextureError::BadParam {
@@ -99,7 +103,7 @@ impl Mapping2D {
                 if phi < 0.0 {
                     phi += 2.0 * PI;
                 }
-                Vec2::new(theta / PI, phi / (2.0 * PI)) * *scale + *delta
+                Vec2::new(phi / (2.0 * PI), theta / PI) * *scale + *delta
             }
             Mapping2D::Cylindrical {
                 world_to_tex,
@@ -107,35 +111,103 @@ impl Mapping2D {
                 delta,
             } => {
                 let v = world_to_tex.transform_point3a(si.it.p);
-                Vec2::new((PI + v.y.atan2(v.x)) / (2.0 * PI), v.z) * *scale + *delta
+                let len = (v.x * v.x + v.y * v.y).sqrt();
+                let (x, y) = if len > 0.0 {
+                    (v.x / len, v.y / len)
+                } else {
+                    (1.0, 0.0)
+                };
+                let mut phi = y.atan2(x);
+                if phi < 0.0 {
+                    phi += 2.0 * PI;
+                }
+                Vec2::new(phi / (2.0 * PI) * scale.x + delta.x, 0.5 - 0.5 * v.z)
             }
-            Mapping2D::Planar {
-                world_to_tex,
-                v1,
-                v2,
-                delta,
-            } => {
-                let v = world_to_tex.transform_point3a(si.it.p);
-                Vec2::new(v.dot(*v1), v.dot(*v2)) + *delta
+            Mapping2D::Planar { v1, v2, delta } => {
+                let p = si.it.p;
+                Vec2::new(p.dot(*v1), p.dot(*v2)) + *delta
             }
         }
     }
 }
 
-/// 3D mapping of solid textures: the hit point in texture space.
+/// What a 3D mapping transforms into texture space.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coordinates {
+    Global,
+    Uv,
+    GlobalNormal,
+}
+
+/// 3D mapping of solid textures.
 #[derive(Clone, Debug)]
 pub struct Mapping3D {
     pub world_to_tex: Affine3A,
+    pub coords: Coordinates,
 }
 
 impl Mapping3D {
-    pub fn from_desc(desc: &TextureDesc) -> Mapping3D {
-        Mapping3D {
-            world_to_tex: world_to_texture(desc),
-        }
+    /// Reads `coordinates`, `scale`, `rotate` and `translate`. The second value is a warning
+    /// for coordinate systems that fell back.
+    pub fn from_desc(desc: &TextureDesc) -> (Mapping3D, Option<String>) {
+        let p = &desc.entity.params;
+        let kind = p.string_or("coordinates", "global").to_string();
+        let mut warning = None;
+        let coords = match kind.as_str() {
+            "global" => Coordinates::Global,
+            "uv" => Coordinates::Uv,
+            "globalnormal" => Coordinates::GlobalNormal,
+            "local" | "localnormal" => {
+                warning = Some(format!(
+                    "3D texture coordinates \"{kind}\" need the object transform at the hit, \
+                     which is not available: using the global variant"
+                ));
+                if kind == "local" {
+                    Coordinates::Global
+                } else {
+                    Coordinates::GlobalNormal
+                }
+            }
+            other => {
+                warning = Some(format!(
+                    "unknown 3D texture coordinates \"{other}\": using global"
+                ));
+                Coordinates::Global
+            }
+        };
+        let v = |name: &str, d: f32| Vec3::from(p.vector(name).unwrap_or([d; 3]));
+        let scale = v("scale", 1.0);
+        let rotate = v("rotate", 0.0);
+        let translate = v("translate", 0.0);
+        let inv = |x: f32| if x != 0.0 { 1.0 / x } else { 1.0 };
+        let options = Affine3A::from_scale(Vec3::new(inv(scale.x), inv(scale.y), inv(scale.z)))
+            * Affine3A::from_rotation_x(rotate.x.to_radians())
+            * Affine3A::from_rotation_y(rotate.y.to_radians())
+            * Affine3A::from_rotation_z(rotate.z.to_radians())
+            * Affine3A::from_translation(-translate);
+        (
+            Mapping3D {
+                world_to_tex: world_to_texture(desc) * options,
+                coords,
+            },
+            warning,
+        )
     }
 
     pub fn map(&self, si: &SurfaceInteraction) -> Vec3A {
-        self.world_to_tex.transform_point3a(si.it.p)
+        match self.coords {
+            Coordinates::Global => self.world_to_tex.transform_point3a(si.it.p),
+            Coordinates::Uv => self
+                .world_to_tex
+                .transform_point3a(Vec3A::new(si.uv.x, si.uv.y, 0.0)),
+            Coordinates::GlobalNormal => {
+                let n = if si.shading.n == Vec3A::ZERO {
+                    si.it.n
+                } else {
+                    si.shading.n
+                };
+                self.world_to_tex.transform_vector3a(n)
+            }
+        }
     }
 }

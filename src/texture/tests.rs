@@ -1,6 +1,7 @@
 //! Texture tests: checkerboards, arithmetic textures, imagemaps from generated PNG and EXR
 //! files with every wrap and filter mode, on-demand building and error locations.
 
+use super::mapping::Mapping2D;
 use super::*;
 use crate::lxs::{Entity, Loc, ParamValue, SceneDescription, TextureDesc, TextureType, Xform};
 use glam::{DMat4, DVec3, Vec2, Vec3A};
@@ -111,6 +112,30 @@ fn checkerboard_2d_and_3d() {
     assert_eq!(c3.eval(&si_at(0.0, 0.0, Vec3A::new(0.5, 0.5, 0.5))), 0.25);
     assert_eq!(c3.eval(&si_at(0.0, 0.0, Vec3A::new(1.5, 0.5, 0.5))), 0.75);
     assert_eq!(c3.eval(&si_at(0.0, 0.0, Vec3A::new(1.5, -0.5, 0.5))), 0.25);
+}
+
+#[test]
+fn checkerboard_3d_mapping_options() {
+    let mut d = SceneDescription::default();
+    add_tex(
+        &mut d,
+        "c3",
+        TextureType::Float,
+        "checkerboard",
+        vec![
+            ("dimension", ParamValue::Integer(vec![3])),
+            ("coordinates", s("local")),
+            ("scale", ParamValue::Vector(vec![[0.1, 0.1, 0.1]])),
+            ("translate", ParamValue::Vector(vec![[0.05, 0.0, 0.0]])),
+        ],
+    );
+    let mut set = TextureSet::new(&d, TextureCtx::default());
+    let c3 = float_of(&mut set, "c3");
+    // Cells are 0.1 wide, shifted by 0.05 along x.
+    assert_eq!(c3.eval(&si_at(0.0, 0.0, Vec3A::new(0.07, 0.05, 0.05))), 1.0);
+    assert_eq!(c3.eval(&si_at(0.0, 0.0, Vec3A::new(0.03, 0.05, 0.05))), 0.0);
+    assert_eq!(c3.eval(&si_at(0.0, 0.0, Vec3A::new(0.16, 0.05, 0.05))), 0.0);
+    assert!(set.warnings.iter().any(|w| w.message.contains("local")));
 }
 
 #[test]
@@ -337,25 +362,25 @@ fn imagemap_png_nearest_bilinear_and_wrap_modes() {
     );
     let at = |t: &ColorTex, u: f32, v: f32| t.eval(&si_at(u, v, Vec3A::ZERO));
     let near = color_of(&mut set, "near");
-    // v = 0 is the bottom row.
-    assert_eq!(at(&near, 0.25, 0.25), Rgb::new(0.0, 0.0, 1.0));
-    assert_eq!(at(&near, 0.75, 0.25), Rgb::WHITE);
-    assert_eq!(at(&near, 0.25, 0.75), Rgb::new(1.0, 0.0, 0.0));
-    assert_eq!(at(&near, 0.75, 0.75), Rgb::new(0.0, 1.0, 0.0));
+    // t = 0 is the top row.
+    assert_eq!(at(&near, 0.25, 0.75), Rgb::new(0.0, 0.0, 1.0));
+    assert_eq!(at(&near, 0.75, 0.75), Rgb::WHITE);
+    assert_eq!(at(&near, 0.25, 0.25), Rgb::new(1.0, 0.0, 0.0));
+    assert_eq!(at(&near, 0.75, 0.25), Rgb::new(0.0, 1.0, 0.0));
     // Repeat wraps.
-    assert_eq!(at(&near, 1.25, 0.75), Rgb::new(1.0, 0.0, 0.0));
+    assert_eq!(at(&near, 1.25, 0.25), Rgb::new(1.0, 0.0, 0.0));
     let bil = color_of(&mut set, "bil");
     let c = at(&bil, 0.5, 0.5);
     assert!((c.r - 0.5).abs() < 1e-5 && (c.g - 0.5).abs() < 1e-5 && (c.b - 0.5).abs() < 1e-5);
     let black = color_of(&mut set, "black");
-    assert_eq!(at(&black, 1.25, 0.75), Rgb::BLACK);
-    assert_eq!(at(&black, 0.25, 0.75), Rgb::new(1.0, 0.0, 0.0));
+    assert_eq!(at(&black, 1.25, 0.25), Rgb::BLACK);
+    assert_eq!(at(&black, 0.25, 0.25), Rgb::new(1.0, 0.0, 0.0));
     let clamp = color_of(&mut set, "clamp");
-    assert_eq!(at(&clamp, 1.75, 0.75), Rgb::new(0.0, 1.0, 0.0));
-    assert_eq!(at(&clamp, -3.0, -3.0), Rgb::new(0.0, 0.0, 1.0));
-    assert_eq!(at(&color_of(&mut set, "gain"), 0.75, 0.25), Rgb::splat(0.5));
+    assert_eq!(at(&clamp, 1.75, 0.25), Rgb::new(0.0, 1.0, 0.0));
+    assert_eq!(at(&clamp, -3.0, 3.0), Rgb::new(0.0, 0.0, 1.0));
+    assert_eq!(at(&color_of(&mut set, "gain"), 0.75, 0.75), Rgb::splat(0.5));
     assert_eq!(set.images_loaded(), 1);
-    assert_eq!(at(&color_of(&mut set, "gamma"), 0.75, 0.25), Rgb::WHITE);
+    assert_eq!(at(&color_of(&mut set, "gamma"), 0.75, 0.75), Rgb::WHITE);
     assert_eq!(set.images_loaded(), 2, "one file, two gammas");
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -397,15 +422,15 @@ fn imagemap_exr_and_float_channels() {
     );
     let c = color_of(&mut set, "c");
     assert_eq!(
-        c.eval(&si_at(0.25, 0.75, Vec3A::ZERO)),
+        c.eval(&si_at(0.25, 0.25, Vec3A::ZERO)),
         Rgb::new(2.0, 0.0, 0.0)
     );
-    assert_eq!(c.eval(&si_at(0.75, 0.25, Vec3A::ZERO)), Rgb::splat(2.0));
+    assert_eq!(c.eval(&si_at(0.75, 0.75, Vec3A::ZERO)), Rgb::splat(2.0));
     let g = float_of(&mut set, "g");
-    assert_eq!(g.eval(&si_at(0.75, 0.75, Vec3A::ZERO)), 2.0);
-    assert_eq!(g.eval(&si_at(0.25, 0.75, Vec3A::ZERO)), 0.0);
+    assert_eq!(g.eval(&si_at(0.75, 0.25, Vec3A::ZERO)), 2.0);
+    assert_eq!(g.eval(&si_at(0.25, 0.25, Vec3A::ZERO)), 0.0);
     let m = float_of(&mut set, "m");
-    assert!((m.eval(&si_at(0.25, 0.75, Vec3A::ZERO)) - 2.0 / 3.0).abs() < 1e-6);
+    assert!((m.eval(&si_at(0.25, 0.25, Vec3A::ZERO)) - 2.0 / 3.0).abs() < 1e-6);
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -466,6 +491,24 @@ fn uv_texture_and_mappings() {
     assert!((c.r - 0.7).abs() < 1e-6 && (c.g - 0.4).abs() < 1e-6);
     let p = color_of(&mut set, "planar").eval(&si_at(0.0, 0.0, Vec3A::new(0.5, 0.125, 9.0)));
     assert!((p.r - 0.75).abs() < 1e-6 && (p.g - 0.125).abs() < 1e-6);
+    // Spherical: s from the azimuth, t from the polar angle.
+    let mut sd = d.textures[0].clone();
+    sd.entity.params = ParamSet::new();
+    sd.entity.params.add("mapping", s("spherical"));
+    let m = Mapping2D::from_params(&sd).unwrap();
+    let st = m.map(&si_at(0.0, 0.0, Vec3A::new(0.0, 1.0, 0.0)));
+    assert!(
+        (st.x - 0.25).abs() < 1e-6 && (st.y - 0.5).abs() < 1e-6,
+        "{st:?}"
+    );
+    sd.entity.params = ParamSet::new();
+    sd.entity.params.add("mapping", s("cylindrical"));
+    let m = Mapping2D::from_params(&sd).unwrap();
+    let st = m.map(&si_at(0.0, 0.0, Vec3A::new(-2.0, 0.0, 0.5)));
+    assert!(
+        (st.x - 0.5).abs() < 1e-6 && (st.y - 0.25).abs() < 1e-6,
+        "{st:?}"
+    );
     let mut ps = ParamSet::new();
     ps.add("Kd", tex_ref("bad"));
     assert!(matches!(

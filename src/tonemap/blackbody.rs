@@ -30,7 +30,7 @@ fn planck(lambda_nm: f64, t: f64) -> f64 {
 /// non-finite temperature.
 pub fn blackbody_xyz(kelvin: f32) -> Option<[f32; 3]> {
     let t = f64::from(kelvin);
-    if !(t > 0.0) || !t.is_finite() {
+    if !t.is_finite() || t <= 0.0 {
         return None;
     }
     let mut xyz = [0.0f64; 3];
@@ -40,7 +40,7 @@ pub fn blackbody_xyz(kelvin: f32) -> Option<[f32; 3]> {
         let c = cmf(l);
         (0..3).for_each(|i| xyz[i] += b * c[i]);
     }
-    if !(xyz[1] > 0.0) || !xyz[1].is_finite() {
+    if !xyz[1].is_finite() || xyz[1] <= 0.0 {
         return None;
     }
     Some(xyz.map(|v| (v / xyz[1]) as f32))

@@ -119,7 +119,7 @@ impl ColorSystem {
 
     fn constrain(&self, xyz: [f32; 3]) -> [f32; 3] {
         let yc = xyz[1];
-        if !(yc > 0.0) {
+        if yc.is_nan() || yc <= 0.0 {
             return [0.0; 3];
         }
         let sum = xyz[0] + xyz[1] + xyz[2];

@@ -78,7 +78,8 @@ pub fn film_xyz(film: &Film, params: &TonemapParams) -> XyzImage {
             let Some(buf) = film.buffer(g, b) else {
                 continue;
             };
-            let add = |((p, (out, a)), w): ((&[f64], (&mut [f64; 3], &mut f64)), &mut f64)| {
+            type Item<'a> = ((&'a [f64], (&'a mut [f64; 3], &'a mut f64)), &'a mut f64);
+            let add = |((p, (out, a)), w): Item| {
                 let ws = p[4];
                 *w += ws;
                 let scale = match ty {
@@ -269,17 +270,19 @@ mod tests {
         let mut film = Film::new(1, 1, vec!["a".into(), "b".into()]);
         film.add_splat(0, 0, 0, [1.0, 1.0, 1.0], 1.0, 1.0);
         film.add_splat(1, 0, 0, [1.0, 1.0, 1.0], 1.0, 1.0);
-        let mut p = TonemapParams::default();
-        p.groups = vec![
-            GroupParams {
-                scale: 2.0,
-                ..GroupParams::default()
-            },
-            GroupParams {
-                enabled: false,
-                ..GroupParams::default()
-            },
-        ];
+        let p = TonemapParams {
+            groups: vec![
+                GroupParams {
+                    scale: 2.0,
+                    ..GroupParams::default()
+                },
+                GroupParams {
+                    enabled: false,
+                    ..GroupParams::default()
+                },
+            ],
+            ..TonemapParams::default()
+        };
         let img = film_xyz(&film, &p);
         assert!((img.xyz[0][1] - 2.0).abs() < 1e-3, "{:?}", img.xyz[0]);
     }

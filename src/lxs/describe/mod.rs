@@ -1,12 +1,14 @@
 //! `DescriptionBuilder`: the [`SceneBuilder`] that keeps LuxRender's graphics state and
 //! produces a [`SceneDescription`].
 //!
-//! This file holds the state machine (options/world/motion, block nesting, transforms and
-//! coordinate systems); `world.rs` handles the world statements (textures, materials, lights,
-//! shapes, objects, volumes).
+//! This file implements the trait (transforms, coordinate systems, options, blocks);
+//! `blocks.rs` holds the phase and nesting rules, `world.rs` the world statements (textures,
+//! materials, lights, shapes, objects, volumes).
 
+mod blocks;
 mod refs;
 mod state;
+mod texrefs;
 mod world;
 pub mod xform;
 
@@ -33,10 +35,10 @@ pub struct DescriptionBuilder {
     objects_by_name: HashMap<String, usize>,
     /// Lights declared inside object definitions, instanced with each ObjectInstance.
     object_lights: HashMap<usize, Vec<super::description::LightDesc>>,
-}
-
-fn wrong_block(loc: &Loc, msg: impl Into<String>) -> LxsError {
-    LxsError::new(LxsErrorKind::WrongBlock, loc.clone(), msg)
+    /// Texture references with the texture each was bound to.
+    tex_refs: Vec<(texrefs::Owner, texrefs::Binding)>,
+    /// `namedmaterialN` references: (material, parameter, item, bound material).
+    mat_refs: Vec<(usize, usize, usize, usize)>,
 }
 
 impl DescriptionBuilder {
@@ -58,11 +60,15 @@ impl DescriptionBuilder {
             current_object: None,
             objects_by_name: HashMap::new(),
             object_lights: HashMap::new(),
+            tex_refs: Vec::new(),
+            mat_refs: Vec::new(),
         }
     }
 
     /// The finished description.
     pub fn finish(mut self) -> SceneDescription {
+        texrefs::bind_aliases(&mut self.desc, &self.tex_refs);
+        texrefs::bind_material_aliases(&mut self.desc, &self.mat_refs);
         if self.desc.light_groups.is_empty() {
             self.desc.light_groups.push("default".to_string());
         }
@@ -84,127 +90,6 @@ impl DescriptionBuilder {
             );
             self.warn(&e.loc, msg);
         }
-    }
-
-    /// Statements that are not transforms are refused inside a motion block.
-    fn not_in_motion(&self, stmt: &str, loc: &Loc) -> LxsResult<()> {
-        match &self.motion {
-            Some(m) => Err(wrong_block(
-                loc,
-                format!(
-                    "{stmt} is not allowed inside the MotionBegin block opened at {}",
-                    m.loc
-                ),
-            )),
-            None => Ok(()),
-        }
-    }
-
-    /// Options-block statements (before WorldBegin).
-    fn options_only(&self, stmt: &str, loc: &Loc) -> LxsResult<()> {
-        self.not_in_motion(stmt, loc)?;
-        match &self.phase {
-            Phase::Options => Ok(()),
-            Phase::World(at) => Err(wrong_block(
-                loc,
-                format!("{stmt} must come before WorldBegin (the world block began at {at})"),
-            )),
-            Phase::Ended(at) => Err(wrong_block(loc, format!("{stmt} after WorldEnd at {at}"))),
-        }
-    }
-
-    /// World-block statements (between WorldBegin and WorldEnd).
-    fn world_only(&self, stmt: &str, loc: &Loc) -> LxsResult<()> {
-        self.not_in_motion(stmt, loc)?;
-        match &self.phase {
-            Phase::World(_) => Ok(()),
-            Phase::Options => Err(wrong_block(
-                loc,
-                format!("{stmt} must come after WorldBegin"),
-            )),
-            Phase::Ended(at) => Err(wrong_block(loc, format!("{stmt} after WorldEnd at {at}"))),
-        }
-    }
-
-    /// Statements allowed anywhere before WorldEnd.
-    fn before_end(&self, stmt: &str, loc: &Loc) -> LxsResult<()> {
-        match &self.phase {
-            Phase::Ended(at) => Err(wrong_block(loc, format!("{stmt} after WorldEnd at {at}"))),
-            _ => Ok(()),
-        }
-    }
-
-    /// Applies a transform statement: recorded as a motion key inside MotionBegin, otherwise
-    /// post-multiplied onto (or, for `Transform`/`Identity`, replacing) the CTM.
-    fn apply(&mut self, stmt: &str, m: DMat4, replace: bool, loc: &Loc) -> LxsResult<()> {
-        self.before_end(stmt, loc)?;
-        if let Some(motion) = &mut self.motion {
-            motion.transforms.push(m);
-        } else if replace {
-            self.ctm = Xform::fixed(m);
-        } else {
-            self.ctm = xform::post(&self.ctm, m);
-        }
-        Ok(())
-    }
-
-    fn push_block(&mut self, kind: BlockKind, loc: &Loc) {
-        let gs = (kind != BlockKind::Transform).then(|| self.gs.clone());
-        self.blocks.push(Block {
-            kind,
-            loc: loc.clone(),
-            ctm: self.ctm.clone(),
-            gs,
-        });
-    }
-
-    /// Closes the innermost block, which must be of `kind`.
-    fn pop_block(&mut self, kind: BlockKind, loc: &Loc) -> LxsResult<()> {
-        let unmatched =
-            |msg: String| Err(LxsError::new(LxsErrorKind::UnmatchedEnd, loc.clone(), msg));
-        match self.blocks.last() {
-            None => return unmatched(format!("{} without {}", kind.end(), kind.begin())),
-            Some(b) if b.kind != kind => {
-                return unmatched(format!(
-                    "{} does not match the {} at {} (expected {})",
-                    kind.end(),
-                    b.kind.begin(),
-                    b.loc,
-                    b.kind.end()
-                ))
-            }
-            Some(_) => {}
-        }
-        if let Some(b) = self.blocks.pop() {
-            self.ctm = b.ctm;
-            if let Some(gs) = b.gs {
-                self.gs = gs;
-            }
-        }
-        Ok(())
-    }
-
-    /// Fails if a block (or motion block) is still open.
-    fn check_closed(&self, at: &str) -> LxsResult<()> {
-        if let Some(m) = &self.motion {
-            return Err(LxsError::new(
-                LxsErrorKind::UnclosedBlock,
-                m.loc.clone(),
-                format!("MotionBegin is not closed by MotionEnd before {at}"),
-            ));
-        }
-        if let Some(b) = self.blocks.last() {
-            return Err(LxsError::new(
-                LxsErrorKind::UnclosedBlock,
-                b.loc.clone(),
-                format!(
-                    "{} is not closed by {} before {at}",
-                    b.kind.begin(),
-                    b.kind.end()
-                ),
-            ));
-        }
-        Ok(())
     }
 
     fn set_option(&mut self, stmt: &str, family: Option<Family>, e: Entity) -> LxsResult<()> {
@@ -530,8 +415,8 @@ impl SceneBuilder for DescriptionBuilder {
 
     fn area_light_source(&mut self, e: Entity) -> LxsResult<()> {
         self.world_only("AreaLightSource", &e.loc)?;
-        self.check_texture_refs(&e.params, None, &e.loc)?;
-        self.gs.area_light = Some(std::rc::Rc::new(e));
+        let bindings = self.texture_refs(&e.params, None)?;
+        self.gs.area_light = Some(std::rc::Rc::new((e, bindings)));
         Ok(())
     }
 

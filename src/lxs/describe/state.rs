@@ -17,7 +17,8 @@ pub type Names = Rc<HashMap<String, usize>>;
 pub struct GraphicsState {
     /// Index into `SceneDescription::materials` (None: LuxRender's default matte).
     pub material: Option<usize>,
-    pub area_light: Option<Rc<Entity>>,
+    /// The current AreaLightSource with its resolved texture references.
+    pub area_light: Option<Rc<(Entity, Vec<super::texrefs::Binding>)>>,
     pub reverse_orientation: bool,
     pub interior: Option<String>,
     pub exterior: Option<String>,

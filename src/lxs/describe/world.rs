@@ -1,8 +1,8 @@
 //! World statements of the description builder: textures, materials, lights, shapes, object
 //! definitions and instances, volumes, and the camera's transform.
 
-use super::refs;
 use super::state::BlockKind;
+use super::texrefs::{self, Binding, Owner};
 use super::{xform, DescriptionBuilder};
 use crate::lxs::description::{
     AreaLightDesc, Entity, InstanceDesc, LightDesc, MaterialDesc, ObjectDesc, ShapeDesc,
@@ -78,11 +78,12 @@ impl DescriptionBuilder {
                 ))
             }
         };
-        self.check_texture_refs(&e.params, Some(ty), &e.loc)?;
+        let bindings = self.texture_refs(&e.params, Some(ty))?;
         if self.gs.textures(ty).contains_key(name) {
             self.warn(&e.loc, format!("{value_type} texture \"{name}\" redefined"));
         }
         let index = self.desc.textures.len();
+        self.record_refs(Owner::Texture(index), &bindings);
         self.desc.textures.push(TextureDesc {
             name: name.to_string(),
             value_type: ty,
@@ -96,69 +97,56 @@ impl DescriptionBuilder {
         Ok(())
     }
 
-    /// Every `"texture X" "name"` parameter must name a texture defined in scope, in the
-    /// namespace the parameter reads (float or color) when that is known.
-    pub(super) fn check_texture_refs(
+    /// Resolves the texture references of a parameter list in the current scope.
+    pub(super) fn texture_refs(
         &self,
         params: &ParamSet,
         own: Option<TextureType>,
-        _loc: &Loc,
-    ) -> LxsResult<()> {
-        for p in &params.params {
-            let ParamValue::Texture(tex) = &p.value else {
-                continue;
-            };
-            let found = |ty| self.gs.textures(ty).contains_key(tex.as_str());
-            let ok = match refs::namespace(&p.name, own) {
-                Some(ty) => found(ty),
-                None => found(TextureType::Float) || found(TextureType::Color),
-            };
-            if !ok {
-                let ns = match refs::namespace(&p.name, own) {
-                    Some(TextureType::Float) => "float texture",
-                    Some(TextureType::Color) => "color texture",
-                    None => "texture",
-                };
-                let mut known: Vec<&str> =
-                    self.gs.float_textures.keys().map(String::as_str).collect();
-                known.extend(self.gs.color_textures.keys().map(String::as_str));
-                let err = self.undefined(&p.loc, ns, tex, known);
-                return Err(LxsError {
-                    message: format!("parameter '{}': {}", p.name, err.message),
-                    ..err
-                });
-            }
-        }
-        Ok(())
+    ) -> LxsResult<Vec<Binding>> {
+        texrefs::resolve(&self.gs, params, own, |what, name, known| {
+            self.undefined(&Loc::default(), what, name, known)
+        })
     }
 
-    /// Mix and layered materials name other materials in `namedmaterialN` strings.
-    fn check_material_refs(&self, params: &ParamSet) -> LxsResult<()> {
-        for p in &params.params {
+    fn record_refs(&mut self, owner: Owner, bindings: &[Binding]) {
+        self.tex_refs.extend(bindings.iter().map(|&b| (owner, b)));
+    }
+
+    /// Mix and layered materials name other materials in `namedmaterialN` strings: each must
+    /// be defined in scope. Returns (parameter, item, material index) for each reference.
+    fn material_refs(&self, params: &ParamSet) -> LxsResult<Vec<(usize, usize, usize)>> {
+        let mut out = Vec::new();
+        for (pi, p) in params.params.iter().enumerate() {
             let ParamValue::String(names) = &p.value else {
                 continue;
             };
             if !p.name.starts_with("namedmaterial") {
                 continue;
             }
-            for n in names {
-                if !n.is_empty() && !self.gs.named_materials.contains_key(n.as_str()) {
-                    let known = self.gs.named_materials.keys().map(String::as_str).collect();
-                    let err = self.undefined(&p.loc, "named material", n, known);
-                    return Err(LxsError {
-                        message: format!("parameter '{}': {}", p.name, err.message),
-                        ..err
-                    });
+            for (k, n) in names.iter().enumerate().filter(|(_, n)| !n.is_empty()) {
+                match self.gs.named_materials.get(n.as_str()) {
+                    Some(&m) => out.push((pi, k, m)),
+                    None => {
+                        let known = self.gs.named_materials.keys().map(String::as_str).collect();
+                        let err = self.undefined(&p.loc, "named material", n, known);
+                        return Err(LxsError {
+                            message: format!("parameter '{}': {}", p.name, err.message),
+                            ..err
+                        });
+                    }
                 }
             }
         }
-        Ok(())
+        Ok(out)
     }
 
     pub(super) fn define_material(&mut self, name: Option<&str>, e: Entity) -> LxsResult<()> {
-        self.check_texture_refs(&e.params, None, &e.loc)?;
-        self.check_material_refs(&e.params)?;
+        let bindings = self.texture_refs(&e.params, None)?;
+        let mats = self.material_refs(&e.params)?;
         let index = self.desc.materials.len();
+        self.mat_refs
+            .extend(mats.into_iter().map(|(p, k, m)| (index, p, k, m)));
+        self.record_refs(Owner::Material(index), &bindings);
         let loc = e.loc.clone();
         self.desc.materials.push(MaterialDesc {
             name: name.map(str::to_string),
@@ -178,7 +166,7 @@ impl DescriptionBuilder {
     }
 
     pub(super) fn add_light(&mut self, e: Entity) -> LxsResult<()> {
-        self.check_texture_refs(&e.params, None, &e.loc)?;
+        let bindings = self.texture_refs(&e.params, None)?;
         let kind = e.kind.clone();
         let light = LightDesc {
             entity: e,
@@ -188,7 +176,10 @@ impl DescriptionBuilder {
         };
         match self.current_object {
             Some(obj) => self.object_lights.entry(obj).or_default().push(light),
-            None => self.desc.lights.push(light),
+            None => {
+                self.record_refs(Owner::Light(self.desc.lights.len()), &bindings);
+                self.desc.lights.push(light);
+            }
         }
         self.gs.current_light = Some(kind);
         Ok(())
@@ -201,8 +192,10 @@ impl DescriptionBuilder {
                 if self.current_object.is_some() {
                     self.warn(&e.loc, "area lights are not supported on shapes inside ObjectBegin: ignored, as LuxRender does");
                 } else {
+                    let owner = Owner::AreaLight(self.desc.shapes.len());
+                    self.record_refs(owner, &al.1);
                     area_light = Some(AreaLightDesc {
-                        entity: (*al).clone(),
+                        entity: al.0.clone(),
                         light_group: self.current_light_group(),
                     });
                 }

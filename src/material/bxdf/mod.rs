@@ -4,8 +4,10 @@
 //! specular lobes the pdf is the discrete probability of the lobe and `f` carries 1/|cos|).
 
 pub mod asperity;
+pub mod carpaint;
 pub mod diffuse;
 pub mod fresnel;
+pub mod glossy_translucent;
 pub mod microfacet;
 pub mod rough_dielectric;
 pub mod schlick;

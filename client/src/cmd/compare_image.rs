@@ -1,0 +1,133 @@
+//! `luxfarm compare-image A.exr B.exr`: RMSE, relative MSE and mean ratio of two images of
+//! the same size (linear RGB; B is the reference). Either side may be an FLM: its
+//! weight-normalised XYZ is turned back into the renderer's linear RGB (the inverse of
+//! `spectrum::rgb_to_xyz`), without any tonemapping — LuxRender's EXR output is tonemapped by
+//! default (`write_exr_applyimaging`), so an FLM is the faithful linear source.
+//! `--exclude-above V` leaves out pixels where the reference exceeds V (visible emitters).
+
+use anyhow::{bail, Context};
+use luxfarm::film::flm::read_flm;
+use luxfarm::light::infinite::load_image;
+use luxfarm::spectrum::{xyz_to_rgb, Rgb};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The image to judge (EXR, HDR, PNG, ... or an FLM).
+    pub a: PathBuf,
+    /// The reference image.
+    pub b: PathBuf,
+    /// Leave out pixels where the reference exceeds this value in any channel (directly
+    /// visible emitters, whose edges dominate the RMSE).
+    #[arg(long)]
+    pub exclude_above: Option<f32>,
+}
+
+/// Error metrics of A against the reference B.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Metrics {
+    /// sqrt(mean over pixels and channels of (a − b)²).
+    pub rmse: f64,
+    /// mean of (a − b)² / (b² + 0.01).
+    pub rel_mse: f64,
+    /// mean(a) / mean(b).
+    pub mean_ratio: f64,
+}
+
+pub fn metrics(a: &[[f32; 3]], b: &[[f32; 3]]) -> Metrics {
+    let (mut se, mut rel, mut sa, mut sb) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (pa, pb) in a.iter().zip(b) {
+        for c in 0..3 {
+            let (x, y) = (f64::from(pa[c]), f64::from(pb[c]));
+            let d = x - y;
+            se += d * d;
+            rel += d * d / (y * y + 0.01);
+            sa += x;
+            sb += y;
+        }
+    }
+    let n = (a.len().min(b.len()) * 3).max(1) as f64;
+    Metrics {
+        rmse: (se / n).sqrt(),
+        rel_mse: rel / n,
+        mean_ratio: if sb != 0.0 { sa / sb } else { f64::NAN },
+    }
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let load = |p: &PathBuf| {
+        if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("flm")) {
+            return load_flm(p).with_context(|| format!("reading {}", p.display()));
+        }
+        load_image(p)
+            .map_err(anyhow::Error::msg)
+            .with_context(|| format!("reading {}", p.display()))
+    };
+    let (wa, ha, a) = load(&args.a)?;
+    let (wb, hb, b) = load(&args.b)?;
+    if (wa, ha) != (wb, hb) {
+        bail!("image sizes differ: {wa}x{ha} vs {wb}x{hb}");
+    }
+    let keep = |i: &usize| {
+        args.exclude_above
+            .is_none_or(|v| b[*i].max_component() <= v)
+    };
+    let idx: Vec<usize> = (0..a.len()).filter(keep).collect();
+    let a: Vec<[f32; 3]> = idx.iter().map(|&i| a[i].to_array()).collect();
+    let b: Vec<[f32; 3]> = idx.iter().map(|&i| b[i].to_array()).collect();
+    if args.exclude_above.is_some() {
+        println!("pixels      {} of {}", idx.len(), wa * ha);
+    }
+    let m = metrics(&a, &b);
+    println!("RMSE        {:.6}", m.rmse);
+    println!("relMSE      {:.6}", m.rel_mse);
+    println!("mean ratio  {:.6}", m.mean_ratio);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Linear RGB of light group 0 of an FLM (all groups summed would need their scales).
+fn load_flm(p: &PathBuf) -> anyhow::Result<(usize, usize, Vec<Rgb>)> {
+    let file = std::fs::File::open(p)?;
+    let (film, _) = read_flm(std::io::BufReader::new(file))?;
+    let mut px = Vec::with_capacity(film.pixel_count());
+    for y in 0..film.height() {
+        for x in 0..film.width() {
+            let v = film.pixel(0, 0, x, y).unwrap_or([0.0; 5]);
+            let xyz = if v[4] != 0.0 {
+                [
+                    (v[0] / v[4]) as f32,
+                    (v[1] / v[4]) as f32,
+                    (v[2] / v[4]) as f32,
+                ]
+            } else {
+                [0.0; 3]
+            };
+            px.push(xyz_to_rgb(xyz));
+        }
+    }
+    Ok((film.width() as usize, film.height() as usize, px))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identical_images_have_zero_error() {
+        let a = vec![[0.5, 0.25, 1.0]; 4];
+        let m = metrics(&a, &a);
+        assert_eq!(m.rmse, 0.0);
+        assert_eq!(m.rel_mse, 0.0);
+        assert_eq!(m.mean_ratio, 1.0);
+    }
+
+    #[test]
+    fn known_difference() {
+        let a = vec![[1.0, 1.0, 1.0]; 2];
+        let b = vec![[0.5, 0.5, 0.5]; 2];
+        let m = metrics(&a, &b);
+        assert!((m.rmse - 0.5).abs() < 1e-12);
+        assert!((m.mean_ratio - 2.0).abs() < 1e-12);
+    }
+}

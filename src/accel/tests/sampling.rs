@@ -1,0 +1,115 @@
+//! Area sampling: uniformity and pdf normalisation.
+
+use super::*;
+
+fn mean_and_inverse_pdf(g: &Geometry, id: ShapeId, n: usize) -> (Vec3A, f64, Vec<Interaction>) {
+    let mut rng = bench::Rng::new(5);
+    let (mut sum, mut inv) = (Vec3A::ZERO, 0.0f64);
+    let mut pts = Vec::new();
+    for _ in 0..n {
+        let (it, pdf) = g.sample(id, Vec2::new(rng.f32(), rng.f32()), rng.f32());
+        assert!(pdf > 0.0 && pdf.is_finite());
+        sum += it.p;
+        inv += 1.0 / pdf as f64;
+        pts.push(it);
+    }
+    (sum / n as f32, inv / n as f64, pts)
+}
+
+#[test]
+fn area_sampling_is_uniform_and_pdf_integrates_to_one() {
+    let hemi = sphere(
+        vec![("radius", floats(&[2.0])), ("zmin", floats(&[0.0]))],
+        false,
+    );
+    let g = geo(&[hemi]);
+    assert!((g.area(ShapeId(0)) - 2.0 * PI * 4.0).abs() < 1e-3);
+    let (mean, inv, pts) = mean_and_inverse_pdf(&g, ShapeId(0), 40_000);
+    assert!(
+        (mean.z - 1.0).abs() < 0.02,
+        "Archimedes: centroid at r/2, got {}",
+        mean.z
+    );
+    assert!((inv / g.area(ShapeId(0)) as f64 - 1.0).abs() < 1e-4);
+    for it in &pts[..100] {
+        assert!((it.p.length() - 2.0).abs() < 1e-5 && it.n.dot(it.p) > 0.0);
+    }
+    // every shape: E[1/pdf] equals the area (pdf integrates to 1 over the surface)
+    let non_uniform = DMat4::from_scale(DVec3::new(2.0, 1.0, 0.5));
+    let descs = [
+        shape(
+            "disk",
+            vec![
+                ("innerradius", floats(&[0.5])),
+                ("phimax", floats(&[270.0])),
+            ],
+            DMat4::IDENTITY,
+            false,
+        ),
+        shape(
+            "cylinder",
+            vec![],
+            DMat4::from_scale(DVec3::splat(3.0)),
+            false,
+        ),
+        shape(
+            "cone",
+            vec![("height", floats(&[2.0]))],
+            DMat4::IDENTITY,
+            false,
+        ),
+        shape(
+            "paraboloid",
+            vec![("zmin", floats(&[0.2]))],
+            DMat4::IDENTITY,
+            false,
+        ),
+        shape(
+            "hyperboloid",
+            vec![
+                ("p1", points(&[[1.0, -1.0, -1.0]])),
+                ("p2", points(&[[1.0, 1.0, 1.0]])),
+            ],
+            DMat4::IDENTITY,
+            false,
+        ),
+        shape("sphere", vec![], non_uniform, false),
+        quad(DMat4::from_scale(DVec3::new(1.0, 3.0, 1.0)), false),
+    ];
+    let g = geo(&descs);
+    for (i, d) in descs.iter().enumerate() {
+        let id = ShapeId(i as u32);
+        let (_, inv, _) = mean_and_inverse_pdf(&g, id, 20_000);
+        let a = g.area(id) as f64;
+        assert!(
+            (inv / a - 1.0).abs() < 0.02,
+            "{}: E[1/pdf] {inv} vs area {a}",
+            d.entity.kind
+        );
+    }
+    // analytic areas
+    let cone_area = PI * 1.0 * (1.0f32 + 4.0).sqrt();
+    assert!((g.area(ShapeId(2)) - cone_area).abs() < 1e-4);
+    let parab = PI / 6.0 * (5.0f32.powf(1.5) - 1.8f32.powf(1.5)); // z = r², r from sqrt(.2) to 1
+    assert!(
+        (g.area(ShapeId(3)) - parab).abs() < 1e-3,
+        "{} vs {parab}",
+        g.area(ShapeId(3))
+    );
+    assert!((g.area(ShapeId(6)) - 12.0).abs() < 1e-5);
+    // paraboloid samples are uniform by area: mean z matches the area-weighted mean
+    let (mean, _, _) = mean_and_inverse_pdf(&g, ShapeId(3), 40_000);
+    let (mut num, mut den) = (0.0f64, 0.0f64);
+    for k in 0..100_000 {
+        let z = 0.2 + 0.8 * (k as f64 + 0.5) / 100_000.0;
+        let w = (z + 0.25).sqrt(); // dA/dz ∝ sqrt(r² + r'²/4) with r² = z
+        num += z * w;
+        den += w;
+    }
+    assert!(
+        (mean.z as f64 - num / den).abs() < 0.01,
+        "{} vs {}",
+        mean.z,
+        num / den
+    );
+}

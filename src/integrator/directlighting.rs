@@ -1,0 +1,116 @@
+//! The `directlighting` integrator: emission plus direct lighting (light samples and one BSDF
+//! sample, combined with MIS) at the first hit, and recursion along perfectly specular
+//! reflection/refraction up to `maxdepth` (5) times.
+
+use super::direct::{bsdf_hit_weight, escaped, sample_lights};
+use super::{add_group, DirectSettings};
+use crate::geometry::{Ray, SurfaceInteraction};
+use crate::lxs::{Diagnostic, Entity};
+use crate::material::Bsdf;
+use crate::sampler::SampleStream;
+use crate::scene::Scene;
+use crate::spectrum::Rgb;
+
+const MAX_PASS_THROUGH: u32 = 64;
+
+#[derive(Clone, Debug)]
+pub struct DirectLightingIntegrator {
+    pub max_depth: u32,
+    pub direct: DirectSettings,
+}
+
+impl DirectLightingIntegrator {
+    pub fn from_entity(e: &Entity, w: &mut Vec<Diagnostic>) -> Self {
+        DirectLightingIntegrator {
+            max_depth: e.params.int_or("maxdepth", 5).max(0) as u32,
+            direct: DirectSettings::from_entity(e, w),
+        }
+    }
+
+    pub fn li(&self, scene: &Scene, mut ray: Ray, s: &mut SampleStream, l: &mut [Rgb]) -> f32 {
+        let mut beta = Rgb::WHITE;
+        let mut alpha = 1.0;
+        let mut depth = 0;
+        let mut pass = 0;
+        loop {
+            let Some(si) = scene.intersect(&ray) else {
+                if depth == 0 {
+                    alpha = 0.0;
+                }
+                escaped(scene, &ray, beta, l, |_| 1.0);
+                break;
+            };
+            if let Some((_, light)) = scene.area_light(si.prim) {
+                add_group(l, light.common.group, beta * light.l(&si, si.wo));
+            }
+            let material = scene.material(si.prim);
+            if material.is_null() {
+                pass += 1;
+                if pass > MAX_PASS_THROUGH {
+                    break;
+                }
+                ray = si.it.spawn_ray(ray.d);
+                continue;
+            }
+            pass = 0;
+            let bsdf = material.bsdf(&si, s.next_1d());
+            if bsdf.has_non_specular() {
+                sample_lights(scene, &self.direct, &si, &bsdf, s, beta, false, l);
+                self.bsdf_sample(scene, &si, &bsdf, s, beta, l);
+            }
+            if depth >= self.max_depth {
+                break;
+            }
+            let (u, u2) = (s.next_1d(), s.next_2d());
+            match bsdf.sample_f(si.wo, u, u2) {
+                Some(bs) if bs.specular && bs.pdf > 0.0 => {
+                    beta *= bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
+                    ray = si.it.spawn_ray(bs.wi);
+                    depth += 1;
+                }
+                _ => break,
+            }
+            if !beta.is_finite() || beta.is_black() {
+                break;
+            }
+        }
+        alpha
+    }
+
+    /// The BSDF-sampling half of the direct-lighting MIS estimate.
+    fn bsdf_sample(
+        &self,
+        scene: &Scene,
+        si: &SurfaceInteraction,
+        bsdf: &Bsdf,
+        s: &mut SampleStream,
+        beta: Rgb,
+        l: &mut [Rgb],
+    ) {
+        let (u, u2) = (s.next_1d(), s.next_2d());
+        let Some(bs) = bsdf.sample_f(si.wo, u, u2) else {
+            return;
+        };
+        if bs.specular || bs.pdf <= 0.0 || bs.f.is_black() {
+            return;
+        }
+        let tp = beta * bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
+        let ray = si.it.spawn_ray(bs.wi);
+        match scene.intersect(&ray) {
+            Some(hit) => {
+                if let Some((i, light)) = scene.area_light(hit.prim) {
+                    let le = light.l(&hit, hit.wo);
+                    if !le.is_black() {
+                        let pl = scene.lights()[i].pdf_li(&si.it, bs.wi, Some(&hit));
+                        let w = bsdf_hit_weight(scene, &self.direct, i, bs.pdf, pl);
+                        add_group(l, light.common.group, tp * le * w);
+                    }
+                }
+            }
+            None => escaped(scene, &ray, tp, l, |i| {
+                let pl = scene.lights()[i].pdf_li(&si.it, bs.wi, None);
+                bsdf_hit_weight(scene, &self.direct, i, bs.pdf, pl)
+            }),
+        }
+    }
+}

@@ -1,0 +1,154 @@
+//! The `path` integrator: unidirectional path tracing with next-event estimation, MIS
+//! between light and BSDF sampling, and Russian roulette (none / probability / efficiency).
+
+use super::direct::{bsdf_hit_weight, escaped, sample_lights};
+use super::{add_group, DirectSettings, IntegratorError};
+use crate::geometry::{Interaction, Ray};
+use crate::lxs::{Diagnostic, Entity};
+use crate::sampler::SampleStream;
+use crate::scene::Scene;
+use crate::spectrum::Rgb;
+
+/// Russian roulette after this many vertices (LuxRender starts at path length 3).
+const RR_START: u32 = 3;
+/// Null (pass-through) surfaces crossed by one path segment before giving up.
+const MAX_PASS_THROUGH: u32 = 64;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Roulette {
+    None,
+    /// Continue with a fixed probability.
+    Probability(f32),
+    /// Continue with probability min(1, throughput), LuxRender's "efficiency".
+    Efficiency,
+}
+
+#[derive(Clone, Debug)]
+pub struct PathIntegrator {
+    pub max_depth: u32,
+    pub roulette: Roulette,
+    pub include_environment: bool,
+    pub direct_light_sampling: bool,
+    pub direct: DirectSettings,
+}
+
+impl PathIntegrator {
+    pub fn from_entity(e: &Entity, w: &mut Vec<Diagnostic>) -> Result<Self, IntegratorError> {
+        let p = &e.params;
+        let max_depth = p.int_or("maxdepth", 16).max(0) as u32;
+        let prob = p.float_or("rrcontinueprob", 0.65).clamp(0.0, 1.0);
+        let roulette = match p.string_or("rrstrategy", "efficiency") {
+            "none" => Roulette::None,
+            "probability" => Roulette::Probability(prob),
+            "efficiency" => Roulette::Efficiency,
+            other => {
+                return Err(IntegratorError {
+                    loc: e.loc.clone(),
+                    message: format!(
+                        "unknown rrstrategy \"{other}\" (none, probability, efficiency)"
+                    ),
+                })
+            }
+        };
+        Ok(PathIntegrator {
+            max_depth,
+            roulette,
+            include_environment: p.bool_or("includeenvironment", true),
+            direct_light_sampling: p.bool_or("directlightsampling", true),
+            direct: DirectSettings::from_entity(e, w),
+        })
+    }
+
+    pub fn li(&self, scene: &Scene, mut ray: Ray, s: &mut SampleStream, l: &mut [Rgb]) -> f32 {
+        let mut beta = Rgb::WHITE;
+        let mut alpha = 1.0;
+        // Whether the last bounce was specular (or the camera ray): emission counts fully.
+        let mut specular = true;
+        let mut prev_pdf = 0.0f32;
+        let mut prev = Interaction::default();
+        let mut depth = 0u32;
+        let mut pass = 0u32;
+        let dls = self.direct_light_sampling;
+        loop {
+            let Some(si) = scene.intersect(&ray) else {
+                if depth == 0 {
+                    alpha = 0.0;
+                }
+                if depth > 0 || self.include_environment {
+                    escaped(scene, &ray, beta, l, |i| {
+                        if specular || !dls {
+                            return 1.0;
+                        }
+                        let light = &scene.lights()[i];
+                        let pl = light.pdf_li(&prev, ray.d.normalize_or_zero(), None);
+                        bsdf_hit_weight(scene, &self.direct, i, prev_pdf, pl)
+                    });
+                }
+                break;
+            };
+            if let Some((i, light)) = scene.area_light(si.prim) {
+                let le = light.l(&si, si.wo);
+                if !le.is_black() {
+                    let w = if specular || !dls {
+                        1.0
+                    } else {
+                        let pl = scene.lights()[i].pdf_li(&prev, -si.wo, Some(&si));
+                        bsdf_hit_weight(scene, &self.direct, i, prev_pdf, pl)
+                    };
+                    add_group(l, light.common.group, beta * le * w);
+                }
+            }
+            let material = scene.material(si.prim);
+            if material.is_null() {
+                pass += 1;
+                if pass > MAX_PASS_THROUGH {
+                    break;
+                }
+                ray = si.it.spawn_ray(ray.d);
+                continue;
+            }
+            pass = 0;
+            if depth >= self.max_depth {
+                break;
+            }
+            let last = depth + 1 >= self.max_depth;
+            let bsdf = material.bsdf(&si, s.next_1d());
+            if dls && bsdf.has_non_specular() {
+                sample_lights(scene, &self.direct, &si, &bsdf, s, beta, last, l);
+            }
+            if last {
+                break;
+            }
+            let (u, u2) = (s.next_1d(), s.next_2d());
+            let Some(bs) = bsdf.sample_f(si.wo, u, u2) else {
+                break;
+            };
+            if bs.pdf <= 0.0 || bs.f.is_black() {
+                break;
+            }
+            beta *= bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
+            specular = bs.specular;
+            prev_pdf = bs.pdf;
+            prev = si.it;
+            ray = si.it.spawn_ray(bs.wi);
+            depth += 1;
+            if depth >= RR_START {
+                let q = match self.roulette {
+                    Roulette::None => 1.0,
+                    Roulette::Probability(p) => p,
+                    Roulette::Efficiency => beta.max_component().min(1.0),
+                };
+                if q < 1.0 {
+                    if s.next_1d() >= q {
+                        break;
+                    }
+                    beta = beta / q;
+                }
+            }
+            if !beta.is_finite() || beta.is_black() {
+                break;
+            }
+        }
+        alpha
+    }
+}

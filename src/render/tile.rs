@@ -1,0 +1,129 @@
+//! Tiles of the film buffer and the rendering of one tile into its own small film (the tile
+//! plus the filter's reach, clipped to the buffer).
+
+use crate::film::Film;
+use crate::scene::Scene;
+use crate::spectrum::{rgb_to_xyz, Rgb};
+
+pub const TILE_SIZE: u32 = 32;
+
+/// A tile: pixels [x0, x1) × [y0, y1) of the buffer, and the buffer region [fx0, fx1) ×
+/// [fy0, fy1) its film covers (wider by the filter radius).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tile {
+    pub x0: u32,
+    pub x1: u32,
+    pub y0: u32,
+    pub y1: u32,
+    pub fx0: u32,
+    pub fy0: u32,
+    pub fx1: u32,
+    pub fy1: u32,
+}
+
+/// The tiles of a `w` × `h` buffer in row-major order (film regions are set per render).
+pub fn tiles(w: u32, h: u32) -> Vec<Tile> {
+    let mut v = Vec::new();
+    let mut y = 0;
+    while y < h {
+        let mut x = 0;
+        while x < w {
+            let (x1, y1) = ((x + TILE_SIZE).min(w), (y + TILE_SIZE).min(h));
+            v.push(Tile {
+                x0: x,
+                x1,
+                y0: y,
+                y1,
+                fx0: x,
+                fy0: y,
+                fx1: x1,
+                fy1: y1,
+            });
+            x += TILE_SIZE;
+        }
+        y += TILE_SIZE;
+    }
+    v
+}
+
+/// Renders `spp` samples per pixel of tile `t` for pass `pass`; returns the tile film, the
+/// tile (with its film region) and the number of rejected contributions.
+pub fn render_tile(
+    scene: &Scene,
+    t: &Tile,
+    pass: u64,
+    spp: u32,
+    seed: u64,
+    stream: u64,
+) -> (Film, Tile, u64) {
+    let fp = &scene.film_params;
+    let (bw, bh) = (fp.x_pixel_count, fp.y_pixel_count);
+    let r = scene.filter.radius();
+    let (rx, ry) = (
+        r.x.ceil().max(0.0) as u32 + 1,
+        r.y.ceil().max(0.0) as u32 + 1,
+    );
+    let mut t = *t;
+    t.fx0 = t.x0.saturating_sub(rx);
+    t.fy0 = t.y0.saturating_sub(ry);
+    t.fx1 = (t.x1 + rx).min(bw);
+    t.fy1 = (t.y1 + ry).min(bh);
+    let mut film = Film::new(t.fx1 - t.fx0, t.fy1 - t.fy0, scene.groups.clone());
+    // Offset from full-image raster coordinates to this tile film's coordinates.
+    let ox = i64::from(fp.x_pixel_start) + i64::from(t.fx0);
+    let oy = i64::from(fp.y_pixel_start) + i64::from(t.fy0);
+    let ngroups = scene.groups.len();
+    let mut l = vec![Rgb::BLACK; ngroups];
+    let mut rejected = 0u64;
+    for by in t.y0..t.y1 {
+        for bx in t.x0..t.x1 {
+            let (px, py) = (bx + fp.x_pixel_start, by + fp.y_pixel_start);
+            for k in 0..spp {
+                let index = pass * u64::from(spp) + u64::from(k);
+                let mut st = scene.sampler.start(seed, stream, px, py, index);
+                let cs = st.camera_sample();
+                let Some((ray, w)) = scene.camera.generate_ray(&cs) else {
+                    continue;
+                };
+                if w.is_nan() || w <= 0.0 {
+                    continue;
+                }
+                l.iter_mut().for_each(|c| *c = Rgb::BLACK);
+                let alpha = scene.integrator.li(scene, ray, &mut st, &mut l);
+                for (g, c) in l.iter().enumerate() {
+                    let xyz = rgb_to_xyz(*c * w);
+                    if !xyz.iter().all(|v| v.is_finite()) || xyz[1] < 0.0 {
+                        rejected += 1;
+                        continue;
+                    }
+                    scene.filter.splat(cs.p_film, |x, y, fw| {
+                        let (lx, ly) = (i64::from(x) - ox, i64::from(y) - oy);
+                        if lx >= 0 && ly >= 0 {
+                            film.add_splat(g, lx as u32, ly as u32, xyz, alpha, fw);
+                        }
+                    });
+                }
+            }
+        }
+    }
+    (film, t, rejected)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_cover_the_buffer_once() {
+        let (w, h) = (70, 33);
+        let mut seen = vec![0u8; (w * h) as usize];
+        for t in tiles(w, h) {
+            for y in t.y0..t.y1 {
+                for x in t.x0..t.x1 {
+                    seen[(y * w + x) as usize] += 1;
+                }
+            }
+        }
+        assert!(seen.iter().all(|&c| c == 1));
+    }
+}

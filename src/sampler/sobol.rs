@@ -1,0 +1,65 @@
+//! The Sobol sampler: Owen-scrambled, index-shuffled Sobol points per pixel
+//! (`sobol_burley`'s parts: Burley's hash-based Owen scrambling), padded: every 1D or 2D request uses the
+//! first one or two Sobol dimensions (a (0,2)-sequence) under its own seed derived from
+//! (pixel key, dimension), so every 2D request is stratified as well as the first pair, and
+//! the index shuffling decorrelates requests from each other (Burley 2020, "padding").
+//!
+//! A pixel's samples continue one sequence across passes (indices 0, 1, 2, ...): after any
+//! power-of-two count the set is a scrambled (0, m, 2)-net. `sobol_burley` serves 2^16
+//! indices per seed; the index's high bits select a fresh seed beyond that.
+//!
+//! LuxRender's sobol sampler renders progressively over the whole image and has no
+//! `pixelsamples`; ours samples pixel by pixel, so `pixelsamples` (default 4) sets the
+//! samples per pixel and pass. `noiseaware` is accepted (not supported: uniform sampling).
+
+use super::hash::{combine, mix64};
+use glam::Vec2;
+use sobol_burley::parts::{owen_scramble_rev, sobol_rev, u32_to_f32_norm};
+
+const SEQ_BITS: u32 = 16;
+
+/// The key of one run of 2^16 samples of a pixel.
+#[inline]
+pub(super) fn run_key(pixel_key: u64, index: u64) -> u64 {
+    combine(pixel_key, index >> SEQ_BITS)
+}
+
+/// The request key of dimension `dim` and the index within the run.
+#[inline]
+fn request(run_key: u64, index: u64, dim: u32) -> (u64, u32) {
+    (
+        combine(run_key, u64::from(dim)),
+        (index & ((1 << SEQ_BITS) - 1)) as u32,
+    )
+}
+
+/// The shuffled (bit-reversed) index: a nested uniform scramble of the index under the
+/// request's key, so different requests visit the points in unrelated orders.
+#[inline]
+fn shuffled_rev(key: u64, i: u32) -> u32 {
+    owen_scramble_rev(i.reverse_bits(), key as u32)
+}
+
+/// Owen-scrambled dimension `d` (0 or 1) of the point at bit-reversed index `rev`.
+#[inline]
+fn coordinate(rev: u32, d: u32, scramble: u32) -> f32 {
+    u32_to_f32_norm(owen_scramble_rev(sobol_rev(rev, d), scramble).reverse_bits())
+}
+
+/// The 1D request at dimension `dim` of sample `index`.
+#[inline]
+pub(super) fn value_1d(run_key: u64, index: u64, dim: u32) -> f32 {
+    let (key, i) = request(run_key, index, dim);
+    coordinate(shuffled_rev(key, i), 0, (key >> 32) as u32)
+}
+
+/// The 2D request at dimensions `dim`, `dim + 1` of sample `index`.
+#[inline]
+pub(super) fn value_2d(run_key: u64, index: u64, dim: u32) -> Vec2 {
+    let (key, i) = request(run_key, index, dim);
+    let rev = shuffled_rev(key, i);
+    Vec2::new(
+        coordinate(rev, 0, (key >> 32) as u32),
+        coordinate(rev, 1, mix64(key) as u32),
+    )
+}

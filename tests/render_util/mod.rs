@@ -1,0 +1,102 @@
+//! Helpers shared by the render integration tests: locating ../shared, rendering a scene
+//! description to a film, and comparing films.
+
+#![allow(dead_code)]
+
+use luxfarm::film::Film;
+use luxfarm::lxs::{parse_file, parse_str, ParseOptions, SceneDescription};
+use luxfarm::render::{Session, SessionOptions};
+use std::path::{Path, PathBuf};
+
+/// The shared material directory: `../shared` from the repository root, else /work/shared.
+pub fn shared_dir() -> PathBuf {
+    let local = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared"));
+    if local.join("scenes").is_dir() {
+        local
+    } else {
+        PathBuf::from("/work/shared")
+    }
+}
+
+pub fn scene_path(rel: &str) -> PathBuf {
+    shared_dir().join("scenes").join(rel)
+}
+
+pub fn parse(path: &Path) -> SceneDescription {
+    parse_file(path, &ParseOptions::default()).expect("scene parses")
+}
+
+/// Parses scene text as if it were the file `path` (relative names resolve beside it).
+pub fn parse_text(text: &str, path: &Path) -> SceneDescription {
+    parse_str(text, &path.to_string_lossy(), &ParseOptions::default()).expect("scene parses")
+}
+
+/// Renders `passes` passes of the scene with the given options.
+pub fn render(desc: &SceneDescription, base: &Path, opts: SessionOptions, passes: u32) -> Film {
+    let mut s = Session::new(desc, base, opts).expect("session builds");
+    for _ in 0..passes {
+        assert!(s.render_pass().complete);
+    }
+    s.take_film()
+}
+
+/// Per-pixel weight-normalised XYZ of group 0 (0 where no weight).
+pub fn normalized_xyz(f: &Film) -> Vec<[f64; 3]> {
+    let mut v = Vec::with_capacity(f.pixel_count());
+    for y in 0..f.height() {
+        for x in 0..f.width() {
+            let p = f.pixel(0, 0, x, y).expect("pixel in range");
+            v.push(if p[4] != 0.0 {
+                [p[0] / p[4], p[1] / p[4], p[2] / p[4]]
+            } else {
+                [0.0; 3]
+            });
+        }
+    }
+    v
+}
+
+/// RMS over the weight-normalised X, Y, Z of every pixel (LuxRender's regression metric).
+pub fn rms(a: &Film, b: &Film) -> f64 {
+    let (a, b) = (normalized_xyz(a), normalized_xyz(b));
+    assert_eq!(a.len(), b.len());
+    let mut se = 0.0;
+    for (p, q) in a.iter().zip(&b) {
+        for c in 0..3 {
+            se += (p[c] - q[c]).powi(2);
+        }
+    }
+    (se / (3 * a.len()).max(1) as f64).sqrt()
+}
+
+/// Y averaged over `block`×`block` pixel blocks: a low-noise view for "same image within
+/// noise" comparisons.
+pub fn block_means(f: &Film, block: u32) -> Vec<f64> {
+    let xyz = normalized_xyz(f);
+    let (bw, bh) = (f.width() / block, f.height() / block);
+    let mut out = vec![0.0; (bw * bh) as usize];
+    for y in 0..bh * block {
+        for x in 0..bw * block {
+            let i = ((y / block) * bw + x / block) as usize;
+            out[i] += xyz[(y * f.width() + x) as usize][1] / f64::from(block * block);
+        }
+    }
+    out
+}
+
+pub fn rmse(a: &[f64], b: &[f64]) -> f64 {
+    let se: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
+    (se / a.len().max(1) as f64).sqrt()
+}
+
+/// Replaces the Film statement's resolution and halt settings in scene text.
+pub fn with_resolution(text: &str, res: u32) -> String {
+    text.replace(
+        "\"integer xresolution\" [256]",
+        &format!("\"integer xresolution\" [{res}]"),
+    )
+    .replace(
+        "\"integer yresolution\" [256]",
+        &format!("\"integer yresolution\" [{res}]"),
+    )
+}
