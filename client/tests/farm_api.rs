@@ -20,7 +20,10 @@ fn assert_error(status: u16, body: &serde_json::Value, want: u16, detail_has: &s
     assert_eq!(status, want, "{body}");
     assert!(body["error"].is_string(), "{body}");
     let detail = body["detail"].as_str().unwrap_or("");
-    assert!(detail.contains(detail_has), "{detail:?} lacks {detail_has:?}");
+    assert!(
+        detail.contains(detail_has),
+        "{detail:?} lacks {detail_has:?}"
+    );
 }
 
 #[test]
@@ -107,7 +110,11 @@ fn token_is_required_when_set() {
         .args(["jobs", "--master", &s.url(), "--token", "s3cret"])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 #[test]
@@ -130,28 +137,46 @@ fn queue_order_and_cancel() {
     let scene = std::fs::read(small_scene(dir.path(), "q", (8, 6), "")).unwrap();
     let mut ids = Vec::new();
     for (name, prio) in [("a", 0), ("b", 5), ("c", 0)] {
-        let (st, body) = post_job(&s, scene.clone(), &format!("?filename=q.lxs&name={name}&priority={prio}&haltspp=3"));
+        let (st, body) = post_job(
+            &s,
+            scene.clone(),
+            &format!("?filename=q.lxs&name={name}&priority={prio}&haltspp=3"),
+        );
         assert_eq!(st, 201, "{body}");
         assert_eq!(body["state"], "queued");
         assert_eq!(body["haltspp"], 3.0);
         ids.push(body["id"].as_str().unwrap().to_string());
     }
     let jobs = get_json(&s.api("/jobs"));
-    let names: Vec<&str> = jobs.as_array().unwrap().iter().map(|j| j["name"].as_str().unwrap()).collect();
+    let names: Vec<&str> = jobs
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| j["name"].as_str().unwrap())
+        .collect();
     assert_eq!(names, ["b", "a", "c"]);
     let c = http();
-    let r = c.delete(s.api(&format!("/jobs/{}", ids[0]))).send().unwrap();
+    let r = c
+        .delete(s.api(&format!("/jobs/{}", ids[0])))
+        .send()
+        .unwrap();
     assert_eq!(r.status().as_u16(), 200);
     let v: serde_json::Value = r.json().unwrap();
     assert_eq!(v["state"], "cancelled");
-    let r = c.delete(s.api(&format!("/jobs/{}", ids[0]))).send().unwrap();
+    let r = c
+        .delete(s.api(&format!("/jobs/{}", ids[0])))
+        .send()
+        .unwrap();
     assert_eq!(r.status().as_u16(), 409);
     let r = c.get(s.api("/jobs/nope")).send().unwrap();
     assert_eq!(r.status().as_u16(), 404);
     let v: serde_json::Value = r.json().unwrap();
     assert_eq!(v["error"], "not_found");
     // the preview of a job without samples is "not ready", as JSON
-    let r = c.get(s.api(&format!("/jobs/{}/preview.png", ids[1]))).send().unwrap();
+    let r = c
+        .get(s.api(&format!("/jobs/{}/preview.png", ids[1])))
+        .send()
+        .unwrap();
     assert_eq!(r.status().as_u16(), 503);
 }
 
@@ -161,7 +186,10 @@ fn multipart_submission_and_documents() {
     let s = server(&dir.path().join("data"), &[]);
     let scene = std::fs::read(small_scene(dir.path(), "m", (8, 6), "")).unwrap();
     let form = reqwest::blocking::multipart::Form::new()
-        .part("file", reqwest::blocking::multipart::Part::bytes(scene).file_name("m.lxs"))
+        .part(
+            "file",
+            reqwest::blocking::multipart::Part::bytes(scene).file_name("m.lxs"),
+        )
         .text("halttime", "7")
         .text("priority", "2");
     let r = http().post(s.api("/jobs")).multipart(form).send().unwrap();
@@ -171,8 +199,19 @@ fn multipart_submission_and_documents() {
     assert_eq!(v["priority"], 2);
     assert_eq!(v["name"], "m");
     let doc = get_json(&s.api("/openapi.json"));
-    assert!(doc["paths"]["/api/v1/jobs/{id}/preview.png"].is_object(), "{doc}");
+    assert!(
+        doc["paths"]["/api/v1/jobs/{id}/preview.png"].is_object(),
+        "{doc}"
+    );
     assert!(doc["paths"]["/api/v1/jobs"]["post"].is_object());
-    let metrics = http().get(format!("http://{}/metrics", s.addr)).send().unwrap().text().unwrap();
-    assert!(metrics.contains("luxfarm_jobs{state=\"queued\"} 1"), "{metrics}");
+    let metrics = http()
+        .get(format!("http://{}/metrics", s.addr))
+        .send()
+        .unwrap()
+        .text()
+        .unwrap();
+    assert!(
+        metrics.contains("luxfarm_jobs{state=\"queued\"} 1"),
+        "{metrics}"
+    );
 }

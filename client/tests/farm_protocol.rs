@@ -12,7 +12,10 @@ use luxfarm_proto::connect;
 use luxfarm_server::codec;
 
 fn rt() -> tokio::runtime::Runtime {
-    tokio::runtime::Builder::new_multi_thread().enable_all().build().unwrap()
+    tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .unwrap()
 }
 
 async fn upload(
@@ -36,7 +39,9 @@ async fn upload(
             part: Some(pb::upload_chunk::Part::Data(codec::encode(film))),
         },
     ];
-    c.upload_delta(tokio_stream::iter(chunks)).await.map(|r| r.into_inner())
+    c.upload_delta(tokio_stream::iter(chunks))
+        .await
+        .map(|r| r.into_inner())
 }
 
 fn delta(w: u32, h: u32, value: f32, spp: f64) -> Film {
@@ -63,12 +68,18 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         let ch = connect::channel(&url, None, None).unwrap();
         let mut c = connect::worker_client(ch);
         let reg = c
-            .register(pb::RegisterRequest { name: "t".into(), threads: 1, worker_id: String::new() })
+            .register(pb::RegisterRequest {
+                name: "t".into(),
+                threads: 1,
+                worker_id: String::new(),
+            })
             .await
             .unwrap()
             .into_inner();
         let a = c
-            .next_assignment(pb::NextRequest { worker_id: reg.worker_id.clone() })
+            .next_assignment(pb::NextRequest {
+                worker_id: reg.worker_id.clone(),
+            })
             .await
             .unwrap()
             .into_inner()
@@ -85,7 +96,9 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         let ack = upload(&mut c, w, &a.lease_id, 1, &d1).await.unwrap();
         assert_eq!(ack.status, "duplicate");
         // wrong resolution: refused, job untouched
-        let err = upload(&mut c, w, &a.lease_id, 2, &delta(16, 6, 1.0, 1.0)).await.unwrap_err();
+        let err = upload(&mut c, w, &a.lease_id, 2, &delta(16, 6, 1.0, 1.0))
+            .await
+            .unwrap_err();
         assert_eq!(err.code(), tonic::Code::InvalidArgument, "{err:?}");
         let v = tokio::task::block_in_place(|| get_json(&format!("{}/api/v1/jobs/{id}", s.url())));
         assert_eq!(v["samples"], 48.0, "{v}");
@@ -97,7 +110,11 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         assert_eq!(ack.status, "merged");
         assert!(ack.stop, "haltspp reached: the worker must stop");
         let hb = c
-            .heartbeat(pb::HeartbeatRequest { worker_id: w.clone(), lease_id: a.lease_id.clone(), samples: 0.0 })
+            .heartbeat(pb::HeartbeatRequest {
+                worker_id: w.clone(),
+                lease_id: a.lease_id.clone(),
+                samples: 0.0,
+            })
             .await
             .unwrap()
             .into_inner();
@@ -112,8 +129,12 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         };
         let empty = Film::new(8, 6, vec!["default".into()]);
         let chunks = vec![
-            pb::UploadChunk { part: Some(pb::upload_chunk::Part::Header(last.clone())) },
-            pb::UploadChunk { part: Some(pb::upload_chunk::Part::Data(codec::encode(&empty))) },
+            pb::UploadChunk {
+                part: Some(pb::upload_chunk::Part::Header(last.clone())),
+            },
+            pb::UploadChunk {
+                part: Some(pb::upload_chunk::Part::Data(codec::encode(&empty))),
+            },
         ];
         c.upload_delta(tokio_stream::iter(chunks)).await.unwrap();
         let v = tokio::task::block_in_place(|| wait_job(&s, &id, 30, |v| v["state"] == "done"));
@@ -122,10 +143,17 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         // after the end, a late upload is refused as a conflict
         last.seq = 4;
         let chunks = vec![
-            pb::UploadChunk { part: Some(pb::upload_chunk::Part::Header(last)) },
-            pb::UploadChunk { part: Some(pb::upload_chunk::Part::Data(codec::encode(&d1))) },
+            pb::UploadChunk {
+                part: Some(pb::upload_chunk::Part::Header(last)),
+            },
+            pb::UploadChunk {
+                part: Some(pb::upload_chunk::Part::Data(codec::encode(&d1))),
+            },
         ];
-        let err = c.upload_delta(tokio_stream::iter(chunks)).await.unwrap_err();
+        let err = c
+            .upload_delta(tokio_stream::iter(chunks))
+            .await
+            .unwrap_err();
         assert_eq!(err.code(), tonic::Code::FailedPrecondition);
         // the final checkpoint is the exact sum of the merged deltas
         let ckpt = files_under(&s.data.join("jobs").join(&id))
@@ -139,7 +167,10 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         assert_eq!(merged, expect);
         // outputs are served
         tokio::task::block_in_place(|| {
-            let png = http().get(format!("{}/api/v1/jobs/{id}/image.png", s.url())).send().unwrap();
+            let png = http()
+                .get(format!("{}/api/v1/jobs/{id}/image.png", s.url()))
+                .send()
+                .unwrap();
             assert_eq!(png.status().as_u16(), 200);
             let etag = png.headers()["etag"].to_str().unwrap().to_string();
             assert!(png.bytes().unwrap().starts_with(b"\x89PNG"));
@@ -149,7 +180,10 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
                 .send()
                 .unwrap();
             assert_eq!(again.status().as_u16(), 304);
-            let flm = http().get(format!("{}/api/v1/jobs/{id}/film.flm", s.url())).send().unwrap();
+            let flm = http()
+                .get(format!("{}/api/v1/jobs/{id}/film.flm", s.url()))
+                .send()
+                .unwrap();
             assert_eq!(flm.status().as_u16(), 200);
             let (film, _) = luxfarm::film::flm::read_flm(&flm.bytes().unwrap()[..]).unwrap();
             assert_eq!(film.total_samples(), 48.0 * 3.0);

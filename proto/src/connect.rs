@@ -32,7 +32,8 @@ pub fn endpoint(url: &str, ca_cert: Option<&Path>) -> Result<Endpoint, ConnectEr
     if url.starts_with("https://") {
         let mut tls = ClientTlsConfig::new().with_enabled_roots();
         if let Some(ca) = ca_cert {
-            let pem = std::fs::read(ca).map_err(|e| ConnectError::Ca(ca.display().to_string(), e))?;
+            let pem =
+                std::fs::read(ca).map_err(|e| ConnectError::Ca(ca.display().to_string(), e))?;
             tls = tls.ca_certificate(Certificate::from_pem(pem));
         }
         ep = ep.tls_config(tls).map_err(ConnectError::Tls)?;
@@ -74,7 +75,11 @@ impl tonic::service::Interceptor for Auth {
 pub type AuthChannel = InterceptedService<Channel, Auth>;
 
 /// A lazily connected, authenticated channel to the master at `url`.
-pub fn channel(url: &str, token: Option<&str>, ca_cert: Option<&Path>) -> Result<AuthChannel, ConnectError> {
+pub fn channel(
+    url: &str,
+    token: Option<&str>,
+    ca_cert: Option<&Path>,
+) -> Result<AuthChannel, ConnectError> {
     let ch = endpoint(url, ca_cert)?.connect_lazy();
     Ok(InterceptedService::new(ch, Auth::new(token)?))
 }

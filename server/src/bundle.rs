@@ -52,7 +52,9 @@ pub fn detect(bytes: &[u8], file_name: &str) -> Result<Kind> {
         )));
     }
     if bytes.is_empty() {
-        return Err(ServerError::BadRequest(format!("{file_name}: empty upload")));
+        return Err(ServerError::BadRequest(format!(
+            "{file_name}: empty upload"
+        )));
     }
     let head = &bytes[..bytes.len().min(64 * 1024)];
     if head.contains(&0) || std::str::from_utf8(head).is_err() && head.len() == bytes.len() {
@@ -323,7 +325,9 @@ pub fn hash_file(path: &Path) -> Result<String> {
 /// True when `s` looks like a content hash we produce (64 lowercase hex digits): hashes become
 /// file names, so nothing else is accepted.
 pub fn is_hash(s: &str) -> bool {
-    s.len() == 64 && s.bytes().all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
+    s.len() == 64
+        && s.bytes()
+            .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
 }
 
 #[cfg(test)]
@@ -335,7 +339,10 @@ mod tests {
         for name in ["/etc/passwd", "../x.lxs", "a/../../x", "C:\\x", "\\abs", ""] {
             assert!(safe_relative(name).is_err(), "{name}");
         }
-        assert_eq!(safe_relative("./a/b.ply").unwrap(), PathBuf::from("a/b.ply"));
+        assert_eq!(
+            safe_relative("./a/b.ply").unwrap(),
+            PathBuf::from("a/b.ply")
+        );
     }
 
     #[test]

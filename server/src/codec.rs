@@ -17,7 +17,8 @@ const MAX_NAME: usize = 4096;
 
 /// Encodes a film.
 pub fn encode(film: &Film) -> Vec<u8> {
-    let values = film.pixel_count() * PIXEL_VALUES * film.groups().len() * film.buffer_types().len();
+    let values =
+        film.pixel_count() * PIXEL_VALUES * film.groups().len() * film.buffer_types().len();
     let mut out = Vec::with_capacity(64 + values * 8);
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&film.width().to_le_bytes());
@@ -115,7 +116,8 @@ pub fn decode(bytes: &[u8]) -> Result<Film> {
     if bytes.len() != expected {
         return Err(bad(&format!("{} bytes, expected {expected}", bytes.len())));
     }
-    let mut film = Film::with_buffers(width, height, groups, types).map_err(|e| bad(&e.to_string()))?;
+    let mut film =
+        Film::with_buffers(width, height, groups, types).map_err(|e| bad(&e.to_string()))?;
     film.add_rejected(r.u64()?);
     for g in 0..ngroups {
         let n = r.f64()?;

@@ -46,7 +46,10 @@ impl JobState {
 
     /// Done, cancelled or failed.
     pub fn is_final(self) -> bool {
-        matches!(self, JobState::Done | JobState::Cancelled | JobState::Failed)
+        matches!(
+            self,
+            JobState::Done | JobState::Cancelled | JobState::Failed
+        )
     }
 }
 
@@ -231,10 +234,7 @@ impl Db {
     /// One job.
     pub fn job(&self, id: &str) -> Result<Option<JobRow>> {
         let sql = format!("SELECT {JOB_COLS} FROM jobs WHERE id = ?1");
-        Ok(self
-            .conn
-            .query_row(&sql, [id], job_from_row)
-            .optional()?)
+        Ok(self.conn.query_row(&sql, [id], job_from_row).optional()?)
     }
 
     /// All jobs in scheduling order: priority (high first), then submission order.
@@ -294,11 +294,10 @@ impl Db {
     /// Creates a lease with the job's next stream id (stream ids never repeat within a job).
     pub fn create_lease(&mut self, id: &str, job: &str, worker: &str, now_ms: i64) -> Result<u64> {
         let tx = self.conn.transaction()?;
-        let stream: i64 = tx.query_row(
-            "SELECT next_stream FROM jobs WHERE id = ?1",
-            [job],
-            |r| r.get(0),
-        )?;
+        let stream: i64 =
+            tx.query_row("SELECT next_stream FROM jobs WHERE id = ?1", [job], |r| {
+                r.get(0)
+            })?;
         tx.execute(
             "UPDATE jobs SET next_stream = next_stream + 1, \
              first_lease_ms = COALESCE(first_lease_ms, ?2) WHERE id = ?1",

@@ -7,8 +7,8 @@ use crate::config::Config;
 use crate::db::{Db, JobRow, JobState, NewJob};
 use crate::error::{Result, ServerError};
 use crate::metrics::Metrics;
-use crate::scene::{self, SceneInfo};
 use crate::scene::Film;
+use crate::scene::{self, SceneInfo};
 use std::collections::{HashMap, VecDeque};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -173,7 +173,10 @@ impl Farm {
 
     /// The stored bundle (canonical tar) of a hash.
     pub fn bundle_path(&self, hash: &str) -> PathBuf {
-        self.cfg.data_dir.join("bundles").join(format!("{hash}.tar"))
+        self.cfg
+            .data_dir
+            .join("bundles")
+            .join(format!("{hash}.tar"))
     }
 
     /// One job row, or NotFound.
@@ -277,9 +280,12 @@ impl Farm {
         let rt = lock(&self.jobs).get(id).cloned();
         match rt {
             Some(rt) => crate::halt::finish(self, &rt, JobState::Cancelled, "cancelled by user")?,
-            None => {
-                lock(&self.db).set_job_state(id, JobState::Cancelled, "cancelled by user", now_ms())?
-            }
+            None => lock(&self.db).set_job_state(
+                id,
+                JobState::Cancelled,
+                "cancelled by user",
+                now_ms(),
+            )?,
         }
         tracing::info!(job = %id, "job cancelled");
         self.touch();
@@ -296,7 +302,9 @@ fn check_overrides(o: &SubmitOptions) -> Result<()> {
     if o.halttime.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
         return Err(bad("halttime"));
     }
-    if o.haltthreshold.is_some_and(|v| !(v.is_finite() && v > 0.0 && v < 1.0)) {
+    if o.haltthreshold
+        .is_some_and(|v| !(v.is_finite() && v > 0.0 && v < 1.0))
+    {
         return Err(ServerError::BadRequest(
             "haltthreshold must be in (0, 1)".into(),
         ));

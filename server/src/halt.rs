@@ -25,7 +25,10 @@ pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
         let mut st = lock(&rt.state);
         st.history.push_back((Instant::now(), samples));
         while st.history.len() > 2
-            && st.history.front().is_some_and(|(t, _)| t.elapsed() > Duration::from_secs(60))
+            && st
+                .history
+                .front()
+                .is_some_and(|(t, _)| t.elapsed() > Duration::from_secs(60))
         {
             st.history.pop_front();
         }
@@ -33,7 +36,11 @@ pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
     if let Some(haltspp) = row.haltspp {
         let pixels = rt.info.pixels as f64;
         if samples >= haltspp * pixels {
-            begin_halt(farm, rt, format!("haltspp {haltspp} reached ({spp:.2} spp)"));
+            begin_halt(
+                farm,
+                rt,
+                format!("haltspp {haltspp} reached ({spp:.2} spp)"),
+            );
             return Ok(());
         }
     }
@@ -91,7 +98,8 @@ pub fn tick(farm: &Farm) -> Result<()> {
     let jobs: Vec<Arc<JobRt>> = lock(&farm.jobs).values().cloned().collect();
     for rt in jobs {
         let row = farm.job_row(&rt.id)?;
-        if let (Some(halttime), Some(first)) = (row.halttime, lock(&rt.state).first_lease_ms) {
+        let first_lease = lock(&rt.state).first_lease_ms;
+        if let (Some(halttime), Some(first)) = (row.halttime, first_lease) {
             let elapsed = (now_ms() - first) as f64 / 1000.0;
             if elapsed >= halttime {
                 begin_halt(farm, &rt, format!("halttime {halttime} s reached"));
@@ -133,7 +141,8 @@ fn expire_workers(farm: &Farm) -> Result<()> {
     }
     for (worker, job, lease) in lost {
         lock(&farm.db).end_lease(&lease, "worker timeout", now_ms())?;
-        if let Some(rt) = lock(&farm.jobs).get(&job) {
+        let rt = lock(&farm.jobs).get(&job).cloned();
+        if let Some(rt) = rt {
             if let Some(l) = lock(&rt.leases).get_mut(&lease) {
                 l.ended = true;
                 l.stop = true;

@@ -168,25 +168,25 @@ impl Farm {
         };
         let rt = lock(&self.jobs).get(&lease.job_id).cloned();
         match rt {
-            Some(rt) => lock(&rt.leases).get(lease_id).is_none_or(|l| l.stop || l.ended),
+            Some(rt) => lock(&rt.leases)
+                .get(lease_id)
+                .is_none_or(|l| l.stop || l.ended),
             None => true,
         }
     }
 
     /// Merges one film delta. A (lease, seq) already merged is acknowledged as a duplicate and
     /// ignored; a delta of the wrong layout is refused and leaves the job untouched.
-    pub fn upload(
-        &self,
-        h: &pb::UploadHeader,
-        data: &[u8],
-    ) -> Result<(UploadStatus, bool)> {
+    pub fn upload(&self, h: &pb::UploadHeader, data: &[u8]) -> Result<(UploadStatus, bool)> {
         let started = Instant::now();
         self.seen(&h.worker_id);
         let lease = lock(&self.db)
             .lease(&h.lease_id)?
             .ok_or_else(|| ServerError::NotFound(format!("no lease {}", h.lease_id)))?;
         if lease.worker_id != h.worker_id {
-            return Err(ServerError::BadRequest("lease belongs to another worker".into()));
+            return Err(ServerError::BadRequest(
+                "lease belongs to another worker".into(),
+            ));
         }
         if lock(&self.db).ledger_has(&h.lease_id, h.seq)? {
             self.metrics.duplicates.fetch_add(1, Ordering::Relaxed);
@@ -206,9 +206,8 @@ impl Farm {
         let samples = delta.total_samples();
         {
             let mut film = lock(&rt.film);
-            film.check_layout(&delta).map_err(|e| {
-                ServerError::BadRequest(format!("delta refused: {e}"))
-            })?;
+            film.check_layout(&delta)
+                .map_err(|e| ServerError::BadRequest(format!("delta refused: {e}")))?;
             // The ledger row and the merge happen under the film lock: never one without the
             // other, and no concurrent duplicate can slip between check and insert.
             if rt.closed.load(Ordering::SeqCst) {
@@ -222,7 +221,14 @@ impl Farm {
             if !duplicate {
                 film.merge(&delta)
                     .map_err(|e| ServerError::BadRequest(format!("delta refused: {e}")))?;
-                db.ledger_insert(&h.lease_id, h.seq, &row.id, samples, data.len() as u64, now_ms())?;
+                db.ledger_insert(
+                    &h.lease_id,
+                    h.seq,
+                    &row.id,
+                    samples,
+                    data.len() as u64,
+                    now_ms(),
+                )?;
             }
             drop(db);
             drop(film);
@@ -256,11 +262,15 @@ impl Farm {
         if let Some(w) = lock(&self.workers).get_mut(&h.worker_id) {
             w.samples += samples;
         }
-        self.metrics.record_merge(data.len() as u64, samples, started.elapsed());
+        self.metrics
+            .record_merge(data.len() as u64, samples, started.elapsed());
         tracing::debug!(job = %row.id, lease = %h.lease_id, seq = h.seq, samples, "delta merged");
         crate::halt::after_merge(self, &row, &rt)?;
         self.touch();
-        Ok((UploadStatus::Merged, stop || self.lease_should_stop(&h.lease_id)))
+        Ok((
+            UploadStatus::Merged,
+            stop || self.lease_should_stop(&h.lease_id),
+        ))
     }
 
     /// A heartbeat: (stop, unknown worker).
@@ -280,7 +290,9 @@ impl Farm {
             .lease(lease_id)?
             .ok_or_else(|| ServerError::NotFound(format!("no lease {lease_id}")))?;
         if lease.worker_id != worker_id {
-            return Err(ServerError::BadRequest("lease belongs to another worker".into()));
+            return Err(ServerError::BadRequest(
+                "lease belongs to another worker".into(),
+            ));
         }
         let row = self.job_row(&lease.job_id)?;
         if row.state.is_final() {

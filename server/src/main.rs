@@ -3,7 +3,11 @@
 use clap::Parser;
 
 #[derive(Parser)]
-#[command(name = "luxfarm-server", version, about = "luxfarm master: jobs, workers, film merging")]
+#[command(
+    name = "luxfarm-server",
+    version,
+    about = "luxfarm master: jobs, workers, film merging"
+)]
 struct Cli {
     #[command(flatten)]
     cfg: luxfarm_server::Config,

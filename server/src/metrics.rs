@@ -64,13 +64,41 @@ impl Metrics {
             ],
         );
         let counters = [
-            ("luxfarm_jobs_submitted_total", "Jobs submitted.", self.jobs_submitted.load(Ordering::Relaxed) as f64),
-            ("luxfarm_jobs_finished_total", "Jobs that reached a final state.", self.jobs_finished.load(Ordering::Relaxed) as f64),
-            ("luxfarm_merges_total", "Film deltas merged.", self.merges.load(Ordering::Relaxed) as f64),
-            ("luxfarm_duplicate_uploads_total", "Replayed uploads ignored.", self.duplicates.load(Ordering::Relaxed) as f64),
-            ("luxfarm_upload_bytes_total", "Bytes of merged film deltas.", self.upload_bytes.load(Ordering::Relaxed) as f64),
-            ("luxfarm_merged_samples_total", "Samples merged (rate() gives merged samples/s).", self.merged_samples()),
-            ("luxfarm_merge_seconds_total", "Time spent decoding and merging deltas (divide by merges for the mean latency).", f64::from_bits(self.merge_seconds_bits.load(Ordering::Relaxed))),
+            (
+                "luxfarm_jobs_submitted_total",
+                "Jobs submitted.",
+                self.jobs_submitted.load(Ordering::Relaxed) as f64,
+            ),
+            (
+                "luxfarm_jobs_finished_total",
+                "Jobs that reached a final state.",
+                self.jobs_finished.load(Ordering::Relaxed) as f64,
+            ),
+            (
+                "luxfarm_merges_total",
+                "Film deltas merged.",
+                self.merges.load(Ordering::Relaxed) as f64,
+            ),
+            (
+                "luxfarm_duplicate_uploads_total",
+                "Replayed uploads ignored.",
+                self.duplicates.load(Ordering::Relaxed) as f64,
+            ),
+            (
+                "luxfarm_upload_bytes_total",
+                "Bytes of merged film deltas.",
+                self.upload_bytes.load(Ordering::Relaxed) as f64,
+            ),
+            (
+                "luxfarm_merged_samples_total",
+                "Samples merged (rate() gives merged samples/s).",
+                self.merged_samples(),
+            ),
+            (
+                "luxfarm_merge_seconds_total",
+                "Time spent decoding and merging deltas (divide by merges for the mean latency).",
+                f64::from_bits(self.merge_seconds_bits.load(Ordering::Relaxed)),
+            ),
         ];
         for (name, help, v) in counters {
             metric(name, "counter", help, vec![format!("{name} {v}")]);

@@ -19,10 +19,31 @@ type AppState = Arc<Farm>;
 /// The OpenAPI document of the REST API.
 #[derive(OpenApi)]
 #[openapi(
-    info(title = "luxfarm", description = "Render farm for LuxRender scenes: jobs, outputs, workers."),
-    paths(submit_job, list_jobs, get_job, cancel_job, preview_png, film_flm, image_exr,
-          image_png, list_workers, healthz, metrics, openapi_json),
-    components(schemas(JobView, WorkerView, ErrorBody, views::JobWorkerView, crate::db::JobState))
+    info(
+        title = "luxfarm",
+        description = "Render farm for LuxRender scenes: jobs, outputs, workers."
+    ),
+    paths(
+        submit_job,
+        list_jobs,
+        get_job,
+        cancel_job,
+        preview_png,
+        film_flm,
+        image_exr,
+        image_png,
+        list_workers,
+        healthz,
+        metrics,
+        openapi_json
+    ),
+    components(schemas(
+        JobView,
+        WorkerView,
+        ErrorBody,
+        views::JobWorkerView,
+        crate::db::JobState
+    ))
 )]
 pub struct ApiDoc;
 
@@ -47,9 +68,7 @@ pub fn router(farm: AppState) -> Router {
 }
 
 /// Runs blocking work off the async threads.
-async fn blocking<T: Send + 'static>(
-    f: impl FnOnce() -> Result<T> + Send + 'static,
-) -> Result<T> {
+async fn blocking<T: Send + 'static>(f: impl FnOnce() -> Result<T> + Send + 'static) -> Result<T> {
     tokio::task::spawn_blocking(f)
         .await
         .map_err(ServerError::internal)?
@@ -171,8 +190,8 @@ async fn read_multipart(
             _ => {}
         }
     }
-    let (bytes, fname) =
-        file.ok_or_else(|| ServerError::BadRequest("multipart upload without a `file` part".into()))?;
+    let (bytes, fname) = file
+        .ok_or_else(|| ServerError::BadRequest("multipart upload without a `file` part".into()))?;
     Ok((bytes, fname, opts))
 }
 
@@ -195,10 +214,7 @@ async fn get_job(State(farm): State<AppState>, Path(id): Path<String>) -> Result
 #[utoipa::path(delete, path = "/api/v1/jobs/{id}", params(("id" = String, Path)),
     responses((status = 200, body = JobView), (status = 404, body = ErrorBody),
               (status = 409, body = ErrorBody)))]
-async fn cancel_job(
-    State(farm): State<AppState>,
-    Path(id): Path<String>,
-) -> Result<Json<JobView>> {
+async fn cancel_job(State(farm): State<AppState>, Path(id): Path<String>) -> Result<Json<JobView>> {
     Ok(Json(
         blocking(move || {
             let row = farm.cancel(&id)?;
@@ -330,11 +346,7 @@ async fn metrics(State(farm): State<AppState>) -> Result<Response> {
         (w.len(), w.values().filter(|w| w.lost).count())
     };
     let text = farm.metrics.render(&by_state, n, lost);
-    Ok((
-        [(header::CONTENT_TYPE, "text/plain; version=0.0.4")],
-        text,
-    )
-        .into_response())
+    Ok(([(header::CONTENT_TYPE, "text/plain; version=0.0.4")], text).into_response())
 }
 
 /// This document.

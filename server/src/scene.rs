@@ -2,10 +2,10 @@
 //! bundle directory), films (new, decode a delta, FLM checkpoints), images and the convergence
 //! test.
 
-use crate::error::{Result, ServerError};
 use crate::codec;
-pub use luxfarm::film::Film;
+use crate::error::{Result, ServerError};
 use luxfarm::film::convergence::{ConvergenceTest, YeeParams};
+pub use luxfarm::film::Film;
 use luxfarm::film::FilmParams;
 use luxfarm::lxs::{self, ParseOptions};
 use std::io::Write;
@@ -36,10 +36,12 @@ pub fn inspect(root: &Path, scene: &Path) -> Result<SceneInfo> {
         ..ParseOptions::default()
     };
     let path = root.join(scene);
-    let desc = lxs::parse_file(&path, &opts)
-        .map_err(|e| ServerError::BadRequest(format!("scene error: {}", strip_root(&e.to_string(), root))))?;
-    let params = FilmParams::from_entity(desc.film.as_ref())
-        .map_err(|e| ServerError::BadRequest(format!("film error: {}", strip_root(&e.to_string(), root))))?;
+    let desc = lxs::parse_file(&path, &opts).map_err(|e| {
+        ServerError::BadRequest(format!("scene error: {}", strip_root(&e.to_string(), root)))
+    })?;
+    let params = FilmParams::from_entity(desc.film.as_ref()).map_err(|e| {
+        ServerError::BadRequest(format!("film error: {}", strip_root(&e.to_string(), root)))
+    })?;
     let stem = scene
         .file_stem()
         .and_then(|s| s.to_str())
@@ -196,7 +198,11 @@ pub struct Convergence {
 
 /// Runs the convergence test (Yee perceptual difference against the previous snapshot of the
 /// display image): the failing-pixel fraction, None on the first snapshot.
-pub fn convergence_update(c: &mut Convergence, film: &Film, info: &SceneInfo) -> Result<Option<f64>> {
+pub fn convergence_update(
+    c: &mut Convergence,
+    film: &Film,
+    info: &SceneInfo,
+) -> Result<Option<f64>> {
     let image = luxfarm::tonemap::tonemap_display(film, &info.params.tonemap);
     let first = c.test.is_none();
     let test = c

@@ -53,7 +53,9 @@ async fn auth(State(farm): State<Arc<Farm>>, req: Request, next: Next) -> Respon
         return next.run(req).await;
     };
     let path = req.uri().path();
-    let open = path == "/healthz" || path == "/api/v1/healthz" || !(path.starts_with("/api/") || path.starts_with("/luxfarm.") || path == "/metrics");
+    let open = path == "/healthz"
+        || path == "/api/v1/healthz"
+        || !(path.starts_with("/api/") || path.starts_with("/luxfarm.") || path == "/metrics");
     let given = req
         .headers()
         .get(header::AUTHORIZATION)
@@ -61,9 +63,9 @@ async fn auth(State(farm): State<Arc<Farm>>, req: Request, next: Next) -> Respon
         .and_then(|v| v.strip_prefix("Bearer "))
         .or_else(|| {
             // Browsers cannot set headers on <img> requests: allow ?token= on GETs.
-            req.uri().query().and_then(|q| {
-                q.split('&').find_map(|kv| kv.strip_prefix("token="))
-            })
+            req.uri()
+                .query()
+                .and_then(|q| q.split('&').find_map(|kv| kv.strip_prefix("token=")))
         });
     if open || given.is_some_and(|g| same(g.as_bytes(), token.as_bytes())) {
         return next.run(req).await;
@@ -76,9 +78,15 @@ async fn auth(State(farm): State<Arc<Farm>>, req: Request, next: Next) -> Respon
     if grpc {
         let mut resp = StatusCode::OK.into_response();
         let h = resp.headers_mut();
-        h.insert(header::CONTENT_TYPE, HeaderValue::from_static("application/grpc"));
+        h.insert(
+            header::CONTENT_TYPE,
+            HeaderValue::from_static("application/grpc"),
+        );
         h.insert("grpc-status", HeaderValue::from_static("16"));
-        h.insert("grpc-message", HeaderValue::from_static("missing%20or%20invalid%20bearer%20token"));
+        h.insert(
+            "grpc-message",
+            HeaderValue::from_static("missing%20or%20invalid%20bearer%20token"),
+        );
         return resp;
     }
     ServerError::Unauthorized.into_response()
@@ -157,13 +165,21 @@ async fn accept_loop(listener: TcpListener, app: Router, tls: Option<tokio_rustl
             let builder = hyper_util::server::conn::auto::Builder::new(TokioExecutor::new());
             let result = match tls {
                 Some(acceptor) => match acceptor.accept(stream).await {
-                    Ok(s) => builder.serve_connection_with_upgrades(TokioIo::new(s), svc).await,
+                    Ok(s) => {
+                        builder
+                            .serve_connection_with_upgrades(TokioIo::new(s), svc)
+                            .await
+                    }
                     Err(e) => {
                         tracing::debug!(%peer, error = %e, "TLS handshake failed");
                         return;
                     }
                 },
-                None => builder.serve_connection_with_upgrades(TokioIo::new(stream), svc).await,
+                None => {
+                    builder
+                        .serve_connection_with_upgrades(TokioIo::new(stream), svc)
+                        .await
+                }
             };
             if let Err(e) = result {
                 tracing::debug!(%peer, error = %e, "connection ended with an error");

@@ -149,8 +149,9 @@ fn eta(v: &JobView) -> Option<f64> {
         return None;
     }
     let by_spp = v.haltspp.and_then(|h| {
-        (v.samples_per_sec > 0.0)
-            .then(|| ((h * v.width as f64 * v.height as f64 - v.samples) / v.samples_per_sec).max(0.0))
+        (v.samples_per_sec > 0.0).then(|| {
+            ((h * v.width as f64 * v.height as f64 - v.samples) / v.samples_per_sec).max(0.0)
+        })
     });
     let by_time = v.halttime.map(|t| (t - v.elapsed).max(0.0));
     match (by_spp, by_time) {

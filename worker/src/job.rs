@@ -39,7 +39,12 @@ impl Flags {
     /// Stops the lease: no more passes, the current one interrupted. True the first time.
     fn request_stop(&self) -> bool {
         let first = !self.stop.swap(true, Ordering::SeqCst);
-        if let Some(c) = self.cancel.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+        if let Some(c) = self
+            .cancel
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .as_ref()
+        {
             c.store(true, Ordering::SeqCst);
         }
         first
@@ -62,8 +67,8 @@ pub async fn run_lease(
             cache.put(&a.bundle_hash, &tar)?
         }
     };
-    let rel = luxfarm_server::bundle::safe_relative(&a.scene_path)
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let rel =
+        luxfarm_server::bundle::safe_relative(&a.scene_path).map_err(|e| anyhow::anyhow!("{e}"))?;
     let scene = dir.join(rel);
     let flags = Arc::new(Flags {
         stop: AtomicBool::new(false),
@@ -84,7 +89,11 @@ pub async fn run_lease(
             .name("render".into())
             .spawn(move || render_thread(&scene, opts, &flags, &shutdown, &tx))?
     };
-    let hb = tokio::spawn(heartbeat_loop(link.clone(), a.lease_id.clone(), flags.clone()));
+    let hb = tokio::spawn(heartbeat_loop(
+        link.clone(),
+        a.lease_id.clone(),
+        flags.clone(),
+    ));
     let interval = Duration::from_secs_f64(a.upload_interval.clamp(0.05, 3600.0));
     let watch = tokio::spawn(shutdown_watch(link.shutdown.clone(), flags.clone()));
     let result = upload_loop(link, cfg, &a.lease_id, interval, &flags, rx).await;
@@ -217,7 +226,10 @@ async fn upload_loop(
         if link.shutdown.load(Ordering::Relaxed) {
             let since = *shutdown_since.get_or_insert_with(Instant::now);
             if render_done && since.elapsed() > Duration::from_secs(30) {
-                anyhow::bail!("shutting down: {} delta(s) could not be uploaded", queue.len());
+                anyhow::bail!(
+                    "shutting down: {} delta(s) could not be uploaded",
+                    queue.len()
+                );
             }
         }
         let Some((seq, delta)) = queue.front() else {

@@ -83,7 +83,8 @@ pub async fn run(cfg: Config) -> anyhow::Result<()> {
                 continue;
             }
         };
-        let span = tracing::info_span!("lease", lease = %assignment.lease_id, job = %assignment.job_id);
+        let span =
+            tracing::info_span!("lease", lease = %assignment.lease_id, job = %assignment.job_id);
         let _e = span.enter();
         match job::run_lease(&link, &cache, &cfg, threads, assignment).await {
             Ok(()) => {}

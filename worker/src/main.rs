@@ -3,7 +3,11 @@
 use clap::Parser;
 
 #[derive(Parser)]
-#[command(name = "luxfarm-worker", version, about = "luxfarm worker: renders leases for a master")]
+#[command(
+    name = "luxfarm-worker",
+    version,
+    about = "luxfarm worker: renders leases for a master"
+)]
 struct Cli {
     #[command(flatten)]
     cfg: luxfarm_worker::Config,

@@ -44,14 +44,19 @@ pub fn prepare(path: &Path) -> anyhow::Result<Upload> {
 
 /// The scene file and every file it references, relative to the scene's directory.
 pub fn referenced_files(scene: &Path) -> anyhow::Result<Vec<PathBuf>> {
-    let desc = lxs::parse_file(scene, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let desc =
+        lxs::parse_file(scene, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?;
     let root = scene.parent().unwrap_or(Path::new("."));
     let root_abs = root
         .canonicalize()
         .with_context(|| format!("resolving {}", root.display()))?;
     let mut set = BTreeSet::new();
     let mut add = |p: &Path, required: bool| -> anyhow::Result<()> {
-        let full = if p.is_absolute() { p.to_path_buf() } else { root.join(p) };
+        let full = if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            root.join(p)
+        };
         let Ok(abs) = full.canonicalize() else {
             if required {
                 bail!("{}: not found", full.display());

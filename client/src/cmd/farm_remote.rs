@@ -60,7 +60,11 @@ pub fn job_line(j: &pb::JobInfo) -> String {
         (None, None, Some(th)) => format!("{:.1} spp, threshold {th}", j.spp),
         _ => format!("{:.1} spp", j.spp),
     };
-    let reason = if j.reason.is_empty() { String::new() } else { format!("  ({})", j.reason) };
+    let reason = if j.reason.is_empty() {
+        String::new()
+    } else {
+        format!("  ({})", j.reason)
+    };
     format!(
         "{:<18} {:<10} {:<24} {:>3}  {halt}  {} leases{reason}",
         j.id, j.state, j.name, j.priority, j.active_leases

@@ -107,7 +107,9 @@ fn spawn_workers(url: &str, n: usize, threads: usize) -> anyhow::Result<Workers>
 /// Renders a scene on a local farm.
 pub fn run(o: Options) -> anyhow::Result<ExitCode> {
     let upload = super::farm_bundle::prepare(&o.scene)?;
-    let data = tempfile::Builder::new().prefix("luxfarm-render-").tempdir()?;
+    let data = tempfile::Builder::new()
+        .prefix("luxfarm-render-")
+        .tempdir()?;
     let rt = runtime()?;
     let mut cfg = luxfarm_server::Config::local(data.path().to_path_buf());
     cfg.upload_interval = o.upload_interval;
@@ -145,7 +147,11 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
         "{:.1} spp in {:.1} s ({:.0} samples/s)",
         last.spp,
         last.elapsed,
-        if last.elapsed > 0.0 { last.samples / last.elapsed } else { 0.0 }
+        if last.elapsed > 0.0 {
+            last.samples / last.elapsed
+        } else {
+            0.0
+        }
     );
     running.task.abort();
     Ok(ExitCode::SUCCESS)

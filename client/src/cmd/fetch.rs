@@ -32,7 +32,10 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
 /// Downloads one output of a job.
 pub async fn fetch(remote: &Remote, id: &str, format: &str) -> anyhow::Result<Vec<u8>> {
     let mut c = remote.jobs()?;
-    let req = pb::FetchRequest { id: id.into(), format: format.into() };
+    let req = pb::FetchRequest {
+        id: id.into(),
+        format: format.into(),
+    };
     let mut s = c.fetch(req).await.map_err(status)?.into_inner();
     let mut out = Vec::new();
     while let Some(chunk) = s.next().await {

@@ -17,7 +17,10 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     let j = runtime()?.block_on(async {
         let mut c = a.remote.jobs()?;
-        let r = c.get_job(pb::JobRef { id: a.job.clone() }).await.map_err(status)?;
+        let r = c
+            .get_job(pb::JobRef { id: a.job.clone() })
+            .await
+            .map_err(status)?;
         anyhow::Ok(r.into_inner())
     })?;
     if a.json {

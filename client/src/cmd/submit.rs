@@ -36,7 +36,11 @@ pub struct Args {
 
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     let upload = super::farm_bundle::prepare(&a.scene)?;
-    tracing::info!(files = upload.files.len(), bytes = upload.bytes.len(), "bundle ready");
+    tracing::info!(
+        files = upload.files.len(),
+        bytes = upload.bytes.len(),
+        "bundle ready"
+    );
     let rt = runtime()?;
     let job = rt.block_on(async {
         let header = pb::SubmitHeader {
@@ -60,7 +64,11 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
 }
 
 /// Streams a bundle to the master and returns the queued job.
-pub async fn submit(remote: &Remote, header: pb::SubmitHeader, bytes: Vec<u8>) -> anyhow::Result<pb::JobInfo> {
+pub async fn submit(
+    remote: &Remote,
+    header: pb::SubmitHeader,
+    bytes: Vec<u8>,
+) -> anyhow::Result<pb::JobInfo> {
     let mut chunks = vec![pb::SubmitChunk {
         part: Some(pb::submit_chunk::Part::Header(header)),
     }];

@@ -19,15 +19,31 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
 }
 
 /// Follows a job with a progress bar; the exit code tells how it ended.
-pub fn watch_job(rt: &tokio::runtime::Runtime, remote: &Remote, id: &str) -> anyhow::Result<ExitCode> {
+pub fn watch_job(
+    rt: &tokio::runtime::Runtime,
+    remote: &Remote,
+    id: &str,
+) -> anyhow::Result<ExitCode> {
     let last = rt.block_on(follow(remote, id, |_| {}))?;
-    Ok(if last.state == "done" { ExitCode::SUCCESS } else { ExitCode::from(1) })
+    Ok(if last.state == "done" {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
 }
 
 /// Streams a job's progress into a progress bar until it ends; `each` sees every update.
-pub async fn follow(remote: &Remote, id: &str, mut each: impl FnMut(&pb::JobInfo)) -> anyhow::Result<pb::JobInfo> {
+pub async fn follow(
+    remote: &Remote,
+    id: &str,
+    mut each: impl FnMut(&pb::JobInfo),
+) -> anyhow::Result<pb::JobInfo> {
     let mut c = remote.jobs()?;
-    let mut stream = c.watch(pb::JobRef { id: id.into() }).await.map_err(status)?.into_inner();
+    let mut stream = c
+        .watch(pb::JobRef { id: id.into() })
+        .await
+        .map_err(status)?
+        .into_inner();
     let bar = ProgressBar::new(1000);
     bar.set_style(
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {percent:>3}% {msg}")
@@ -65,5 +81,9 @@ fn fraction(j: &pb::JobInfo) -> f64 {
     }
     let by_spp = j.haltspp.map(|h| j.spp / h.max(1e-9));
     let by_time = j.halttime.map(|t| j.elapsed / t.max(1e-9));
-    by_spp.into_iter().chain(by_time).fold(0.0f64, f64::max).clamp(0.0, 1.0)
+    by_spp
+        .into_iter()
+        .chain(by_time)
+        .fold(0.0f64, f64::max)
+        .clamp(0.0, 1.0)
 }

@@ -13,7 +13,10 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     let ws = runtime()?.block_on(async {
         let mut c = a.remote.jobs()?;
-        let r = c.list_workers(pb::ListWorkersRequest {}).await.map_err(status)?;
+        let r = c
+            .list_workers(pb::ListWorkersRequest {})
+            .await
+            .map_err(status)?;
         anyhow::Ok(r.into_inner().workers)
     })?;
     for w in &ws {

@@ -174,7 +174,12 @@ pub fn get_json(url: &str) -> serde_json::Value {
 }
 
 /// Polls a job until `pred` holds or `secs` pass; returns the last view.
-pub fn wait_job(s: &Server, id: &str, secs: u64, pred: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
+pub fn wait_job(
+    s: &Server,
+    id: &str,
+    secs: u64,
+    pred: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
     let end = Instant::now() + Duration::from_secs(secs);
     loop {
         let v = get_json(&s.api(&format!("/jobs/{id}")));
