@@ -29,6 +29,27 @@ enum Command {
     CompareImage(cmd::compare_image::Args),
     /// FLM film tools: info, merge, compare, tonemap.
     Flm(cmd::flm::Args),
+    /// Submit a scene (bundled with what it references) to a master.
+    Submit(cmd::submit::Args),
+    /// List the master's jobs.
+    Jobs(cmd::jobs::Args),
+    /// Show one job.
+    Status(cmd::status::Args),
+    /// Follow a job with a progress bar until it ends.
+    Watch(cmd::watch::Args),
+    /// Download a job's PNG, EXR or FLM.
+    Fetch(cmd::fetch::Args),
+    /// Cancel a job.
+    Cancel(cmd::cancel::Args),
+    /// List the master's workers.
+    Workers(cmd::workers::Args),
+    /// Run a master (gRPC + REST + dashboard on one address).
+    Server(cmd::server::Args),
+    /// Run a worker for a master.
+    Worker(cmd::worker::Args),
+    /// Render a scene on a local farm: embedded master + N worker processes.
+    #[command(name = "render-farm")]
+    RenderFarm(cmd::farm_render::Args),
     /// Benchmarks (not tests).
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -52,6 +73,16 @@ fn main() -> ExitCode {
         Command::Render(a) => cmd::render::run(a),
         Command::CompareImage(a) => cmd::compare_image::run(a),
         Command::Flm(a) => cmd::flm::run(a),
+        Command::Submit(a) => cmd::submit::run(a),
+        Command::Jobs(a) => cmd::jobs::run(a),
+        Command::Status(a) => cmd::status::run(a),
+        Command::Watch(a) => cmd::watch::run(a),
+        Command::Fetch(a) => cmd::fetch::run(a),
+        Command::Cancel(a) => cmd::cancel::run(a),
+        Command::Workers(a) => cmd::workers::run(a),
+        Command::Server(a) => cmd::server::run(a),
+        Command::Worker(a) => cmd::worker::run(a),
+        Command::RenderFarm(a) => cmd::farm_render::run(a.into()),
         Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
         Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
         Command::Bench(BenchCommand::Flm(a)) => cmd::bench_flm::run(a),

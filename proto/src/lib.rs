@@ -1,1 +1,20 @@
-//! The gRPC contract between luxfarm clients, the master and workers (filled by the farm issue).
+//! The gRPC contract between luxfarm clients, the master and workers, generated from
+//! `proto/luxfarm.proto` at build time (protox + tonic-prost-build, no system protoc).
+
+#![allow(clippy::all, clippy::pedantic, missing_docs)]
+
+/// Package `luxfarm.v1`: the `Jobs` and `Worker` services and their messages.
+pub mod v1 {
+    tonic::include_proto!("luxfarm.v1");
+}
+
+pub use v1::*;
+
+/// Largest gRPC message the farm sends or accepts (bytes). Bundles and films travel in chunks
+/// well below this.
+pub const MAX_MESSAGE_BYTES: usize = 16 * 1024 * 1024;
+
+/// Size of the chunks bundles, films and outputs are streamed in (bytes).
+pub const CHUNK_BYTES: usize = 1024 * 1024;
+
+pub mod connect;

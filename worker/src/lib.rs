@@ -1,2 +1,115 @@
-//! luxfarm worker: renders leased sample streams with the full render core and uploads film
-//! deltas to the master (filled by the farm issue).
+//! luxfarm worker: a slave node. It registers with the master, takes assignments (a scene
+//! bundle by content hash, a seed and its own stream id), renders the whole frame
+//! progressively with the full render core and uploads film deltas tagged (lease, sequence)
+//! every upload interval and at stop. A failed upload is retried with the same sequence
+//! number and the same bytes, while new samples keep accumulating in the session film, so a
+//! delta is never lost and never counted twice. SIGTERM uploads the last delta, then exits.
+//!
+//! - [`link`]: the connection to the master (register, heartbeats, uploads with retry).
+//! - [`cache`]: scene bundles cached by content hash.
+//! - [`job`]: rendering one lease.
+
+pub mod cache;
+pub mod job;
+pub mod link;
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// Options of a worker.
+#[derive(Clone, Debug, clap::Args)]
+pub struct Config {
+    /// URL of the master, e.g. http://127.0.0.1:7878 (https:// for TLS).
+    #[arg(long)]
+    pub master: String,
+    /// Render threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Name shown on the master (default: the host name and process id).
+    #[arg(long)]
+    pub name: Option<String>,
+    /// Bearer token of the master. Also read from LUXFARM_TOKEN.
+    #[arg(long, env = "LUXFARM_TOKEN")]
+    pub token: Option<String>,
+    /// Extra CA certificate (PEM) to trust for an https:// master.
+    #[arg(long)]
+    pub ca_cert: Option<PathBuf>,
+    /// Where scene bundles are cached (default: a directory under the system temp dir).
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Keep a copy of every acknowledged delta (lxd1 encoding) in this directory (for audits).
+    #[arg(long)]
+    pub keep_deltas: Option<PathBuf>,
+    /// Exit after this many leases (0: run forever).
+    #[arg(long, default_value_t = 0)]
+    pub max_leases: u64,
+}
+
+impl Config {
+    fn threads(&self) -> usize {
+        self.threads
+            .filter(|&n| n > 0)
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+    }
+
+    fn name(&self) -> String {
+        self.name.clone().unwrap_or_else(|| {
+            let host = std::fs::read_to_string("/etc/hostname")
+                .map(|s| s.trim().to_string())
+                .unwrap_or_else(|_| "worker".into());
+            format!("{host}-{}", std::process::id())
+        })
+    }
+}
+
+/// Runs a worker until SIGTERM / Ctrl-C (after uploading the last delta) or `max_leases`.
+pub async fn run(cfg: Config) -> anyhow::Result<()> {
+    let shutdown = Arc::new(AtomicBool::new(false));
+    spawn_signal_watch(shutdown.clone())?;
+    let threads = cfg.threads();
+    let link = link::Link::new(&cfg, threads, shutdown.clone())?;
+    let cache = cache::Cache::new(cfg.cache_dir.clone())?;
+    link.register().await?;
+    let mut leases = 0u64;
+    while !shutdown.load(Ordering::Relaxed) {
+        let assignment = match link.next_assignment().await {
+            Ok(Some(a)) => a,
+            Ok(None) => continue,
+            Err(e) => {
+                tracing::warn!(error = %e, "no assignment; retrying");
+                tokio::time::sleep(Duration::from_millis(500)).await;
+                continue;
+            }
+        };
+        let span =
+            tracing::info_span!("lease", lease = %assignment.lease_id, job = %assignment.job_id);
+        let _e = span.enter();
+        match job::run_lease(&link, &cache, &cfg, threads, assignment).await {
+            Ok(()) => {}
+            Err(e) => tracing::error!(error = %format!("{e:#}"), "lease failed"),
+        }
+        leases += 1;
+        if cfg.max_leases > 0 && leases >= cfg.max_leases {
+            break;
+        }
+    }
+    tracing::info!("worker exiting");
+    Ok(())
+}
+
+fn spawn_signal_watch(flag: Arc<AtomicBool>) -> anyhow::Result<()> {
+    use tokio::signal::unix::{signal, SignalKind};
+    let mut term = signal(SignalKind::terminate())?;
+    let mut int = signal(SignalKind::interrupt())?;
+    tokio::spawn(async move {
+        tokio::select! {
+            _ = term.recv() => {}
+            _ = int.recv() => {}
+        }
+        tracing::info!("signal received: uploading the last delta, then exiting");
+        flag.store(true, Ordering::Relaxed);
+    });
+    Ok(())
+}

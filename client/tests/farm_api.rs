@@ -1,0 +1,217 @@
+//! Farm REST API without rendering: bad bundles refused (4xx JSON, nothing written outside the
+//! data dir), the bearer token, queue order and cancel, the OpenAPI document and metrics.
+
+mod farm_common;
+
+use farm_common::*;
+use std::io::Write;
+
+fn zip_with(entries: &[(&str, &[u8])]) -> Vec<u8> {
+    let mut w = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let opts = zip::write::SimpleFileOptions::default();
+    for (name, data) in entries {
+        w.start_file(*name, opts).unwrap();
+        w.write_all(data).unwrap();
+    }
+    w.finish().unwrap().into_inner()
+}
+
+fn assert_error(status: u16, body: &serde_json::Value, want: u16, detail_has: &str) {
+    assert_eq!(status, want, "{body}");
+    assert!(body["error"].is_string(), "{body}");
+    let detail = body["detail"].as_str().unwrap_or("");
+    assert!(
+        detail.contains(detail_has),
+        "{detail:?} lacks {detail_has:?}"
+    );
+}
+
+#[test]
+fn bad_bundles_are_refused_with_json_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let s = server(&data, &["--max-upload", "200000"]);
+    let scene_dir = dir.path().join("scene");
+    std::fs::create_dir_all(&scene_dir).unwrap();
+    let scene = std::fs::read(small_scene(&scene_dir, "ok", (8, 6), "")).unwrap();
+
+    // zip slip
+    let z = zip_with(&[("ok.lxs", &scene), ("../evil.lxs", b"x")]);
+    let (st, body) = post_job(&s, z, "?filename=b.zip");
+    assert_error(st, &body, 400, "'..' refused");
+    // absolute path
+    let z = zip_with(&[("/tmp/abs.lxs", &scene)]);
+    let (st, body) = post_job(&s, z, "?filename=b.zip");
+    assert_error(st, &body, 400, "absolute path refused");
+    // symlink in a tar
+    let mut b = tar::Builder::new(Vec::new());
+    let mut h = tar::Header::new_ustar();
+    h.set_entry_type(tar::EntryType::Symlink);
+    h.set_size(0);
+    b.append_link(&mut h, "ok.lxs", "/etc/passwd").unwrap();
+    let (st, body) = post_job(&s, b.into_inner().unwrap(), "?filename=b.tar");
+    assert_error(st, &body, 400, "refused");
+    // missing include: 4xx naming file:line
+    let text = "WorldBegin\nInclude \"missing.lxo\"\nWorldEnd\n";
+    let (st, body) = post_job(&s, text.as_bytes().to_vec(), "?filename=inc.lxs");
+    assert_eq!(st, 400, "{body}");
+    let detail = body["detail"].as_str().unwrap();
+    assert!(detail.contains("inc.lxs:2"), "{detail}");
+    // oversized
+    let (st, body) = post_job(&s, vec![b'#'; 300_000], "?filename=big.lxs");
+    assert_eq!(st, 413, "{body}");
+    assert!(body["error"].is_string(), "{body}");
+    // not a scene
+    let (st, body) = post_job(&s, vec![0u8, 1, 2, 3, 255, 0], "?filename=x.bin");
+    assert_eq!(st, 415, "{body}");
+    // a zip without a scene
+    let z = zip_with(&[("readme.txt", b"hello")]);
+    let (st, body) = post_job(&s, z, "?filename=b.zip");
+    assert_error(st, &body, 400, "no .lxs");
+
+    // nothing was written outside the data dir, and no job exists
+    assert!(!dir.path().join("evil.lxs").exists());
+    assert!(!std::path::Path::new("/tmp/abs.lxs").exists());
+    let outside: Vec<_> = files_under(dir.path())
+        .into_iter()
+        .filter(|p| !p.starts_with(&data) && !p.starts_with(&scene_dir))
+        .collect();
+    assert!(outside.is_empty(), "{outside:?}");
+    let jobs = get_json(&s.api("/jobs"));
+    assert_eq!(jobs.as_array().map(Vec::len), Some(0), "{jobs}");
+    // staging directories were cleaned up
+    assert!(files_under(&data.join("tmp")).is_empty());
+}
+
+#[test]
+fn token_is_required_when_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(&dir.path().join("data"), &["--token", "s3cret"]);
+    let c = http();
+    let r = c.get(s.api("/jobs")).send().unwrap();
+    assert_eq!(r.status().as_u16(), 401);
+    let body: serde_json::Value = r.json().unwrap();
+    assert_eq!(body["error"], "unauthorized");
+    let r = c.get(s.api("/jobs")).bearer_auth("wrong").send().unwrap();
+    assert_eq!(r.status().as_u16(), 401);
+    let r = c.get(s.api("/jobs")).bearer_auth("s3cret").send().unwrap();
+    assert_eq!(r.status().as_u16(), 200);
+    let r = c.get(format!("http://{}/healthz", s.addr)).send().unwrap();
+    assert_eq!(r.status().as_u16(), 200);
+    // the CLI (gRPC) is refused without the token, accepted with it
+    let out = std::process::Command::new(exe())
+        .args(["jobs", "--master", &s.url()])
+        .env_remove("LUXFARM_TOKEN")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unauthorized"));
+    let out = std::process::Command::new(exe())
+        .args(["jobs", "--master", &s.url(), "--token", "s3cret"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn non_loopback_without_token_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(exe())
+        .args(["server", "--listen", "0.0.0.0:0", "--data-dir"])
+        .arg(dir.path())
+        .env_remove("LUXFARM_TOKEN")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--token"));
+}
+
+#[test]
+fn queue_order_and_cancel() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(&dir.path().join("data"), &[]);
+    let scene = std::fs::read(small_scene(dir.path(), "q", (8, 6), "")).unwrap();
+    let mut ids = Vec::new();
+    for (name, prio) in [("a", 0), ("b", 5), ("c", 0)] {
+        let (st, body) = post_job(
+            &s,
+            scene.clone(),
+            &format!("?filename=q.lxs&name={name}&priority={prio}&haltspp=3"),
+        );
+        assert_eq!(st, 201, "{body}");
+        assert_eq!(body["state"], "queued");
+        assert_eq!(body["haltspp"], 3.0);
+        ids.push(body["id"].as_str().unwrap().to_string());
+    }
+    let jobs = get_json(&s.api("/jobs"));
+    let names: Vec<&str> = jobs
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| j["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["b", "a", "c"]);
+    let c = http();
+    let r = c
+        .delete(s.api(&format!("/jobs/{}", ids[0])))
+        .send()
+        .unwrap();
+    assert_eq!(r.status().as_u16(), 200);
+    let v: serde_json::Value = r.json().unwrap();
+    assert_eq!(v["state"], "cancelled");
+    let r = c
+        .delete(s.api(&format!("/jobs/{}", ids[0])))
+        .send()
+        .unwrap();
+    assert_eq!(r.status().as_u16(), 409);
+    let r = c.get(s.api("/jobs/nope")).send().unwrap();
+    assert_eq!(r.status().as_u16(), 404);
+    let v: serde_json::Value = r.json().unwrap();
+    assert_eq!(v["error"], "not_found");
+    // the preview of a job without samples is "not ready", as JSON
+    let r = c
+        .get(s.api(&format!("/jobs/{}/preview.png", ids[1])))
+        .send()
+        .unwrap();
+    assert_eq!(r.status().as_u16(), 503);
+}
+
+#[test]
+fn multipart_submission_and_documents() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(&dir.path().join("data"), &[]);
+    let scene = std::fs::read(small_scene(dir.path(), "m", (8, 6), "")).unwrap();
+    let form = reqwest::blocking::multipart::Form::new()
+        .part(
+            "file",
+            reqwest::blocking::multipart::Part::bytes(scene).file_name("m.lxs"),
+        )
+        .text("halttime", "7")
+        .text("priority", "2");
+    let r = http().post(s.api("/jobs")).multipart(form).send().unwrap();
+    assert_eq!(r.status().as_u16(), 201);
+    let v: serde_json::Value = r.json().unwrap();
+    assert_eq!(v["halttime"], 7.0);
+    assert_eq!(v["priority"], 2);
+    assert_eq!(v["name"], "m");
+    let doc = get_json(&s.api("/openapi.json"));
+    assert!(
+        doc["paths"]["/api/v1/jobs/{id}/preview.png"].is_object(),
+        "{doc}"
+    );
+    assert!(doc["paths"]["/api/v1/jobs"]["post"].is_object());
+    let metrics = http()
+        .get(format!("http://{}/metrics", s.addr))
+        .send()
+        .unwrap()
+        .text()
+        .unwrap();
+    assert!(
+        metrics.contains("luxfarm_jobs{state=\"queued\"} 1"),
+        "{metrics}"
+    );
+}

@@ -1,0 +1,208 @@
+//! Helpers of the farm end-to-end tests: real `luxfarm server` / `luxfarm worker` processes on
+//! loopback (killed when dropped), small scenes, and a REST client. Everything waits with a
+//! bound so a broken build fails instead of hanging.
+
+#![allow(dead_code)]
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// The shared material (`../shared` beside the repository, else /work/shared).
+pub fn shared() -> PathBuf {
+    let beside = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared"));
+    if beside.exists() {
+        return beside.to_path_buf();
+    }
+    PathBuf::from("/work/shared")
+}
+
+/// The luxfarm binary under test.
+pub fn exe() -> &'static str {
+    env!("CARGO_BIN_EXE_luxfarm")
+}
+
+/// A child process killed (SIGKILL) and reaped on drop.
+pub struct Proc(pub Child);
+
+impl Drop for Proc {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+impl Proc {
+    /// Sends SIGTERM.
+    pub fn term(&self) {
+        if let Ok(pid) = i32::try_from(self.0.id()) {
+            // SAFETY: signalling our own child process.
+            unsafe {
+                libc::kill(pid, libc::SIGTERM);
+            }
+        }
+    }
+
+    /// Waits for the process to exit, at most `secs`.
+    pub fn wait_exit(&mut self, secs: u64) -> Option<std::process::ExitStatus> {
+        let end = Instant::now() + Duration::from_secs(secs);
+        while Instant::now() < end {
+            if let Ok(Some(s)) = self.0.try_wait() {
+                return Some(s);
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        None
+    }
+}
+
+/// A running master.
+pub struct Server {
+    pub proc: Proc,
+    pub addr: String,
+    pub data: PathBuf,
+}
+
+impl Server {
+    pub fn url(&self) -> String {
+        format!("http://{}", self.addr)
+    }
+    pub fn api(&self, path: &str) -> String {
+        format!("http://{}/api/v1{path}", self.addr)
+    }
+}
+
+/// Starts `luxfarm server` on a free loopback port with `data` as data dir.
+pub fn server(data: &Path, extra: &[&str]) -> Server {
+    server_on(data, "127.0.0.1:0", extra)
+}
+
+/// Starts `luxfarm server` on `listen`.
+pub fn server_on(data: &Path, listen: &str, extra: &[&str]) -> Server {
+    let mut child = Command::new(exe())
+        .args(["server", "--listen", listen, "--data-dir"])
+        .arg(data)
+        .args(extra)
+        .env_remove("LUXFARM_TOKEN")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .expect("spawn server");
+    let stdout = child.stdout.take().expect("stdout");
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+            if let Some(a) = line.strip_prefix("listening on ") {
+                let _ = tx.send(a.trim().to_string());
+            }
+        }
+    });
+    let proc = Proc(child);
+    let addr = rx
+        .recv_timeout(Duration::from_secs(60))
+        .expect("server did not report its address");
+    Server {
+        proc,
+        addr,
+        data: data.to_path_buf(),
+    }
+}
+
+/// Starts `luxfarm worker` for a master.
+pub fn worker(url: &str, threads: usize, extra: &[&str]) -> Proc {
+    let child = Command::new(exe())
+        .args(["worker", "--master", url, "--threads", &threads.to_string()])
+        .args(extra)
+        .env_remove("LUXFARM_TOKEN")
+        .stdout(Stdio::null())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .expect("spawn worker");
+    Proc(child)
+}
+
+/// A small scene (camera, area light, two quads) at `dir/name.lxs`.
+pub fn small_scene(dir: &Path, name: &str, res: (u32, u32), film_extra: &str) -> PathBuf {
+    let text = format!(
+        r#"LookAt 0 -3 1 0 0 1 0 0 1
+Camera "perspective" "float fov" [45]
+Film "fleximage" "integer xresolution" [{}] "integer yresolution" [{}] {film_extra}
+PixelFilter "box"
+Sampler "random" "integer pixelsamples" [1]
+SurfaceIntegrator "path" "integer maxdepth" [3]
+WorldBegin
+AttributeBegin
+  AreaLightSource "area" "color L" [4 4 4]
+  Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-0.5 -0.5 1.99 0.5 -0.5 1.99 0.5 0.5 1.99 -0.5 0.5 1.99]
+AttributeEnd
+Material "matte" "color Kd" [0.7 0.7 0.7]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-1 -1 0 1 -1 0 1 1 0 -1 1 0]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-1 1 0 1 1 0 1 1 2 -1 1 2]
+WorldEnd
+"#,
+        res.0, res.1
+    );
+    let path = dir.join(format!("{name}.lxs"));
+    std::fs::write(&path, text).expect("write scene");
+    path
+}
+
+/// A blocking REST client.
+pub fn http() -> reqwest::blocking::Client {
+    reqwest::blocking::Client::builder()
+        .timeout(Duration::from_secs(60))
+        .build()
+        .expect("client")
+}
+
+/// POSTs bytes as a job; returns (status, JSON body).
+pub fn post_job(s: &Server, bytes: Vec<u8>, query: &str) -> (u16, serde_json::Value) {
+    let r = http()
+        .post(format!("{}{query}", s.api("/jobs")))
+        .body(bytes)
+        .send()
+        .expect("POST /jobs");
+    let status = r.status().as_u16();
+    (status, r.json().unwrap_or(serde_json::Value::Null))
+}
+
+/// GETs JSON.
+pub fn get_json(url: &str) -> serde_json::Value {
+    http().get(url).send().expect("GET").json().expect("JSON")
+}
+
+/// Polls a job until `pred` holds or `secs` pass; returns the last view.
+pub fn wait_job(
+    s: &Server,
+    id: &str,
+    secs: u64,
+    pred: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
+    let end = Instant::now() + Duration::from_secs(secs);
+    loop {
+        let v = get_json(&s.api(&format!("/jobs/{id}")));
+        if pred(&v) || Instant::now() > end {
+            return v;
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+}
+
+/// Every file under `dir` (recursively).
+pub fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return out;
+    };
+    for e in rd.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            out.extend(files_under(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out
+}

@@ -1,0 +1,192 @@
+//! The worker protocol against a real master, driven by a protocol client in the test (no
+//! rendering): a replayed (lease, seq) upload is ignored, an upload of the wrong resolution is
+//! refused and leaves the job untouched, halting on haltspp tells the lease to stop, and the
+//! merged film equals the sum of the acknowledged deltas.
+
+mod farm_common;
+
+use farm_common::*;
+use luxfarm::film::Film;
+use luxfarm_proto as pb;
+use luxfarm_proto::connect;
+use luxfarm_server::codec;
+
+fn rt() -> tokio::runtime::Runtime {
+    tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .unwrap()
+}
+
+async fn upload(
+    c: &mut pb::worker_client::WorkerClient<connect::AuthChannel>,
+    worker: &str,
+    lease: &str,
+    seq: u64,
+    film: &Film,
+) -> Result<pb::UploadAck, tonic::Status> {
+    let chunks = vec![
+        pb::UploadChunk {
+            part: Some(pb::upload_chunk::Part::Header(pb::UploadHeader {
+                worker_id: worker.into(),
+                lease_id: lease.into(),
+                seq,
+                encoding: "lxd1".into(),
+                last: false,
+            })),
+        },
+        pb::UploadChunk {
+            part: Some(pb::upload_chunk::Part::Data(codec::encode(film))),
+        },
+    ];
+    c.upload_delta(tokio_stream::iter(chunks))
+        .await
+        .map(|r| r.into_inner())
+}
+
+fn delta(w: u32, h: u32, value: f32, spp: f64) -> Film {
+    let mut f = Film::new(w, h, vec!["default".into()]);
+    for y in 0..h {
+        for x in 0..w {
+            f.add_splat(0, x, y, [value, value * 2.0, value * 0.5], 1.0, 1.0);
+        }
+    }
+    f.add_sample_count(spp * (w * h) as f64);
+    f
+}
+
+#[test]
+fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(&dir.path().join("data"), &[]);
+    let scene = std::fs::read(small_scene(dir.path(), "p", (8, 6), "")).unwrap();
+    let (st, job) = post_job(&s, scene, "?filename=p.lxs&haltspp=3");
+    assert_eq!(st, 201, "{job}");
+    let id = job["id"].as_str().unwrap().to_string();
+    let url = s.url();
+    rt().block_on(async move {
+        let ch = connect::channel(&url, None, None).unwrap();
+        let mut c = connect::worker_client(ch);
+        let reg = c
+            .register(pb::RegisterRequest {
+                name: "t".into(),
+                threads: 1,
+                worker_id: String::new(),
+            })
+            .await
+            .unwrap()
+            .into_inner();
+        let a = c
+            .next_assignment(pb::NextRequest {
+                worker_id: reg.worker_id.clone(),
+            })
+            .await
+            .unwrap()
+            .into_inner()
+            .assignment
+            .expect("an assignment");
+        assert_eq!(a.job_id, id);
+        assert_eq!((a.width, a.height), (8, 6));
+        let w = &reg.worker_id;
+        let d1 = delta(8, 6, 0.25, 1.0);
+        let ack = upload(&mut c, w, &a.lease_id, 1, &d1).await.unwrap();
+        assert_eq!(ack.status, "merged");
+        assert!(!ack.stop);
+        // the same (lease, seq) again: ignored
+        let ack = upload(&mut c, w, &a.lease_id, 1, &d1).await.unwrap();
+        assert_eq!(ack.status, "duplicate");
+        // wrong resolution: refused, job untouched
+        let err = upload(&mut c, w, &a.lease_id, 2, &delta(16, 6, 1.0, 1.0))
+            .await
+            .unwrap_err();
+        assert_eq!(err.code(), tonic::Code::InvalidArgument, "{err:?}");
+        let v = tokio::task::block_in_place(|| get_json(&format!("{}/api/v1/jobs/{id}", s.url())));
+        assert_eq!(v["samples"], 48.0, "{v}");
+        assert_eq!(v["merged_deltas"], 1);
+        assert_eq!(v["state"], "rendering");
+        // two more spp: haltspp 3 holds, the lease is told to stop
+        let d2 = delta(8, 6, 0.5, 2.0);
+        let ack = upload(&mut c, w, &a.lease_id, 2, &d2).await.unwrap();
+        assert_eq!(ack.status, "merged");
+        assert!(ack.stop, "haltspp reached: the worker must stop");
+        let hb = c
+            .heartbeat(pb::HeartbeatRequest {
+                worker_id: w.clone(),
+                lease_id: a.lease_id.clone(),
+                samples: 0.0,
+            })
+            .await
+            .unwrap()
+            .into_inner();
+        assert!(hb.stop);
+        // the last delta (empty) ends the lease; the job completes
+        let mut last = pb::UploadHeader {
+            worker_id: w.clone(),
+            lease_id: a.lease_id.clone(),
+            seq: 3,
+            encoding: "lxd1".into(),
+            last: true,
+        };
+        let empty = Film::new(8, 6, vec!["default".into()]);
+        let chunks = vec![
+            pb::UploadChunk {
+                part: Some(pb::upload_chunk::Part::Header(last.clone())),
+            },
+            pb::UploadChunk {
+                part: Some(pb::upload_chunk::Part::Data(codec::encode(&empty))),
+            },
+        ];
+        c.upload_delta(tokio_stream::iter(chunks)).await.unwrap();
+        let v = tokio::task::block_in_place(|| wait_job(&s, &id, 30, |v| v["state"] == "done"));
+        assert_eq!(v["state"], "done", "{v}");
+        assert_eq!(v["samples"], 48.0 * 3.0);
+        // after the end, a late upload is refused as a conflict
+        last.seq = 4;
+        let chunks = vec![
+            pb::UploadChunk {
+                part: Some(pb::upload_chunk::Part::Header(last)),
+            },
+            pb::UploadChunk {
+                part: Some(pb::upload_chunk::Part::Data(codec::encode(&d1))),
+            },
+        ];
+        let err = c
+            .upload_delta(tokio_stream::iter(chunks))
+            .await
+            .unwrap_err();
+        assert_eq!(err.code(), tonic::Code::FailedPrecondition);
+        // the final checkpoint is the exact sum of the merged deltas
+        let ckpt = files_under(&s.data.join("jobs").join(&id))
+            .into_iter()
+            .find(|p| p.extension().is_some_and(|e| e == "lxd"))
+            .expect("a checkpoint");
+        let merged = codec::decode(&std::fs::read(ckpt).unwrap()).unwrap();
+        let mut expect = d1.clone();
+        expect.merge(&d2).unwrap();
+        expect.merge(&empty).unwrap();
+        assert_eq!(merged, expect);
+        // outputs are served
+        tokio::task::block_in_place(|| {
+            let png = http()
+                .get(format!("{}/api/v1/jobs/{id}/image.png", s.url()))
+                .send()
+                .unwrap();
+            assert_eq!(png.status().as_u16(), 200);
+            let etag = png.headers()["etag"].to_str().unwrap().to_string();
+            assert!(png.bytes().unwrap().starts_with(b"\x89PNG"));
+            let again = http()
+                .get(format!("{}/api/v1/jobs/{id}/image.png", s.url()))
+                .header("if-none-match", etag)
+                .send()
+                .unwrap();
+            assert_eq!(again.status().as_u16(), 304);
+            let flm = http()
+                .get(format!("{}/api/v1/jobs/{id}/film.flm", s.url()))
+                .send()
+                .unwrap();
+            assert_eq!(flm.status().as_u16(), 200);
+            let (film, _) = luxfarm::film::flm::read_flm(&flm.bytes().unwrap()[..]).unwrap();
+            assert_eq!(film.total_samples(), 48.0 * 3.0);
+        });
+    });
+}

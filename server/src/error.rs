@@ -1,0 +1,121 @@
+//! The master's error type, and its mapping to HTTP (JSON `{"error","detail"}`) and gRPC status.
+
+use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
+
+/// Everything that can go wrong in the master. Each variant knows its HTTP status and gRPC code.
+#[derive(Debug, thiserror::Error)]
+pub enum ServerError {
+    /// The request is malformed or its content is refused (bad bundle, bad scene, bad override).
+    #[error("{0}")]
+    BadRequest(String),
+    /// The upload is larger than the configured limit.
+    #[error("{0}")]
+    TooLarge(String),
+    /// The upload is not a format the master accepts.
+    #[error("{0}")]
+    Unsupported(String),
+    /// No such job, worker, lease or output.
+    #[error("{0}")]
+    NotFound(String),
+    /// The request conflicts with the current state (e.g. cancelling a finished job).
+    #[error("{0}")]
+    Conflict(String),
+    /// Missing or wrong bearer token.
+    #[error("missing or invalid bearer token")]
+    Unauthorized,
+    /// The output does not exist yet (no samples merged).
+    #[error("{0}")]
+    NotReady(String),
+    #[error("database: {0}")]
+    Db(#[from] rusqlite::Error),
+    #[error("i/o: {0}")]
+    Io(#[from] std::io::Error),
+    #[error("{0}")]
+    Internal(String),
+}
+
+/// Result alias of the master.
+pub type Result<T, E = ServerError> = std::result::Result<T, E>;
+
+impl ServerError {
+    /// The HTTP status for this error.
+    pub fn status(&self) -> StatusCode {
+        match self {
+            ServerError::BadRequest(_) => StatusCode::BAD_REQUEST,
+            ServerError::TooLarge(_) => StatusCode::PAYLOAD_TOO_LARGE,
+            ServerError::Unsupported(_) => StatusCode::UNSUPPORTED_MEDIA_TYPE,
+            ServerError::NotFound(_) => StatusCode::NOT_FOUND,
+            ServerError::Conflict(_) => StatusCode::CONFLICT,
+            ServerError::Unauthorized => StatusCode::UNAUTHORIZED,
+            ServerError::NotReady(_) => StatusCode::SERVICE_UNAVAILABLE,
+            ServerError::Db(_) | ServerError::Io(_) | ServerError::Internal(_) => {
+                StatusCode::INTERNAL_SERVER_ERROR
+            }
+        }
+    }
+
+    /// A short machine-readable name of the error kind (the `error` field of the JSON body).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ServerError::BadRequest(_) => "bad_request",
+            ServerError::TooLarge(_) => "payload_too_large",
+            ServerError::Unsupported(_) => "unsupported_media_type",
+            ServerError::NotFound(_) => "not_found",
+            ServerError::Conflict(_) => "conflict",
+            ServerError::Unauthorized => "unauthorized",
+            ServerError::NotReady(_) => "not_ready",
+            ServerError::Db(_) | ServerError::Io(_) | ServerError::Internal(_) => "internal",
+        }
+    }
+
+    /// Shorthand for an internal error from anything displayable.
+    pub fn internal(e: impl std::fmt::Display) -> ServerError {
+        ServerError::Internal(e.to_string())
+    }
+}
+
+/// The JSON body of every REST error.
+#[derive(serde::Serialize, utoipa::ToSchema)]
+pub struct ErrorBody {
+    /// Error kind, e.g. `bad_request`, `not_found`, `unauthorized`.
+    pub error: String,
+    /// Human-readable detail (for scene errors: file:line:column: message).
+    pub detail: String,
+}
+
+/// JSON error response with the given status (used by middleware too).
+pub fn json_error(status: StatusCode, error: &str, detail: String) -> Response {
+    let body = ErrorBody {
+        error: error.to_string(),
+        detail,
+    };
+    (status, axum::Json(body)).into_response()
+}
+
+impl IntoResponse for ServerError {
+    fn into_response(self) -> Response {
+        let status = self.status();
+        if status.is_server_error() {
+            tracing::error!(error = %self, "request failed");
+        }
+        json_error(status, self.kind(), self.to_string())
+    }
+}
+
+impl From<ServerError> for tonic::Status {
+    fn from(e: ServerError) -> tonic::Status {
+        use tonic::Code;
+        let code = match &e {
+            ServerError::BadRequest(_) => Code::InvalidArgument,
+            ServerError::TooLarge(_) => Code::ResourceExhausted,
+            ServerError::Unsupported(_) => Code::InvalidArgument,
+            ServerError::NotFound(_) => Code::NotFound,
+            ServerError::Conflict(_) => Code::FailedPrecondition,
+            ServerError::Unauthorized => Code::Unauthenticated,
+            ServerError::NotReady(_) => Code::Unavailable,
+            ServerError::Db(_) | ServerError::Io(_) | ServerError::Internal(_) => Code::Internal,
+        };
+        tonic::Status::new(code, e.to_string())
+    }
+}

@@ -1,0 +1,325 @@
+//! The master's shared state: the store, the jobs being rendered (their merged films) and the
+//! workers, plus job submission, queries and cancellation. Leases and uploads are in
+//! [`crate::lease`], halting and checkpoints in [`crate::halt`].
+
+use crate::bundle::{self, Limits};
+use crate::config::Config;
+use crate::db::{Db, JobRow, JobState, NewJob};
+use crate::error::{Result, ServerError};
+use crate::metrics::Metrics;
+use crate::scene::Film;
+use crate::scene::{self, SceneInfo};
+use std::collections::{HashMap, VecDeque};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::{Instant, SystemTime, UNIX_EPOCH};
+
+/// Milliseconds since the Unix epoch.
+pub fn now_ms() -> i64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map(|d| d.as_millis() as i64)
+        .unwrap_or(0)
+}
+
+/// A fresh random-looking id with a prefix (time, counter and process id hashed).
+pub fn new_id(prefix: &str) -> String {
+    use sha2::{Digest, Sha256};
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let nanos = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map(|d| d.as_nanos())
+        .unwrap_or(0);
+    let mut h = Sha256::new();
+    h.update(nanos.to_le_bytes());
+    h.update(n.to_le_bytes());
+    h.update(std::process::id().to_le_bytes());
+    format!("{prefix}{}", &bundle::hex(&h.finalize())[..16])
+}
+
+/// Locks a std mutex, recovering from poisoning (a panicked holder leaves consistent data
+/// here: every critical section is a plain update).
+pub fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+/// Submission options (halt overrides, seed, priority, scene choice).
+#[derive(Clone, Debug, Default)]
+pub struct SubmitOptions {
+    /// Job name (default: the scene's file stem).
+    pub name: Option<String>,
+    pub haltspp: Option<f64>,
+    pub halttime: Option<f64>,
+    pub haltthreshold: Option<f64>,
+    pub seed: Option<u64>,
+    pub priority: Option<i32>,
+    /// Path of the .lxs inside a bundle holding several.
+    pub scene: Option<String>,
+}
+
+/// One lease of a rendering job, as the master tracks it in memory.
+#[derive(Clone, Debug)]
+pub struct LeaseRt {
+    pub worker_id: String,
+    pub stream: u64,
+    /// The worker was told (or will be told) to stop.
+    pub stop: bool,
+    /// The lease ended: its last delta arrived, it was lost, or the job ended.
+    pub ended: bool,
+    /// Samples merged from this lease.
+    pub samples: f64,
+}
+
+/// A job being rendered: its merged film and leases.
+pub struct JobRt {
+    pub id: String,
+    pub info: SceneInfo,
+    pub film: Mutex<Film>,
+    /// Bumped on every merge (ETag of previews, checkpoint trigger).
+    pub version: AtomicU64,
+    /// Set when the job ends: no merge is accepted after the final checkpoint.
+    pub closed: std::sync::atomic::AtomicBool,
+    pub leases: Mutex<HashMap<String, LeaseRt>>,
+    pub state: Mutex<RunState>,
+}
+
+/// Mutable bookkeeping of a rendering job.
+pub struct RunState {
+    /// Set when a halt rule held or the job was cancelled: the final state and reason, and
+    /// when the halt began (the last deltas are awaited until a deadline).
+    pub halting: Option<(JobState, String, Instant)>,
+    pub checkpoint_version: u64,
+    pub last_checkpoint: Instant,
+    /// (time, merged samples) over the last minute, for samples per second.
+    pub history: VecDeque<(Instant, f64)>,
+    /// Spp at the last convergence test, the test's state and its last result.
+    pub convergence: crate::scene::Convergence,
+    /// First lease time (job clock for halttime).
+    pub first_lease_ms: Option<i64>,
+}
+
+/// A worker as the master knows it.
+#[derive(Clone, Debug)]
+pub struct WorkerRt {
+    pub id: String,
+    pub name: String,
+    pub threads: u32,
+    pub last_seen: Instant,
+    pub last_seen_ms: i64,
+    pub lease: Option<(String, String)>,
+    pub lost: bool,
+    pub samples: f64,
+}
+
+/// The master.
+pub struct Farm {
+    pub cfg: Config,
+    pub db: Mutex<Db>,
+    pub jobs: Mutex<HashMap<String, Arc<JobRt>>>,
+    pub workers: Mutex<HashMap<String, WorkerRt>>,
+    pub metrics: Metrics,
+    /// Bumped whenever a job changes (watchers wake up).
+    pub changed: tokio::sync::watch::Sender<u64>,
+    /// Wakes workers waiting for an assignment.
+    pub work_available: tokio::sync::Notify,
+}
+
+impl Farm {
+    /// Opens the data directory and store, and prepares unfinished jobs for resumption.
+    pub fn open(cfg: Config) -> Result<Arc<Farm>> {
+        for sub in ["bundles", "scenes", "jobs", "tmp"] {
+            std::fs::create_dir_all(cfg.data_dir.join(sub))?;
+        }
+        clear_dir(&cfg.data_dir.join("tmp"))?;
+        let db = Db::open(&cfg.data_dir.join("farm.sqlite"))?;
+        let now = now_ms();
+        for lease in db.open_leases()? {
+            db.end_lease(&lease.id, "master restart", now)?;
+        }
+        for job in db.jobs()? {
+            if job.state == JobState::Rendering {
+                let dropped = db.drop_uncheckpointed(&job.id)?;
+                tracing::info!(job = %job.id, dropped, "resuming job from its checkpoint");
+            }
+        }
+        let (changed, _) = tokio::sync::watch::channel(0);
+        Ok(Arc::new(Farm {
+            cfg,
+            db: Mutex::new(db),
+            jobs: Mutex::new(HashMap::new()),
+            workers: Mutex::new(HashMap::new()),
+            metrics: Metrics::default(),
+            changed,
+            work_available: tokio::sync::Notify::new(),
+        }))
+    }
+
+    /// Tells watchers that something changed.
+    pub fn touch(&self) {
+        self.changed.send_modify(|v| *v += 1);
+    }
+
+    /// Directory of a job's checkpoints and outputs.
+    pub fn job_dir(&self, id: &str) -> PathBuf {
+        self.cfg.data_dir.join("jobs").join(id)
+    }
+
+    /// Directory a bundle is unpacked in.
+    pub fn scene_dir(&self, hash: &str) -> PathBuf {
+        self.cfg.data_dir.join("scenes").join(hash)
+    }
+
+    /// The stored bundle (canonical tar) of a hash.
+    pub fn bundle_path(&self, hash: &str) -> PathBuf {
+        self.cfg
+            .data_dir
+            .join("bundles")
+            .join(format!("{hash}.tar"))
+    }
+
+    /// One job row, or NotFound.
+    pub fn job_row(&self, id: &str) -> Result<JobRow> {
+        lock(&self.db)
+            .job(id)?
+            .ok_or_else(|| ServerError::NotFound(format!("no job {id:?}")))
+    }
+
+    /// Accepts an upload (raw .lxs, .zip or .tar): unpacks it safely, checks the scene parses
+    /// within its own directory, stores it content-addressed and queues a job.
+    pub fn submit(&self, bytes: &[u8], file_name: &str, opts: &SubmitOptions) -> Result<JobRow> {
+        if bytes.len() as u64 > self.cfg.max_upload {
+            return Err(ServerError::TooLarge(format!(
+                "upload of {} bytes exceeds the limit of {}",
+                bytes.len(),
+                self.cfg.max_upload
+            )));
+        }
+        check_overrides(opts)?;
+        let staging = self.cfg.data_dir.join("tmp").join(new_id("s"));
+        std::fs::create_dir_all(&staging)?;
+        let result = self.submit_staged(bytes, file_name, opts, &staging);
+        if staging.exists() {
+            let _ = std::fs::remove_dir_all(&staging);
+        }
+        result
+    }
+
+    fn submit_staged(
+        &self,
+        bytes: &[u8],
+        file_name: &str,
+        opts: &SubmitOptions,
+        staging: &Path,
+    ) -> Result<JobRow> {
+        let limits = Limits {
+            max_unpacked: self.cfg.max_unpacked,
+            ..Limits::default()
+        };
+        let unpacked = staging.join("b");
+        std::fs::create_dir_all(&unpacked)?;
+        let files = bundle::unpack(bytes, file_name, &unpacked, limits)?;
+        let scene_rel = bundle::pick_scene(&files, opts.scene.as_deref().unwrap_or(""))?;
+        let info = scene::inspect(&unpacked, &scene_rel)?;
+        if opts.haltthreshold.or(info.haltthreshold).is_some() && !scene::CONVERGENCE_AVAILABLE {
+            return Err(ServerError::BadRequest(
+                "haltthreshold is not supported yet (the convergence test is not built)".into(),
+            ));
+        }
+        let tar_tmp = staging.join("bundle.tar");
+        let hash = bundle::write_canonical_tar(&unpacked, &files, &tar_tmp)?;
+        let bundle_path = self.bundle_path(&hash);
+        if !bundle_path.exists() {
+            std::fs::rename(&tar_tmp, &bundle_path)?;
+        }
+        let scene_dir = self.scene_dir(&hash);
+        if !scene_dir.exists() {
+            std::fs::rename(&unpacked, &scene_dir)?;
+        }
+        let id = new_id("j");
+        let stem = scene_rel
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("scene")
+            .to_string();
+        let name = opts.name.clone().filter(|n| !n.is_empty()).unwrap_or(stem);
+        let seed = opts.seed.unwrap_or_else(|| now_ms() as u64);
+        let scene_path = scene_rel.to_string_lossy().replace('\\', "/");
+        lock(&self.db).insert_job(&NewJob {
+            id: &id,
+            name: &name,
+            priority: opts.priority.unwrap_or(0),
+            bundle_hash: &hash,
+            scene_path: &scene_path,
+            seed: seed & (i64::MAX as u64),
+            haltspp: opts.haltspp.or(info.haltspp),
+            halttime: opts.halttime.or(info.halttime),
+            haltthreshold: opts.haltthreshold.or(info.haltthreshold),
+            width: info.width,
+            height: info.height,
+            submitted_ms: now_ms(),
+        })?;
+        tracing::info!(job = %id, %name, bundle = %hash, "job queued");
+        self.metrics.jobs_submitted.fetch_add(1, Ordering::Relaxed);
+        self.touch();
+        self.work_available.notify_waiters();
+        self.job_row(&id)
+    }
+
+    /// Cancels a queued or rendering job. Workers on it are told to stop; what was merged is
+    /// kept (film.flm stays downloadable).
+    pub fn cancel(&self, id: &str) -> Result<JobRow> {
+        let row = self.job_row(id)?;
+        if row.state.is_final() {
+            return Err(ServerError::Conflict(format!(
+                "job {id} is already {}",
+                row.state.as_str()
+            )));
+        }
+        let rt = lock(&self.jobs).get(id).cloned();
+        match rt {
+            Some(rt) => crate::halt::finish(self, &rt, JobState::Cancelled, "cancelled by user")?,
+            None => lock(&self.db).set_job_state(
+                id,
+                JobState::Cancelled,
+                "cancelled by user",
+                now_ms(),
+            )?,
+        }
+        tracing::info!(job = %id, "job cancelled");
+        self.touch();
+        self.job_row(id)
+    }
+}
+
+/// Refuses nonsensical overrides.
+fn check_overrides(o: &SubmitOptions) -> Result<()> {
+    let bad = |what: &str| ServerError::BadRequest(format!("{what} must be a positive number"));
+    if o.haltspp.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
+        return Err(bad("haltspp"));
+    }
+    if o.halttime.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
+        return Err(bad("halttime"));
+    }
+    if o.haltthreshold
+        .is_some_and(|v| !(v.is_finite() && v > 0.0 && v < 1.0))
+    {
+        return Err(ServerError::BadRequest(
+            "haltthreshold must be in (0, 1)".into(),
+        ));
+    }
+    Ok(())
+}
+
+fn clear_dir(dir: &Path) -> Result<()> {
+    for entry in std::fs::read_dir(dir)? {
+        let path = entry?.path();
+        if path.is_dir() {
+            std::fs::remove_dir_all(&path)?;
+        } else {
+            std::fs::remove_file(&path)?;
+        }
+    }
+    Ok(())
+}

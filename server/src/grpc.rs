@@ -1,0 +1,271 @@
+//! The gRPC services (`luxfarm.v1.Jobs` for clients, `luxfarm.v1.Worker` for workers) over the
+//! shared [`Farm`].
+
+use crate::error::ServerError;
+use crate::farm::{Farm, SubmitOptions};
+use crate::views;
+use luxfarm_proto as pb;
+use std::pin::Pin;
+use std::sync::Arc;
+use std::time::Duration;
+use tokio_stream::{Stream, StreamExt};
+use tonic::{Request, Response, Status, Streaming};
+
+type BoxStream<T> = Pin<Box<dyn Stream<Item = Result<T, Status>> + Send>>;
+
+/// Runs blocking work (file I/O, film decoding and merging) off the async threads.
+async fn blocking<T: Send + 'static>(
+    f: impl FnOnce() -> Result<T, ServerError> + Send + 'static,
+) -> Result<T, Status> {
+    tokio::task::spawn_blocking(f)
+        .await
+        .map_err(|e| Status::internal(e.to_string()))?
+        .map_err(Status::from)
+}
+
+/// Splits bytes into a stream of chunks.
+fn chunk_stream(bytes: Vec<u8>) -> BoxStream<pb::DataChunk> {
+    let chunks: Vec<Result<pb::DataChunk, Status>> = bytes
+        .chunks(pb::CHUNK_BYTES)
+        .map(|c| Ok(pb::DataChunk { data: c.to_vec() }))
+        .collect();
+    Box::pin(tokio_stream::iter(chunks))
+}
+
+/// The client-facing service.
+pub struct JobsService(pub Arc<Farm>);
+
+#[tonic::async_trait]
+impl pb::jobs_server::Jobs for JobsService {
+    async fn submit(
+        &self,
+        req: Request<Streaming<pb::SubmitChunk>>,
+    ) -> Result<Response<pb::JobInfo>, Status> {
+        let mut stream = req.into_inner();
+        let mut header = None;
+        let mut data = Vec::new();
+        let limit = self.0.cfg.max_upload;
+        while let Some(chunk) = stream.next().await {
+            match chunk?.part {
+                Some(pb::submit_chunk::Part::Header(h)) => header = Some(h),
+                Some(pb::submit_chunk::Part::Data(d)) => {
+                    if (data.len() + d.len()) as u64 > limit {
+                        return Err(ServerError::TooLarge(format!(
+                            "upload exceeds the limit of {limit} bytes"
+                        ))
+                        .into());
+                    }
+                    data.extend_from_slice(&d);
+                }
+                None => {}
+            }
+        }
+        let h = header.ok_or_else(|| Status::invalid_argument("missing submit header"))?;
+        let opts = SubmitOptions {
+            name: Some(h.name),
+            haltspp: h.haltspp,
+            halttime: h.halttime,
+            haltthreshold: h.haltthreshold,
+            seed: h.seed,
+            priority: h.priority,
+            scene: Some(h.scene),
+        };
+        let farm = self.0.clone();
+        let view = blocking(move || {
+            let row = farm.submit(&data, &h.file_name, &opts)?;
+            views::job_view(&farm, &row)
+        })
+        .await?;
+        Ok(Response::new(view.into()))
+    }
+
+    async fn list_jobs(
+        &self,
+        _: Request<pb::ListJobsRequest>,
+    ) -> Result<Response<pb::ListJobsReply>, Status> {
+        let jobs = views::job_views(&self.0)?;
+        Ok(Response::new(pb::ListJobsReply {
+            jobs: jobs.into_iter().map(Into::into).collect(),
+        }))
+    }
+
+    async fn get_job(&self, req: Request<pb::JobRef>) -> Result<Response<pb::JobInfo>, Status> {
+        let row = self.0.job_row(&req.into_inner().id)?;
+        Ok(Response::new(views::job_view(&self.0, &row)?.into()))
+    }
+
+    async fn cancel_job(&self, req: Request<pb::JobRef>) -> Result<Response<pb::JobInfo>, Status> {
+        let farm = self.0.clone();
+        let id = req.into_inner().id;
+        let view = blocking(move || {
+            let row = farm.cancel(&id)?;
+            views::job_view(&farm, &row)
+        })
+        .await?;
+        Ok(Response::new(view.into()))
+    }
+
+    type WatchStream = BoxStream<pb::JobInfo>;
+
+    async fn watch(&self, req: Request<pb::JobRef>) -> Result<Response<Self::WatchStream>, Status> {
+        let id = req.into_inner().id;
+        self.0.job_row(&id)?;
+        let farm = self.0.clone();
+        let (tx, rx) = tokio::sync::mpsc::channel(4);
+        tokio::spawn(async move {
+            let mut changed = farm.changed.subscribe();
+            loop {
+                let view = farm
+                    .job_row(&id)
+                    .and_then(|row| views::job_view(&farm, &row))
+                    .map_err(Status::from);
+                let done = view.as_ref().map_or(true, |v| v.state.is_final());
+                if tx.send(view.map(Into::into)).await.is_err() || done {
+                    break;
+                }
+                let _ = tokio::time::timeout(Duration::from_secs(1), changed.changed()).await;
+                tokio::time::sleep(Duration::from_millis(200)).await;
+            }
+        });
+        Ok(Response::new(Box::pin(
+            tokio_stream::wrappers::ReceiverStream::new(rx),
+        )))
+    }
+
+    type FetchStream = BoxStream<pb::DataChunk>;
+
+    async fn fetch(
+        &self,
+        req: Request<pb::FetchRequest>,
+    ) -> Result<Response<Self::FetchStream>, Status> {
+        let r = req.into_inner();
+        let farm = self.0.clone();
+        let bytes = blocking(move || crate::output::render(&farm, &r.id, &r.format, None)).await?;
+        Ok(Response::new(chunk_stream(bytes.bytes)))
+    }
+
+    async fn list_workers(
+        &self,
+        _: Request<pb::ListWorkersRequest>,
+    ) -> Result<Response<pb::ListWorkersReply>, Status> {
+        Ok(Response::new(pb::ListWorkersReply {
+            workers: views::worker_views(&self.0)
+                .into_iter()
+                .map(Into::into)
+                .collect(),
+        }))
+    }
+}
+
+/// The worker-facing service.
+pub struct WorkerService(pub Arc<Farm>);
+
+#[tonic::async_trait]
+impl pb::worker_server::Worker for WorkerService {
+    async fn register(
+        &self,
+        req: Request<pb::RegisterRequest>,
+    ) -> Result<Response<pb::RegisterReply>, Status> {
+        let r = req.into_inner();
+        let id = self.0.register(&r.name, r.threads, &r.worker_id)?;
+        Ok(Response::new(pb::RegisterReply {
+            worker_id: id,
+            heartbeat_interval: (self.0.cfg.worker_timeout / 6.0).clamp(0.2, 5.0),
+        }))
+    }
+
+    async fn next_assignment(
+        &self,
+        req: Request<pb::NextRequest>,
+    ) -> Result<Response<pb::NextReply>, Status> {
+        let worker = req.into_inner().worker_id;
+        let deadline = tokio::time::Instant::now() + Duration::from_secs(5);
+        loop {
+            let notified = self.0.work_available.notified();
+            let farm = self.0.clone();
+            let w = worker.clone();
+            let assignment = blocking(move || farm.assign(&w)).await?;
+            if assignment.is_some() || tokio::time::Instant::now() >= deadline {
+                return Ok(Response::new(pb::NextReply { assignment }));
+            }
+            let _ = tokio::time::timeout_at(deadline, notified).await;
+        }
+    }
+
+    type FetchBundleStream = BoxStream<pb::DataChunk>;
+
+    async fn fetch_bundle(
+        &self,
+        req: Request<pb::BundleRequest>,
+    ) -> Result<Response<Self::FetchBundleStream>, Status> {
+        let hash = req.into_inner().hash;
+        if !crate::bundle::is_hash(&hash) {
+            return Err(Status::invalid_argument("not a bundle hash"));
+        }
+        let path = self.0.bundle_path(&hash);
+        let bytes = tokio::fs::read(&path)
+            .await
+            .map_err(|_| Status::not_found(format!("no bundle {hash}")))?;
+        Ok(Response::new(chunk_stream(bytes)))
+    }
+
+    async fn upload_delta(
+        &self,
+        req: Request<Streaming<pb::UploadChunk>>,
+    ) -> Result<Response<pb::UploadAck>, Status> {
+        let mut stream = req.into_inner();
+        let mut header = None;
+        let mut data = Vec::new();
+        while let Some(chunk) = stream.next().await {
+            match chunk?.part {
+                Some(pb::upload_chunk::Part::Header(h)) => header = Some(h),
+                Some(pb::upload_chunk::Part::Data(d)) => {
+                    if data.len() + d.len() > (4usize << 30) {
+                        return Err(Status::resource_exhausted("delta too large"));
+                    }
+                    data.extend_from_slice(&d);
+                }
+                None => {}
+            }
+        }
+        let h = header.ok_or_else(|| Status::invalid_argument("missing upload header"))?;
+        let farm = self.0.clone();
+        let span = tracing::info_span!("upload", lease = %h.lease_id, seq = h.seq);
+        let (status, stop) = blocking(move || {
+            let _e = span.enter();
+            farm.upload(&h, &data)
+        })
+        .await?;
+        Ok(Response::new(pb::UploadAck {
+            status: match status {
+                crate::lease::UploadStatus::Merged => "merged".into(),
+                crate::lease::UploadStatus::Duplicate => "duplicate".into(),
+            },
+            stop,
+        }))
+    }
+
+    async fn heartbeat(
+        &self,
+        req: Request<pb::HeartbeatRequest>,
+    ) -> Result<Response<pb::HeartbeatReply>, Status> {
+        let r = req.into_inner();
+        let farm = self.0.clone();
+        let (stop, unknown_worker) =
+            blocking(move || Ok(farm.heartbeat(&r.worker_id, &r.lease_id))).await?;
+        Ok(Response::new(pb::HeartbeatReply {
+            stop,
+            unknown_worker,
+        }))
+    }
+
+    async fn report_failure(
+        &self,
+        req: Request<pb::FailureReport>,
+    ) -> Result<Response<pb::FailureAck>, Status> {
+        let r = req.into_inner();
+        let farm = self.0.clone();
+        blocking(move || farm.lease_failed(&r.worker_id, &r.lease_id, &r.reason)).await?;
+        Ok(Response::new(pb::FailureAck {}))
+    }
+}

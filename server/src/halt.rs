@@ -1,0 +1,239 @@
+//! Halt rules, checkpoints and the end of a job.
+//!
+//! Halt rules are evaluated on the merged film: haltspp (merged samples >= haltspp x pixels)
+//! after each merge, halttime (seconds since the first lease) on every tick, haltthreshold (the
+//! convergence test every convergencestep spp) after merges. When one holds the job enters its
+//! halting phase: every lease is told to stop and the master waits for the last deltas (at most
+//! two upload intervals plus a margin), then writes the outputs and marks the job done.
+
+use crate::db::{JobRow, JobState};
+use crate::error::Result;
+use crate::farm::{lock, now_ms, Farm, JobRt};
+use crate::scene;
+use crate::scene::Film;
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Checks the halt rules that depend on merged samples.
+pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
+    let (samples, spp) = {
+        let film = lock(&rt.film);
+        (film.total_samples(), film.spp())
+    };
+    {
+        let mut st = lock(&rt.state);
+        st.history.push_back((Instant::now(), samples));
+        while st.history.len() > 2
+            && st
+                .history
+                .front()
+                .is_some_and(|(t, _)| t.elapsed() > Duration::from_secs(60))
+        {
+            st.history.pop_front();
+        }
+    }
+    if let Some(haltspp) = row.haltspp {
+        let pixels = rt.info.pixels as f64;
+        if samples >= haltspp * pixels {
+            begin_halt(
+                farm,
+                rt,
+                format!("haltspp {haltspp} reached ({spp:.2} spp)"),
+            );
+            return Ok(());
+        }
+    }
+    if let Some(threshold) = row.haltthreshold {
+        let due = {
+            let st = lock(&rt.state);
+            spp >= st.convergence.last_spp + rt.info.convergence_step
+        };
+        if due {
+            let film = lock(&rt.film).clone();
+            let failing = {
+                let mut st = lock(&rt.state);
+                st.convergence.last_spp = spp;
+                match scene::convergence_update(&mut st.convergence, &film, &rt.info) {
+                    Ok(r) => r,
+                    Err(e) => {
+                        tracing::error!(job = %rt.id, error = %e, "convergence test failed");
+                        None
+                    }
+                }
+            };
+            if let Some(f) = failing {
+                if f <= threshold {
+                    begin_halt(
+                        farm,
+                        rt,
+                        format!("haltthreshold {threshold} reached ({f:.4} of pixels failing)"),
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Starts the halting phase (idempotent): every lease is told to stop.
+pub fn begin_halt(farm: &Farm, rt: &JobRt, reason: String) {
+    {
+        let mut st = lock(&rt.state);
+        if st.halting.is_some() {
+            return;
+        }
+        tracing::info!(job = %rt.id, %reason, "halt condition holds; stopping workers");
+        st.halting = Some((JobState::Done, reason, Instant::now()));
+    }
+    for l in lock(&rt.leases).values_mut() {
+        l.stop = true;
+    }
+    farm.touch();
+}
+
+/// Periodic work: halttime, halting deadlines, worker timeouts and checkpoints.
+pub fn tick(farm: &Farm) -> Result<()> {
+    expire_workers(farm)?;
+    let jobs: Vec<Arc<JobRt>> = lock(&farm.jobs).values().cloned().collect();
+    for rt in jobs {
+        let row = farm.job_row(&rt.id)?;
+        let first_lease = lock(&rt.state).first_lease_ms;
+        if let (Some(halttime), Some(first)) = (row.halttime, first_lease) {
+            let elapsed = (now_ms() - first) as f64 / 1000.0;
+            if elapsed >= halttime {
+                begin_halt(farm, &rt, format!("halttime {halttime} s reached"));
+            }
+        }
+        let halting = lock(&rt.state).halting.clone();
+        if let Some((state, reason, since)) = halting {
+            let all_in = lock(&rt.leases).values().all(|l| l.ended);
+            let deadline = Duration::from_secs_f64(farm.cfg.upload_interval * 2.0 + 5.0);
+            if all_in || since.elapsed() > deadline {
+                finish(farm, &rt, state, &reason)?;
+                continue;
+            }
+        }
+        let due = {
+            let st = lock(&rt.state);
+            st.last_checkpoint.elapsed().as_secs_f64() >= farm.cfg.checkpoint_interval
+                && rt.version.load(Ordering::Relaxed) != st.checkpoint_version
+        };
+        if due {
+            checkpoint(farm, &rt, &row)?;
+        }
+    }
+    Ok(())
+}
+
+/// Ends the leases of workers silent for longer than the timeout (their merged samples stay).
+fn expire_workers(farm: &Farm) -> Result<()> {
+    let timeout = Duration::from_secs_f64(farm.cfg.worker_timeout);
+    let mut lost = Vec::new();
+    for w in lock(&farm.workers).values_mut() {
+        if !w.lost && w.last_seen.elapsed() > timeout {
+            w.lost = true;
+            if let Some((job, lease)) = w.lease.take() {
+                lost.push((w.id.clone(), job, lease));
+            }
+            tracing::warn!(worker = %w.id, "worker timed out");
+        }
+    }
+    for (worker, job, lease) in lost {
+        lock(&farm.db).end_lease(&lease, "worker timeout", now_ms())?;
+        let rt = lock(&farm.jobs).get(&job).cloned();
+        if let Some(rt) = rt {
+            if let Some(l) = lock(&rt.leases).get_mut(&lease) {
+                l.ended = true;
+                l.stop = true;
+            }
+        }
+        tracing::warn!(%worker, %job, %lease, "lease lost");
+        farm.touch();
+    }
+    Ok(())
+}
+
+/// Writes the job's merged film atomically as the next checkpoint generation and commits the
+/// ledger rows it contains.
+pub fn checkpoint(farm: &Farm, rt: &JobRt, row: &JobRow) -> Result<()> {
+    let (film, version, max_rowid) = {
+        let film = lock(&rt.film);
+        let max_rowid = lock(&farm.db).ledger_max_rowid()?;
+        (film.clone(), rt.version.load(Ordering::Relaxed), max_rowid)
+    };
+    let dir = farm.job_dir(&rt.id);
+    std::fs::create_dir_all(&dir)?;
+    let generation = row.ckpt_gen + 1;
+    let path = dir.join(format!("checkpoint-{generation}.lxd"));
+    scene::write_checkpoint(&film, &path)?;
+    lock(&farm.db).commit_checkpoint(&rt.id, generation, max_rowid)?;
+    let old = dir.join(format!("checkpoint-{}.lxd", row.ckpt_gen));
+    if old.exists() {
+        let _ = std::fs::remove_file(old);
+    }
+    let mut st = lock(&rt.state);
+    st.checkpoint_version = version;
+    st.last_checkpoint = Instant::now();
+    tracing::debug!(job = %rt.id, generation, "checkpoint written");
+    Ok(())
+}
+
+/// The job's latest checkpoint film, if any.
+pub fn load_checkpoint(farm: &Farm, row: &JobRow) -> Result<Option<Film>> {
+    if row.ckpt_gen == 0 {
+        return Ok(None);
+    }
+    let path = farm
+        .job_dir(&row.id)
+        .join(format!("checkpoint-{}.lxd", row.ckpt_gen));
+    scene::read_checkpoint(&path).map(Some)
+}
+
+/// Path of the job's final (or latest) checkpoint.
+pub fn latest_checkpoint(farm: &Farm, row: &JobRow) -> Option<std::path::PathBuf> {
+    let p = farm
+        .job_dir(&row.id)
+        .join(format!("checkpoint-{}.lxd", row.ckpt_gen));
+    (row.ckpt_gen > 0 && p.exists()).then_some(p)
+}
+
+/// Ends a job: stops its leases, writes the final checkpoint (and the outputs when done), sets
+/// the final state and drops the job from memory.
+pub fn finish(farm: &Farm, rt: &Arc<JobRt>, state: JobState, reason: &str) -> Result<()> {
+    if rt.closed.swap(true, Ordering::SeqCst) {
+        return Ok(());
+    }
+    let row = farm.job_row(&rt.id)?;
+    let now = now_ms();
+    for (id, l) in lock(&rt.leases).iter_mut() {
+        l.stop = true;
+        if !l.ended {
+            l.ended = true;
+            lock(&farm.db).end_lease(id, state.as_str(), now)?;
+        }
+    }
+    checkpoint(farm, rt, &row)?;
+    if state == JobState::Done {
+        let film = lock(&rt.film).clone();
+        let dir = farm.job_dir(&rt.id).join("out");
+        if let Err(e) = scene::write_outputs(&film, &rt.info, &dir) {
+            tracing::error!(job = %rt.id, error = %e, "writing outputs failed");
+            lock(&farm.db).set_job_state(&rt.id, JobState::Failed, &e.to_string(), now)?;
+            lock(&farm.jobs).remove(&rt.id);
+            return Ok(());
+        }
+    }
+    lock(&farm.db).set_job_state(&rt.id, state, reason, now)?;
+    lock(&farm.jobs).remove(&rt.id);
+    for w in lock(&farm.workers).values_mut() {
+        if w.lease.as_ref().is_some_and(|(j, _)| *j == rt.id) {
+            w.lease = None;
+        }
+    }
+    tracing::info!(job = %rt.id, state = state.as_str(), reason, "job finished");
+    farm.metrics.jobs_finished.fetch_add(1, Ordering::Relaxed);
+    farm.touch();
+    farm.work_available.notify_waiters();
+    Ok(())
+}

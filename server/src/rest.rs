@@ -1,0 +1,356 @@
+//! The REST API under `/api/v1` (axum), with its OpenAPI document generated from the handlers
+//! (utoipa). Thin handlers over the [`Farm`]; errors are JSON `{"error","detail"}`.
+
+use crate::error::{ErrorBody, Result, ServerError};
+use crate::farm::{Farm, SubmitOptions};
+use crate::views::{self, JobView, WorkerView};
+use axum::body::Bytes;
+use axum::extract::rejection::QueryRejection;
+use axum::extract::{FromRequest, Multipart, Path, Query, Request, State};
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use axum::{Json, Router};
+use std::sync::Arc;
+use utoipa::OpenApi;
+
+type AppState = Arc<Farm>;
+
+/// The OpenAPI document of the REST API.
+#[derive(OpenApi)]
+#[openapi(
+    info(
+        title = "luxfarm",
+        description = "Render farm for LuxRender scenes: jobs, outputs, workers."
+    ),
+    paths(
+        submit_job,
+        list_jobs,
+        get_job,
+        cancel_job,
+        preview_png,
+        film_flm,
+        image_exr,
+        image_png,
+        list_workers,
+        healthz,
+        metrics,
+        openapi_json
+    ),
+    components(schemas(
+        JobView,
+        WorkerView,
+        ErrorBody,
+        views::JobWorkerView,
+        crate::db::JobState
+    ))
+)]
+pub struct ApiDoc;
+
+/// The REST routes (state applied).
+pub fn router(farm: AppState) -> Router {
+    let body_limit = usize::try_from(farm.cfg.max_upload).unwrap_or(usize::MAX);
+    Router::new()
+        .route("/api/v1/jobs", get(list_jobs).post(submit_job))
+        .route("/api/v1/jobs/{id}", get(get_job).delete(cancel_job))
+        .route("/api/v1/jobs/{id}/preview.png", get(preview_png))
+        .route("/api/v1/jobs/{id}/film.flm", get(film_flm))
+        .route("/api/v1/jobs/{id}/image.exr", get(image_exr))
+        .route("/api/v1/jobs/{id}/image.png", get(image_png))
+        .route("/api/v1/workers", get(list_workers))
+        .route("/api/v1/healthz", get(healthz))
+        .route("/healthz", get(healthz))
+        .route("/api/v1/metrics", get(metrics))
+        .route("/metrics", get(metrics))
+        .route("/api/v1/openapi.json", get(openapi_json))
+        .layer(axum::extract::DefaultBodyLimit::max(body_limit))
+        .with_state(farm)
+}
+
+/// Runs blocking work off the async threads.
+async fn blocking<T: Send + 'static>(f: impl FnOnce() -> Result<T> + Send + 'static) -> Result<T> {
+    tokio::task::spawn_blocking(f)
+        .await
+        .map_err(ServerError::internal)?
+}
+
+/// Submission query parameters (halt overrides, seed, priority, scene, file name).
+#[derive(Debug, Default, serde::Deserialize, utoipa::IntoParams)]
+pub struct SubmitQuery {
+    /// Job name (default: the scene's file stem).
+    pub name: Option<String>,
+    pub haltspp: Option<f64>,
+    pub halttime: Option<f64>,
+    pub haltthreshold: Option<f64>,
+    pub seed: Option<u64>,
+    pub priority: Option<i32>,
+    /// Path of the .lxs inside a bundle holding several.
+    pub scene: Option<String>,
+    /// Name of the uploaded file for a raw body (decides .lxs naming).
+    pub filename: Option<String>,
+}
+
+impl SubmitQuery {
+    fn options(&self) -> SubmitOptions {
+        SubmitOptions {
+            name: self.name.clone(),
+            haltspp: self.haltspp,
+            halttime: self.halttime,
+            haltthreshold: self.haltthreshold,
+            seed: self.seed,
+            priority: self.priority,
+            scene: self.scene.clone(),
+        }
+    }
+}
+
+/// Query parameters, with a JSON 400 when they do not parse.
+fn query<T>(q: std::result::Result<Query<T>, QueryRejection>) -> Result<T> {
+    q.map(|Query(t)| t)
+        .map_err(|e| ServerError::BadRequest(e.body_text()))
+}
+
+/// Submit a job: a raw .lxs, a .zip or .tar bundle, or multipart/form-data with a `file` part
+/// (and optional `haltspp`, `halttime`, `haltthreshold`, `seed`, `priority`, `name`, `scene`
+/// fields). Query parameters give the same options.
+#[utoipa::path(post, path = "/api/v1/jobs", params(SubmitQuery),
+    request_body(content = Vec<u8>, description = "scene (.lxs), .zip or .tar; or multipart/form-data",
+                 content_type = "application/octet-stream"),
+    responses((status = 201, body = JobView), (status = 400, body = ErrorBody),
+              (status = 413, body = ErrorBody), (status = 415, body = ErrorBody),
+              (status = 401, body = ErrorBody)))]
+async fn submit_job(
+    State(farm): State<AppState>,
+    q: std::result::Result<Query<SubmitQuery>, QueryRejection>,
+    req: Request,
+) -> Result<Response> {
+    let q = query(q)?;
+    let is_multipart = req
+        .headers()
+        .get(header::CONTENT_TYPE)
+        .and_then(|v| v.to_str().ok())
+        .is_some_and(|v| v.starts_with("multipart/form-data"));
+    let (bytes, file_name, opts) = if is_multipart {
+        let mp = Multipart::from_request(req, &())
+            .await
+            .map_err(|e| ServerError::BadRequest(e.to_string()))?;
+        read_multipart(mp, q.options()).await?
+    } else {
+        let name = q.filename.clone().unwrap_or_else(|| "scene.lxs".into());
+        let bytes = Bytes::from_request(req, &())
+            .await
+            .map_err(|e| match e.status() {
+                StatusCode::PAYLOAD_TOO_LARGE => ServerError::TooLarge(e.body_text()),
+                _ => ServerError::BadRequest(e.body_text()),
+            })?;
+        (bytes.to_vec(), name, q.options())
+    };
+    let f = farm.clone();
+    let view = blocking(move || {
+        let row = f.submit(&bytes, &file_name, &opts)?;
+        views::job_view(&f, &row)
+    })
+    .await?;
+    Ok((StatusCode::CREATED, Json(view)).into_response())
+}
+
+async fn read_multipart(
+    mut mp: Multipart,
+    mut opts: SubmitOptions,
+) -> Result<(Vec<u8>, String, SubmitOptions)> {
+    let bad = |e: axum::extract::multipart::MultipartError| match e.status() {
+        StatusCode::PAYLOAD_TOO_LARGE => ServerError::TooLarge(e.body_text()),
+        _ => ServerError::BadRequest(e.body_text()),
+    };
+    let mut file = None;
+    while let Some(field) = mp.next_field().await.map_err(bad)? {
+        let name = field.name().unwrap_or("").to_string();
+        if name == "file" {
+            let fname = field.file_name().unwrap_or("scene.lxs").to_string();
+            file = Some((field.bytes().await.map_err(bad)?.to_vec(), fname));
+            continue;
+        }
+        let text = field.text().await.map_err(bad)?;
+        let text = text.trim();
+        if text.is_empty() {
+            continue;
+        }
+        let num = |t: &str| {
+            t.parse::<f64>()
+                .map_err(|_| ServerError::BadRequest(format!("field {name}: not a number: {t:?}")))
+        };
+        match name.as_str() {
+            "haltspp" => opts.haltspp = Some(num(text)?),
+            "halttime" => opts.halttime = Some(num(text)?),
+            "haltthreshold" => opts.haltthreshold = Some(num(text)?),
+            "seed" => opts.seed = Some(num(text)? as u64),
+            "priority" => opts.priority = Some(num(text)? as i32),
+            "name" => opts.name = Some(text.to_string()),
+            "scene" => opts.scene = Some(text.to_string()),
+            _ => {}
+        }
+    }
+    let (bytes, fname) = file
+        .ok_or_else(|| ServerError::BadRequest("multipart upload without a `file` part".into()))?;
+    Ok((bytes, fname, opts))
+}
+
+/// List jobs in scheduling order (priority, then submission).
+#[utoipa::path(get, path = "/api/v1/jobs", responses((status = 200, body = Vec<JobView>)))]
+async fn list_jobs(State(farm): State<AppState>) -> Result<Json<Vec<JobView>>> {
+    Ok(Json(blocking(move || views::job_views(&farm)).await?))
+}
+
+/// One job.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}", params(("id" = String, Path)),
+    responses((status = 200, body = JobView), (status = 404, body = ErrorBody)))]
+async fn get_job(State(farm): State<AppState>, Path(id): Path<String>) -> Result<Json<JobView>> {
+    Ok(Json(
+        blocking(move || views::job_view(&farm, &farm.job_row(&id)?)).await?,
+    ))
+}
+
+/// Cancel a job (queued or rendering).
+#[utoipa::path(delete, path = "/api/v1/jobs/{id}", params(("id" = String, Path)),
+    responses((status = 200, body = JobView), (status = 404, body = ErrorBody),
+              (status = 409, body = ErrorBody)))]
+async fn cancel_job(State(farm): State<AppState>, Path(id): Path<String>) -> Result<Json<JobView>> {
+    Ok(Json(
+        blocking(move || {
+            let row = farm.cancel(&id)?;
+            views::job_view(&farm, &row)
+        })
+        .await?,
+    ))
+}
+
+/// Preview query: the longer side of the PNG at most `max_size` pixels.
+#[derive(Debug, serde::Deserialize, utoipa::IntoParams)]
+pub struct PreviewQuery {
+    pub max_size: Option<u32>,
+}
+
+async fn output(
+    farm: AppState,
+    id: String,
+    format: &'static str,
+    max_size: Option<u32>,
+    headers: &HeaderMap,
+    file_name: Option<&str>,
+) -> Result<Response> {
+    let f = farm.clone();
+    let i = id.clone();
+    let version = blocking(move || crate::output::film_version(&f, &i)).await?;
+    let etag = format!("\"{version}-{}\"", max_size.unwrap_or(0));
+    let matches = headers
+        .get(header::IF_NONE_MATCH)
+        .and_then(|v| v.to_str().ok())
+        .is_some_and(|v| v.split(',').any(|t| t.trim() == etag || t.trim() == "*"));
+    if matches {
+        return Ok((StatusCode::NOT_MODIFIED, [(header::ETAG, etag)]).into_response());
+    }
+    let out = blocking(move || crate::output::render(&farm, &id, format, max_size)).await?;
+    let mut resp = (
+        [
+            (header::CONTENT_TYPE, out.content_type.to_string()),
+            (header::ETAG, etag),
+            (header::CACHE_CONTROL, "no-cache".to_string()),
+        ],
+        out.bytes,
+    )
+        .into_response();
+    if let Some(name) = file_name {
+        if let Ok(v) = HeaderValue::from_str(&format!("attachment; filename=\"{name}\"")) {
+            resp.headers_mut().insert(header::CONTENT_DISPOSITION, v);
+        }
+    }
+    Ok(resp)
+}
+
+/// Tonemapped preview of the merged film (the scene's tonemapper); ETag / If-None-Match
+/// answer 304 while the film is unchanged.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/preview.png",
+    params(("id" = String, Path), PreviewQuery),
+    responses((status = 200, content_type = "image/png", body = Vec<u8>), (status = 304),
+              (status = 404, body = ErrorBody), (status = 503, body = ErrorBody)))]
+async fn preview_png(
+    State(farm): State<AppState>,
+    Path(id): Path<String>,
+    q: std::result::Result<Query<PreviewQuery>, QueryRejection>,
+    headers: HeaderMap,
+) -> Result<Response> {
+    let q = query(q)?;
+    output(farm, id, "png", q.max_size.or(Some(1024)), &headers, None).await
+}
+
+/// The merged film as a LuxRender FLM.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/film.flm", params(("id" = String, Path)),
+    responses((status = 200, content_type = "application/octet-stream", body = Vec<u8>),
+              (status = 404, body = ErrorBody)))]
+async fn film_flm(
+    State(farm): State<AppState>,
+    Path(id): Path<String>,
+    headers: HeaderMap,
+) -> Result<Response> {
+    output(farm, id, "flm", None, &headers, Some("film.flm")).await
+}
+
+/// The merged film as EXR.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/image.exr", params(("id" = String, Path)),
+    responses((status = 200, content_type = "image/x-exr", body = Vec<u8>),
+              (status = 404, body = ErrorBody)))]
+async fn image_exr(
+    State(farm): State<AppState>,
+    Path(id): Path<String>,
+    headers: HeaderMap,
+) -> Result<Response> {
+    output(farm, id, "exr", None, &headers, Some("image.exr")).await
+}
+
+/// The merged film tonemapped to PNG at full resolution.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/image.png", params(("id" = String, Path)),
+    responses((status = 200, content_type = "image/png", body = Vec<u8>),
+              (status = 404, body = ErrorBody)))]
+async fn image_png(
+    State(farm): State<AppState>,
+    Path(id): Path<String>,
+    headers: HeaderMap,
+) -> Result<Response> {
+    output(farm, id, "png", None, &headers, Some("image.png")).await
+}
+
+/// Known workers.
+#[utoipa::path(get, path = "/api/v1/workers", responses((status = 200, body = Vec<WorkerView>)))]
+async fn list_workers(State(farm): State<AppState>) -> Json<Vec<WorkerView>> {
+    Json(views::worker_views(&farm))
+}
+
+/// Liveness.
+#[utoipa::path(get, path = "/api/v1/healthz", responses((status = 200, body = String)))]
+async fn healthz() -> &'static str {
+    "ok"
+}
+
+/// Prometheus metrics.
+#[utoipa::path(get, path = "/api/v1/metrics", responses((status = 200, content_type = "text/plain", body = String)))]
+async fn metrics(State(farm): State<AppState>) -> Result<Response> {
+    let f = farm.clone();
+    let jobs = blocking(move || crate::farm::lock(&f.db).jobs()).await?;
+    let states = ["queued", "rendering", "done", "cancelled", "failed"];
+    let by_state: Vec<(&str, usize)> = states
+        .iter()
+        .map(|s| (*s, jobs.iter().filter(|j| j.state.as_str() == *s).count()))
+        .collect();
+    let (n, lost) = {
+        let w = crate::farm::lock(&farm.workers);
+        (w.len(), w.values().filter(|w| w.lost).count())
+    };
+    let text = farm.metrics.render(&by_state, n, lost);
+    Ok(([(header::CONTENT_TYPE, "text/plain; version=0.0.4")], text).into_response())
+}
+
+/// This document.
+#[utoipa::path(get, path = "/api/v1/openapi.json", responses((status = 200, body = Object)))]
+async fn openapi_json() -> Json<utoipa::openapi::OpenApi> {
+    Json(ApiDoc::openapi())
+}

@@ -1,0 +1,236 @@
+//! What the API shows of jobs and workers: one view type each, serialised as JSON for REST and
+//! converted to protobuf for gRPC.
+
+use crate::db::{JobRow, JobState};
+use crate::error::Result;
+use crate::farm::{lock, now_ms, Farm};
+use luxfarm_proto as pb;
+use std::sync::atomic::Ordering;
+
+/// A job as the API shows it.
+#[derive(Clone, Debug, serde::Serialize, utoipa::ToSchema)]
+pub struct JobView {
+    pub id: String,
+    pub name: String,
+    /// queued, rendering, done, cancelled, failed
+    pub state: JobState,
+    /// Why the job ended or failed (empty otherwise).
+    pub reason: String,
+    /// True once a halt rule held or a cancel arrived, while the last deltas are awaited.
+    pub halting: bool,
+    pub priority: i32,
+    pub width: u32,
+    pub height: u32,
+    /// Merged samples and samples per pixel.
+    pub samples: f64,
+    pub spp: f64,
+    pub haltspp: Option<f64>,
+    pub halttime: Option<f64>,
+    pub haltthreshold: Option<f64>,
+    /// Failing-pixel fraction of the last convergence test.
+    pub convergence: Option<f64>,
+    /// Seconds since the first lease (to the end for finished jobs).
+    pub elapsed: f64,
+    /// Merged samples per second over the last minute.
+    pub samples_per_sec: f64,
+    /// Estimated seconds left (from haltspp or halttime), when known.
+    pub eta: Option<f64>,
+    pub active_leases: u32,
+    /// Workers on the job with the samples they contributed.
+    pub workers: Vec<JobWorkerView>,
+    pub submitted_ms: i64,
+    pub finished_ms: Option<i64>,
+    pub seed: u64,
+    pub merged_deltas: u64,
+    /// Changes whenever the merged film changes (the preview's ETag).
+    pub film_version: String,
+}
+
+/// A worker's contribution to a job.
+#[derive(Clone, Debug, serde::Serialize, utoipa::ToSchema)]
+pub struct JobWorkerView {
+    pub worker_id: String,
+    pub lease_id: String,
+    pub samples: f64,
+    pub active: bool,
+}
+
+/// A worker as the API shows it.
+#[derive(Clone, Debug, serde::Serialize, utoipa::ToSchema)]
+pub struct WorkerView {
+    pub id: String,
+    pub name: String,
+    pub threads: u32,
+    /// idle, rendering, lost
+    pub state: String,
+    pub job_id: Option<String>,
+    pub lease_id: Option<String>,
+    pub last_seen_ms: i64,
+    /// Seconds since the last heartbeat.
+    pub last_seen_secs: f64,
+    pub samples: f64,
+}
+
+/// The view of one job.
+pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
+    let rt = lock(&farm.jobs).get(&row.id).cloned();
+    let (ledger_samples, deltas, per_lease) = {
+        let db = lock(&farm.db);
+        let (s, n) = db.job_totals(&row.id)?;
+        (s, n, db.lease_samples(&row.id)?)
+    };
+    let pixels = (row.width as f64 * row.height as f64).max(1.0);
+    let mut view = JobView {
+        id: row.id.clone(),
+        name: row.name.clone(),
+        state: row.state,
+        reason: row.reason.clone(),
+        halting: false,
+        priority: row.priority,
+        width: row.width,
+        height: row.height,
+        samples: ledger_samples,
+        spp: ledger_samples / pixels,
+        haltspp: row.haltspp,
+        halttime: row.halttime,
+        haltthreshold: row.haltthreshold,
+        convergence: None,
+        elapsed: match (row.first_lease_ms, row.finished_ms) {
+            (Some(a), Some(b)) => (b - a) as f64 / 1000.0,
+            (Some(a), None) => (now_ms() - a) as f64 / 1000.0,
+            _ => 0.0,
+        },
+        samples_per_sec: 0.0,
+        eta: None,
+        active_leases: 0,
+        workers: per_lease
+            .into_iter()
+            .map(|(lease_id, worker_id, samples)| JobWorkerView {
+                worker_id,
+                lease_id,
+                samples,
+                active: false,
+            })
+            .collect(),
+        submitted_ms: row.submitted_ms,
+        finished_ms: row.finished_ms,
+        seed: row.seed,
+        merged_deltas: deltas,
+        film_version: format!("{}-{}", row.ckpt_gen, 0),
+    };
+    if let Some(rt) = rt {
+        let samples = lock(&rt.film).total_samples();
+        view.samples = samples;
+        view.spp = samples / pixels;
+        let version = rt.version.load(Ordering::Relaxed);
+        view.film_version = format!("{}-{}", row.ckpt_gen, version + 1);
+        let st = lock(&rt.state);
+        view.halting = st.halting.is_some();
+        view.convergence = st.convergence.last_failing;
+        if let (Some((t0, s0)), Some((t1, s1))) = (st.history.front(), st.history.back()) {
+            let dt = t1.duration_since(*t0).as_secs_f64();
+            if dt > 0.0 {
+                view.samples_per_sec = (s1 - s0) / dt;
+            }
+        }
+        drop(st);
+        let leases = lock(&rt.leases);
+        view.active_leases = leases.values().filter(|l| !l.ended).count() as u32;
+        for w in &mut view.workers {
+            w.active = leases.get(&w.lease_id).is_some_and(|l| !l.ended);
+        }
+    }
+    view.eta = eta(&view);
+    Ok(view)
+}
+
+fn eta(v: &JobView) -> Option<f64> {
+    if v.state.is_final() {
+        return None;
+    }
+    let by_spp = v.haltspp.and_then(|h| {
+        (v.samples_per_sec > 0.0).then(|| {
+            ((h * v.width as f64 * v.height as f64 - v.samples) / v.samples_per_sec).max(0.0)
+        })
+    });
+    let by_time = v.halttime.map(|t| (t - v.elapsed).max(0.0));
+    match (by_spp, by_time) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
+/// Views of every job in scheduling order.
+pub fn job_views(farm: &Farm) -> Result<Vec<JobView>> {
+    let rows = lock(&farm.db).jobs()?;
+    rows.iter().map(|r| job_view(farm, r)).collect()
+}
+
+/// Views of every known worker.
+pub fn worker_views(farm: &Farm) -> Vec<WorkerView> {
+    let mut v: Vec<WorkerView> = lock(&farm.workers)
+        .values()
+        .map(|w| WorkerView {
+            id: w.id.clone(),
+            name: w.name.clone(),
+            threads: w.threads,
+            state: if w.lost {
+                "lost".into()
+            } else if w.lease.is_some() {
+                "rendering".into()
+            } else {
+                "idle".into()
+            },
+            job_id: w.lease.as_ref().map(|(j, _)| j.clone()),
+            lease_id: w.lease.as_ref().map(|(_, l)| l.clone()),
+            last_seen_ms: w.last_seen_ms,
+            last_seen_secs: w.last_seen.elapsed().as_secs_f64(),
+            samples: w.samples,
+        })
+        .collect();
+    v.sort_by(|a, b| a.name.cmp(&b.name).then(a.id.cmp(&b.id)));
+    v
+}
+
+impl From<JobView> for pb::JobInfo {
+    fn from(v: JobView) -> pb::JobInfo {
+        pb::JobInfo {
+            id: v.id,
+            name: v.name,
+            state: v.state.as_str().into(),
+            reason: v.reason,
+            priority: v.priority,
+            width: v.width,
+            height: v.height,
+            samples: v.samples,
+            spp: v.spp,
+            haltspp: v.haltspp,
+            halttime: v.halttime,
+            haltthreshold: v.haltthreshold,
+            elapsed: v.elapsed,
+            samples_per_sec: v.samples_per_sec,
+            active_leases: v.active_leases,
+            submitted_ms: v.submitted_ms,
+            finished_ms: v.finished_ms,
+            seed: v.seed,
+            convergence: v.convergence,
+            merged_deltas: v.merged_deltas,
+        }
+    }
+}
+
+impl From<WorkerView> for pb::WorkerInfo {
+    fn from(w: WorkerView) -> pb::WorkerInfo {
+        pb::WorkerInfo {
+            id: w.id,
+            name: w.name,
+            threads: w.threads,
+            state: w.state,
+            job_id: w.job_id.unwrap_or_default(),
+            lease_id: w.lease_id.unwrap_or_default(),
+            last_seen_ms: w.last_seen_ms,
+            samples: w.samples,
+            samples_per_sec: 0.0,
+        }
+    }
+}
