@@ -191,11 +191,19 @@ fn cornell_materials_lamp_and_spheres() {
 
 #[test]
 fn description_json_roundtrip() {
-    // cornell has no textures: `named_textures` (a map with tuple keys) cannot be a JSON
-    // object, see the report; the CLI writes it as a list instead.
     let d = cornell();
     let json = serde_json::to_string(&d).unwrap();
     let back: SceneDescription = serde_json::from_str(&json).unwrap();
     assert_eq!(back, d);
     assert!(json.contains("\"haltspp\""));
+}
+
+#[test]
+fn description_with_textures_json_roundtrip() {
+    let scene = shared().join("scenes/testsuite/uvmaptest/uvmaptest.lxs");
+    let d = lxs::parse_file(&scene, &lxs::ParseOptions::default()).unwrap();
+    assert!(!d.named_textures.is_empty());
+    let json = serde_json::to_string(&d).unwrap();
+    let back: SceneDescription = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, d);
 }

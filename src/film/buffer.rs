@@ -179,8 +179,9 @@ impl Film {
     }
 
     /// Adds `weight * xyz`, `weight * alpha` and `weight` to a buffer pixel of buffer 0 of a
-    /// group. Out-of-range pixels or groups are ignored; a non-finite value, a negative Y,
-    /// alpha or weight is rejected and counted, as LuxRender's film does.
+    /// group. Out-of-range pixels or groups are ignored; a non-finite value, a negative Y or
+    /// alpha, or a non-finite weight is rejected and counted, as LuxRender's film does.
+    /// Negative weights are kept: Mitchell, Catmull-Rom and sinc filters have negative lobes.
     pub fn add_splat(
         &mut self,
         group: usize,
@@ -212,8 +213,7 @@ impl Film {
             && xyz[1] >= 0.0
             && alpha.is_finite()
             && alpha >= 0.0
-            && weight.is_finite()
-            && weight >= 0.0;
+            && weight.is_finite();
         if !valid {
             self.rejected += 1;
             return;

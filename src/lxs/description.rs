@@ -159,6 +159,47 @@ impl std::fmt::Display for Diagnostic {
     }
 }
 
+/// `named_textures` is keyed by (type, name) pairs, which JSON object keys cannot hold: it is
+/// written as a list of `{type, name, index}` records.
+mod named_textures_serde {
+    use super::TextureType;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+    use std::collections::BTreeMap;
+
+    #[derive(Serialize, Deserialize)]
+    struct Record {
+        #[serde(rename = "type")]
+        ty: TextureType,
+        name: String,
+        index: usize,
+    }
+
+    pub fn serialize<S: Serializer>(
+        map: &BTreeMap<(TextureType, String), usize>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        let list: Vec<Record> = map
+            .iter()
+            .map(|((ty, name), &index)| Record {
+                ty: *ty,
+                name: name.clone(),
+                index,
+            })
+            .collect();
+        list.serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<BTreeMap<(TextureType, String), usize>, D::Error> {
+        let list = Vec::<Record>::deserialize(d)?;
+        Ok(list
+            .into_iter()
+            .map(|r| ((r.ty, r.name), r.index))
+            .collect())
+    }
+}
+
 /// The whole parsed scene.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct SceneDescription {
@@ -177,6 +218,7 @@ pub struct SceneDescription {
     /// All textures in declaration order. A redefinition appends; `named_textures` points at
     /// the definition in force at the end of the file.
     pub textures: Vec<TextureDesc>,
+    #[serde(with = "named_textures_serde")]
     pub named_textures: BTreeMap<(TextureType, String), usize>,
     /// All materials (anonymous and named) in declaration order.
     pub materials: Vec<MaterialDesc>,

@@ -1,7 +1,7 @@
 //! Tiles of the film buffer and the rendering of one tile into its own small film (the tile
 //! plus the filter's reach, clipped to the buffer).
 
-use crate::film::Film;
+use crate::film::{Film, OutlierRejector};
 use crate::scene::Scene;
 use crate::spectrum::{rgb_to_xyz, Rgb};
 
@@ -75,6 +75,7 @@ pub fn render_tile(
     let ngroups = scene.groups.len();
     let mut l = vec![Rgb::BLACK; ngroups];
     let mut rejected = 0u64;
+    let mut outliers = outlier_rejector(scene, &t);
     for by in t.y0..t.y1 {
         for bx in t.x0..t.x1 {
             let (px, py) = (bx + fp.x_pixel_start, by + fp.y_pixel_start);
@@ -90,11 +91,19 @@ pub fn render_tile(
                 }
                 l.iter_mut().for_each(|c| *c = Rgb::BLACK);
                 let alpha = scene.integrator.li(scene, ray, &mut st, &mut l);
+                // With premultiplyalpha the film holds colours already multiplied by alpha.
+                let scale = if fp.premultiply_alpha { w * alpha } else { w };
                 for (g, c) in l.iter().enumerate() {
-                    let xyz = rgb_to_xyz(*c * w);
+                    let xyz = rgb_to_xyz(*c * scale);
                     if !xyz.iter().all(|v| v.is_finite()) || xyz[1] < 0.0 {
                         rejected += 1;
                         continue;
+                    }
+                    if let Some(o) = outliers.as_mut() {
+                        if !o.accept(cs.p_film.x, cs.p_film.y, xyz[1]) {
+                            rejected += 1;
+                            continue;
+                        }
                     }
                     scene.filter.splat(cs.p_film, |x, y, fw| {
                         let (lx, ly) = (i64::from(x) - ox, i64::from(y) - oy);
@@ -107,6 +116,20 @@ pub fn render_tile(
         }
     }
     (film, t, rejected)
+}
+
+/// The film's `outlierrejection_k` test over this tile's film region, when enabled. Each tile
+/// keeps its own record of outliers, so the result does not depend on the thread count.
+fn outlier_rejector(scene: &Scene, t: &Tile) -> Option<OutlierRejector> {
+    let fp = &scene.film_params;
+    let r = scene.filter.radius();
+    OutlierRejector::new(
+        fp.outlier_rejection_k,
+        t.fx1 - t.fx0,
+        t.fy1 - t.fy0,
+        [fp.x_pixel_start + t.fx0, fp.y_pixel_start + t.fy0],
+        [r.x, r.y],
+    )
 }
 
 #[cfg(test)]

@@ -41,17 +41,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The description as JSON. `named_textures` is keyed by (type, name) pairs, which JSON object
-/// keys cannot hold, so it is written as a list of `{type, name, index}` records.
-pub fn to_json(mut desc: SceneDescription) -> anyhow::Result<serde_json::Value> {
-    let named = std::mem::take(&mut desc.named_textures);
-    let mut v = serde_json::to_value(&desc)?;
-    let list: Vec<serde_json::Value> = named
-        .into_iter()
-        .map(|((ty, name), index)| serde_json::json!({"type": ty, "name": name, "index": index}))
-        .collect();
-    v["named_textures"] = serde_json::Value::Array(list);
-    Ok(v)
+/// The description as JSON (`named_textures` becomes a list of `{type, name, index}`).
+pub fn to_json(desc: SceneDescription) -> anyhow::Result<serde_json::Value> {
+    Ok(serde_json::to_value(&desc)?)
 }
 
 fn kind(e: Option<&Entity>) -> String {
