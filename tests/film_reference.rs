@@ -92,3 +92,24 @@ fn written_header_matches_luxrenders_bytes() {
     assert_eq!(ours_raw.len(), raw.len());
     assert!(ours_raw == raw, "decompressed FLM differs from LuxRender's");
 }
+
+#[test]
+fn scene_film_statement_gives_luxrender_params() {
+    use luxfarm::lxs::{parse_file, ParseOptions};
+    use luxfarm::tonemap::ClampMethod;
+    let desc = parse_file(&scene_dir().join("default.lxs"), &ParseOptions::default()).unwrap();
+    let film = desc.film.as_ref().unwrap();
+    let p = FilmParams::from_entity(Some(film)).unwrap();
+    assert_eq!((p.xres, p.yres), (512, 512));
+    assert_eq!((p.x_pixel_count, p.y_pixel_count), (512, 512));
+    assert_eq!(p.haltspp, Some(127));
+    assert_eq!(p.tonemap.kernel, Kernel::Reinhard);
+    assert_eq!(p.tonemap.reinhard_postscale, 1.2);
+    assert_eq!(p.tonemap.clamp_method, ClampMethod::Lum);
+    assert_eq!(p.tonemap.colorspace.white, [0.314275, 0.329411]);
+    assert_eq!(p.filename, "default");
+    assert!(p.write_resume_flm && p.restart_resume_flm && p.png.enabled && !p.exr.enabled);
+    assert!(!p.premultiply_alpha);
+    let unused: Vec<_> = film.params.unused().map(|q| q.name.clone()).collect();
+    assert!(unused.is_empty(), "unused Film parameters: {unused:?}");
+}

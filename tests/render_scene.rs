@@ -27,7 +27,10 @@ fn unused_parameters_are_reported_with_location() {
     // The unknown material type is never referenced, so it is never built.
     let scene = Scene::build(&desc, Path::new("/tmp")).expect("scene builds");
     let w: Vec<String> = scene.warnings.iter().map(|d| d.to_string()).collect();
-    let bogus = w.iter().find(|m| m.contains("bogus")).expect("bogus reported");
+    let bogus = w
+        .iter()
+        .find(|m| m.contains("bogus"))
+        .expect("bogus reported");
     assert!(bogus.contains(":10:"), "{bogus}");
     assert_eq!(scene.lights().len(), 1);
 }

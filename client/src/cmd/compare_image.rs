@@ -9,6 +9,7 @@ use anyhow::{bail, Context};
 use luxfarm::film::flm::read_flm;
 use luxfarm::light::infinite::load_image;
 use luxfarm::spectrum::{xyz_to_rgb, Rgb};
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -76,13 +77,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let idx: Vec<usize> = (0..a.len()).filter(keep).collect();
     let a: Vec<[f32; 3]> = idx.iter().map(|&i| a[i].to_array()).collect();
     let b: Vec<[f32; 3]> = idx.iter().map(|&i| b[i].to_array()).collect();
+    let mut out = std::io::stdout().lock();
     if args.exclude_above.is_some() {
-        println!("pixels      {} of {}", idx.len(), wa * ha);
+        writeln!(out, "pixels      {} of {}", idx.len(), wa * ha)?;
     }
     let m = metrics(&a, &b);
-    println!("RMSE        {:.6}", m.rmse);
-    println!("relMSE      {:.6}", m.rel_mse);
-    println!("mean ratio  {:.6}", m.mean_ratio);
+    writeln!(out, "RMSE        {:.6}", m.rmse)?;
+    writeln!(out, "relMSE      {:.6}", m.rel_mse)?;
+    writeln!(out, "mean ratio  {:.6}", m.mean_ratio)?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -8,7 +8,7 @@
 
 use anyhow::{bail, Context};
 use luxfarm::film::{
-    compare, flm, output, read_flm_file, Channels, Film, FilmParams, FlmHeader, FlmValue,
+    compare, flm, output, read_flm_file, Channels, Film, FilmParams, FlmDelta, FlmHeader, FlmValue,
 };
 use luxfarm::tonemap::{ClampMethod, Kernel, TonemapParams};
 use std::path::{Path, PathBuf};
@@ -185,10 +185,14 @@ fn merge(inputs: &[PathBuf], out: &Path) -> anyhow::Result<ExitCode> {
         bail!("no input films");
     };
     let (mut film, header) = load(first)?;
+    let mut delta = FlmDelta::default();
     for path in rest {
-        let f = std::fs::File::open(path).with_context(|| format!("opening {}", path.display()))?;
-        flm::merge_flm(&mut film, std::io::BufReader::new(f))
-            .with_context(|| format!("merging {}", path.display()))?;
+        let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+        let merged = match delta.decode_slice(&bytes) {
+            Ok(_) => film.add_delta(&delta),
+            Err(e) => Err(e),
+        };
+        merged.with_context(|| format!("merging {}", path.display()))?;
     }
     let params = FilmParams::from_flm(&header);
     flm::write_flm_file(out, &film, &params)
