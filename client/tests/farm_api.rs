@@ -215,3 +215,64 @@ fn multipart_submission_and_documents() {
         "{metrics}"
     );
 }
+
+#[test]
+fn tls_serves_rest_and_grpc() {
+    let dir = tempfile::tempdir().unwrap();
+    let (cert, key) = (dir.path().join("cert.pem"), dir.path().join("key.pem"));
+    // a self-signed end-entity certificate for localhost (needs the openssl CLI)
+    let st = std::process::Command::new("openssl")
+        .args([
+            "req",
+            "-x509",
+            "-newkey",
+            "rsa:2048",
+            "-nodes",
+            "-days",
+            "2",
+            "-subj",
+            "/CN=localhost",
+        ])
+        .args(["-addext", "subjectAltName=DNS:localhost,IP:127.0.0.1"])
+        .args(["-addext", "basicConstraints=critical,CA:FALSE"])
+        .arg("-keyout")
+        .arg(&key)
+        .arg("-out")
+        .arg(&cert)
+        .stderr(std::process::Stdio::null())
+        .status()
+        .expect("the openssl command makes the test certificate");
+    assert!(st.success());
+    let s = server(
+        &dir.path().join("data"),
+        &[
+            "--tls-cert",
+            cert.to_str().unwrap(),
+            "--tls-key",
+            key.to_str().unwrap(),
+        ],
+    );
+    let port = s.addr.rsplit(':').next().unwrap().to_string();
+    let url = format!("https://localhost:{port}");
+    let out = std::process::Command::new(exe())
+        .args([
+            "jobs",
+            "--master",
+            &url,
+            "--ca-cert",
+            cert.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // plain HTTP to a TLS port fails
+    let out = std::process::Command::new(exe())
+        .args(["jobs", "--master", &format!("http://localhost:{port}")])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+}

@@ -197,3 +197,53 @@ fn killed_worker_and_restarted_master() {
         "more samples merged than acknowledged"
     );
 }
+
+#[test]
+fn haltthreshold_ends_a_job() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(&dir.path().join("data"), &["--upload-interval", "0.3"]);
+    let scene = std::fs::read(small_scene(
+        dir.path(),
+        "c",
+        (24, 16),
+        "\"integer convergencestep\" [4]",
+    ))
+    .unwrap();
+    let (st, job) = post_job(&s, scene, "?filename=c.lxs&haltthreshold=0.5");
+    assert_eq!(st, 201, "{job}");
+    let id = job["id"].as_str().unwrap().to_string();
+    let _w = worker(&s.url(), 1, &[]);
+    let v = wait_job(&s, &id, 180, |v| v["state"] == "done");
+    assert_eq!(v["state"], "done", "{v}");
+    assert!(
+        v["reason"].as_str().unwrap().contains("haltthreshold"),
+        "{v}"
+    );
+}
+
+#[test]
+fn sigterm_uploads_the_last_delta() {
+    let dir = tempfile::tempdir().unwrap();
+    // a long upload interval: only the stop at SIGTERM uploads
+    let s = server(&dir.path().join("data"), &["--upload-interval", "3600"]);
+    let scene = std::fs::read(small_scene(dir.path(), "g", (24, 16), "")).unwrap();
+    let (_, job) = post_job(&s, scene, "?filename=g.lxs&haltspp=1000000");
+    let id = job["id"].as_str().unwrap().to_string();
+    let keep = dir.path().join("keep");
+    let mut w = worker(&s.url(), 1, &["--keep-deltas", keep.to_str().unwrap()]);
+    let v = wait_job(&s, &id, 60, |v| {
+        v["active_leases"].as_u64().unwrap_or(0) > 0
+    });
+    assert_eq!(v["state"], "rendering", "{v}");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    w.term();
+    let status = w.wait_exit(60).expect("worker exits after SIGTERM");
+    assert!(status.success(), "{status:?}");
+    let v = get_json(&s.api(&format!("/jobs/{id}")));
+    assert_eq!(v["merged_deltas"], 1, "{v}");
+    assert!(v["samples"].as_f64().unwrap() > 0.0, "{v}");
+    assert_eq!(v["active_leases"], 0, "{v}");
+    let (sum, n) = sum_kept(&[&keep]);
+    assert_eq!(n, 1);
+    assert_eq!(sum.total_samples(), v["samples"].as_f64().unwrap());
+}

@@ -33,7 +33,7 @@ pub fn prepare(path: &Path) -> anyhow::Result<Upload> {
         });
     }
     let files = referenced_files(path)?;
-    let root = path.parent().unwrap_or(Path::new("."));
+    let root = scene_dir(path);
     let bytes = tar_files(root, &files)?;
     Ok(Upload {
         bytes,
@@ -46,7 +46,7 @@ pub fn prepare(path: &Path) -> anyhow::Result<Upload> {
 pub fn referenced_files(scene: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let desc =
         lxs::parse_file(scene, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let root = scene.parent().unwrap_or(Path::new("."));
+    let root = scene_dir(scene);
     let root_abs = root
         .canonicalize()
         .with_context(|| format!("resolving {}", root.display()))?;
@@ -102,6 +102,14 @@ pub fn referenced_files(scene: &Path) -> anyhow::Result<Vec<PathBuf>> {
         }
     }
     Ok(set.into_iter().collect())
+}
+
+/// The directory of a scene file ("." for a bare file name).
+pub fn scene_dir(scene: &Path) -> &Path {
+    match scene.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
 }
 
 /// A tar of `files` (relative to `root`).
