@@ -43,13 +43,10 @@ enum Command {
     Cancel(cmd::cancel::Args),
     /// List the master's workers.
     Workers(cmd::workers::Args),
-    /// Run a master (gRPC + REST + dashboard on one address).
+    /// Run a master (gRPC and REST on one address).
     Server(cmd::server::Args),
     /// Run a worker for a master.
     Worker(cmd::worker::Args),
-    /// Render a scene on a local farm: embedded master + N worker processes.
-    #[command(name = "render-farm")]
-    RenderFarm(cmd::farm_render::Args),
     /// Benchmarks (not tests).
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -82,7 +79,6 @@ fn main() -> ExitCode {
         Command::Workers(a) => cmd::workers::run(a),
         Command::Server(a) => cmd::server::run(a),
         Command::Worker(a) => cmd::worker::run(a),
-        Command::RenderFarm(a) => cmd::farm_render::run(a.into()),
         Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
         Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
         Command::Bench(BenchCommand::Flm(a)) => cmd::bench_flm::run(a),

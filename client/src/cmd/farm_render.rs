@@ -1,6 +1,6 @@
 //! `luxfarm render SCENE.lxs --workers N`: the one-command farm. An embedded master in a
 //! temporary data directory, N local worker processes (`luxfarm worker`, spawned from this
-//! executable) over loopback, a progress bar, the dashboard URL printed, and the outputs
+//! executable) over loopback, a progress bar, the master URL printed, and the outputs
 //! written beside the scene (or at `-o BASENAME`).
 //!
 //! The render command's argument parsing (client/src/cmd/render.rs) calls [`run`] when
@@ -25,47 +25,6 @@ pub struct Options {
     pub output: Option<PathBuf>,
     /// Seconds between worker uploads (default 2: a local farm can merge often).
     pub upload_interval: f64,
-}
-
-/// `luxfarm render-farm SCENE --workers N` (the same as `luxfarm render SCENE --workers N`
-/// once the render command forwards `--workers` here).
-#[derive(clap::Args)]
-pub struct Args {
-    /// The .lxs scene.
-    pub scene: PathBuf,
-    /// Local worker processes.
-    #[arg(long, default_value_t = 2)]
-    pub workers: usize,
-    /// Render threads per worker (default: cores / workers).
-    #[arg(long)]
-    pub threads: Option<usize>,
-    #[arg(long)]
-    pub haltspp: Option<f64>,
-    #[arg(long)]
-    pub halttime: Option<f64>,
-    #[arg(long)]
-    pub seed: Option<u64>,
-    /// Output base name (default: the film's `filename`, beside the scene).
-    #[arg(short, long)]
-    pub output: Option<PathBuf>,
-    /// Seconds between worker uploads.
-    #[arg(long, default_value_t = 2.0)]
-    pub upload_interval: f64,
-}
-
-impl From<Args> for Options {
-    fn from(a: Args) -> Options {
-        Options {
-            scene: a.scene,
-            workers: a.workers,
-            threads: a.threads,
-            haltspp: a.haltspp,
-            halttime: a.halttime,
-            seed: a.seed,
-            output: a.output,
-            upload_interval: a.upload_interval,
-        }
-    }
 }
 
 /// Worker processes, terminated (SIGTERM, then waited for) when dropped.
@@ -116,7 +75,7 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
     cfg.checkpoint_interval = 10.0;
     let running = rt.block_on(luxfarm_server::start(cfg))?;
     let url = format!("http://{}", running.addr);
-    eprintln!("dashboard: {url}/");
+    eprintln!("master: {url} (REST API under {url}/api/v1)");
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let threads = o.threads.unwrap_or((cores / o.workers.max(1)).max(1));
     let workers = spawn_workers(&url, o.workers.max(1), threads)?;

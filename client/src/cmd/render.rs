@@ -1,5 +1,6 @@
-//! `luxfarm render SCENE.lxs [--threads N] [--haltspp N] [--halttime S] [--seed S]
-//! [-o BASENAME]`: renders a scene locally on all cores with a progress bar, halting at the
+//! `luxfarm render SCENE.lxs [--workers N] [--threads N] [--haltspp N] [--halttime S] [--seed S]
+//! [-o BASENAME]`: renders a scene locally on all cores (or, with `--workers`, on a local farm)
+//! with a progress bar, halting at the
 //! scene's (or the given) haltspp/halttime, and writes what the Film asks for.
 
 use anyhow::{bail, Context};
@@ -30,6 +31,10 @@ pub struct Args {
     /// Output base name (default: the Film's filename, beside the scene).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
+    /// Render on a local farm instead: an embedded master in a temporary data directory and
+    /// this many worker processes over loopback (`--threads` is then per worker).
+    #[arg(long)]
+    pub workers: Option<usize>,
 }
 
 /// When to stop.
@@ -45,6 +50,18 @@ impl Halt {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    if let Some(workers) = args.workers {
+        return super::farm_render::run(super::farm_render::Options {
+            scene: args.scene,
+            workers,
+            threads: (args.threads > 0).then_some(args.threads),
+            haltspp: args.haltspp.map(f64::from),
+            halttime: args.halttime,
+            seed: Some(args.seed),
+            output: args.output,
+            upload_interval: 2.0,
+        });
+    }
     let desc = parse_file(&args.scene, &ParseOptions::default())?;
     let base_dir = args
         .scene
