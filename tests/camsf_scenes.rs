@@ -6,31 +6,10 @@ use luxfarm::camera::{Camera, CameraSample, FilmGeometry};
 use luxfarm::filter::Filter;
 use luxfarm::lxs::{self, ParseOptions, SceneDescription};
 use luxfarm::sampler::Sampler;
-use std::path::{Path, PathBuf};
 
-/// The shared material: `../shared` beside the repository, or /work/shared.
-fn shared() -> PathBuf {
-    let beside = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared"));
-    if beside.join("scenes").is_dir() {
-        beside.to_path_buf()
-    } else {
-        PathBuf::from("/work/shared")
-    }
-}
+mod common;
 
-fn all_scenes(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            all_scenes(&p, out);
-        } else if p.extension().is_some_and(|x| x == "lxs") {
-            out.push(p);
-        }
-    }
-}
+use common::{all_scenes, shared};
 
 /// The film geometry a scene asks for (LuxRender defaults 800x600, no crop).
 fn film_geometry(desc: &SceneDescription) -> FilmGeometry {
@@ -49,9 +28,7 @@ fn film_geometry(desc: &SceneDescription) -> FilmGeometry {
 
 #[test]
 fn every_scene_builds_its_camera_sampler_and_filter() {
-    let mut scenes = Vec::new();
-    all_scenes(&shared().join("scenes"), &mut scenes);
-    scenes.sort();
+    let scenes = all_scenes(&shared().join("scenes"));
     let mut built = 0;
     for path in &scenes {
         // Scenes that do not parse are the parser's tests' business.

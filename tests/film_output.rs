@@ -3,14 +3,9 @@
 use luxfarm::film::{flm, output, read_flm_file, Channels, Film, FilmParams};
 use std::path::{Path, PathBuf};
 
-fn shared() -> PathBuf {
-    let local = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared"));
-    if local.join("scenes").is_dir() {
-        local
-    } else {
-        PathBuf::from("/work/shared")
-    }
-}
+mod common;
+
+use common::shared;
 
 fn reference() -> PathBuf {
     shared().join(

@@ -5,14 +5,9 @@ use luxfarm::film::{flm, read_flm_file, FilmParams};
 use luxfarm::tonemap::{self, Kernel};
 use std::path::PathBuf;
 
-fn shared() -> PathBuf {
-    let local = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared"));
-    if local.join("scenes").is_dir() {
-        local
-    } else {
-        PathBuf::from("/work/shared")
-    }
-}
+mod common;
+
+use common::shared;
 
 fn scene_dir() -> PathBuf {
     shared().join("scenes/testsuite/core_regression_tests/tests/integrators/directlighting/simple")

@@ -4,31 +4,11 @@
 
 use glam::DVec3;
 use luxfarm::lxs::{self, LxsErrorKind, ParseOptions, SceneDescription};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// The shared material: `../shared` beside the repository, or /work/shared.
-fn shared() -> PathBuf {
-    let beside = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared"));
-    if beside.join("scenes").is_dir() {
-        beside.to_path_buf()
-    } else {
-        PathBuf::from("/work/shared")
-    }
-}
+mod common;
 
-fn all_scenes(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            all_scenes(&p, out);
-        } else if p.extension().is_some_and(|x| x == "lxs") {
-            out.push(p);
-        }
-    }
-}
+use common::{all_scenes, shared};
 
 /// Scenes that include the missing `SunSky_Params-geom.lxo`.
 fn includes_missing_geometry(p: &Path) -> bool {
@@ -37,8 +17,7 @@ fn includes_missing_geometry(p: &Path) -> bool {
 
 #[test]
 fn every_shared_scene_parses() {
-    let mut scenes = Vec::new();
-    all_scenes(&shared().join("scenes"), &mut scenes);
+    let scenes = all_scenes(&shared().join("scenes"));
     assert!(scenes.len() >= 19, "found only {} scenes", scenes.len());
     for s in scenes.iter().filter(|s| !includes_missing_geometry(s)) {
         let d = lxs::parse_file(s, &ParseOptions::default())
