@@ -163,23 +163,14 @@ fn planck(nm: f64, temperature: f64) -> f64 {
 /// that the spectrum's largest sample over 380–720 nm is 1. Non-positive or non-finite
 /// temperatures give black.
 pub fn blackbody(temperature: f32) -> Rgb {
-    if !(temperature.is_finite() && temperature > 0.0) {
-        return Rgb::BLACK;
-    }
-    let t = temperature as f64;
-    let n = 256;
-    let max = (0..n)
-        .map(|i| planck(380.0 + 340.0 * i as f64 / (n - 1) as f64, t))
-        .fold(0.0f64, f64::max);
-    if !(max > 0.0 && max.is_finite()) {
-        return Rgb::BLACK;
-    }
-    let xyz = integrate(|nm| planck(nm as f64, t) / max);
-    xyz_to_rgb([xyz.x as f32, xyz.y as f32, xyz.z as f32])
+    xyz_to_rgb(blackbody_xyz(temperature))
 }
 
 /// XYZ of the blackbody spectrum itself (for tests and light normalisation).
 pub fn blackbody_xyz(temperature: f32) -> [f32; 3] {
+    if !(temperature.is_finite() && temperature > 0.0) {
+        return [0.0; 3];
+    }
     let t = temperature as f64;
     let n = 256;
     let max = (0..n)
