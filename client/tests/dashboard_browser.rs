@@ -120,6 +120,24 @@ impl Browser {
         )
     }
 
+    /// Types `text` into the element matching a CSS selector (a file input takes a path).
+    fn type_into(&self, css: &str, text: &str) {
+        let e = self.call(
+            reqwest::Method::POST,
+            "/element",
+            json!({"using": "css selector", "value": css}),
+        );
+        let id = e["element-6066-11e4-a52f-4a5e4bfe9a83"]
+            .as_str()
+            .unwrap_or_else(|| panic!("no element {css}: {e}"))
+            .to_string();
+        self.call(
+            reqwest::Method::POST,
+            &format!("/element/{id}/value"),
+            json!({ "text": text }),
+        );
+    }
+
     /// Accepts an open dialog; false when there is none (yet).
     fn accept_alert(&self) -> bool {
         self.http
