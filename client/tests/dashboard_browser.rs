@@ -127,7 +127,7 @@ impl Browser {
             "/element",
             json!({"using": "css selector", "value": css}),
         );
-        let id = e["element-6066-11e4-a52f-4a5e4bfe9a83"]
+        let id = e["element-6066-11e4-a52e-4f735466cecf"]
             .as_str()
             .unwrap_or_else(|| panic!("no element {css}: {e}"))
             .to_string();
@@ -288,6 +288,48 @@ fn dashboard_watches_and_cancels_a_job_in_chromium() {
     );
     let api_state = get_json(&s.api(&format!("/jobs/{id}")))["state"].clone();
     assert_eq!(api_state, "cancelled");
+
+    // Jobs list filtered by state, the workers page, and a submission through the form.
+    browser.js("location.hash = '#/jobs'; return true;");
+    browser.wait_js(10, "the jobs list", &row);
+    browser.js(
+        "const f = document.getElementById('state-filter'); f.value = 'rendering';
+        f.dispatchEvent(new Event('change')); return true;",
+    );
+    browser.wait_js(
+        10,
+        "the cancelled job filtered out",
+        &row.replace("? true : null", "? null : true"),
+    );
+    browser.js("location.hash = '#/workers'; return true;");
+    browser.wait_js(
+        10,
+        "a worker row",
+        "return document.querySelector('#workers tr[data-id]') ? true : null;",
+    );
+    browser.js("location.hash = '#/submit'; return true;");
+    browser.wait_js(
+        10,
+        "the submit form",
+        "return document.getElementById('submit-form') ? true : null;",
+    );
+    browser.type_into("#f-file", &scene.display().to_string());
+    browser.type_into("#f-haltspp", "1");
+    browser.type_into("#f-priority", "3");
+    browser.js("document.querySelector('#submit-form button[type=submit]').click(); return true;");
+    let hash = browser.wait_js(
+        30,
+        "the new job's page",
+        &format!("const h = location.hash; return h.startsWith('#/job/') && h !== '#/job/{id}' ? h : null;"),
+    );
+    let new_id = hash
+        .as_str()
+        .and_then(|h| h.strip_prefix("#/job/"))
+        .expect("job id")
+        .to_string();
+    let new_job = get_json(&s.api(&format!("/jobs/{new_id}")));
+    assert_eq!(new_job["haltspp"], 1.0, "{new_job}");
+    assert_eq!(new_job["priority"], 3, "{new_job}");
 
     let banner =
         browser.js("return getComputedStyle(document.getElementById('error')).display === 'none';");
