@@ -357,3 +357,27 @@ fn target_dir() -> PathBuf {
         .map(Path::to_path_buf)
         .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target")))
 }
+
+#[test]
+fn dashboard_asks_for_the_token_and_sends_it() {
+    let browser = Browser::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let s = server(&dir.path().join("data"), &["--token", "s3cret"]);
+    browser.goto(&format!("{}/", s.url()));
+    // The page itself loads without a token; its API call is refused and the token form opens.
+    browser.wait_js(
+        20,
+        "the token form and the 401 in the banner",
+        "return !document.getElementById('token-form').hidden
+            && document.getElementById('error-text').textContent.includes('401') ? true : null;",
+    );
+    browser.type_into("#token-input", "s3cret");
+    browser.js("document.querySelector('#token-form button').click(); return true;");
+    browser.wait_js(
+        20,
+        "the job list with the token",
+        "const t = document.getElementById('jobs');
+         return t && t.textContent.includes('no jobs')
+            && getComputedStyle(document.getElementById('error')).display === 'none' ? true : null;",
+    );
+}
