@@ -7,11 +7,12 @@
 //!   [`halt`]: halt rules, checkpoints, job end; [`db`]: the SQLite store.
 //! - [`bundle`]: safe unpacking and content-addressed storage of scene bundles.
 //! - [`scene`]: what the master asks of the render core; [`output`]: outputs on demand.
-//! - [`rest`], [`grpc`], [`views`], [`metrics`], [`error`].
+//! - [`rest`], [`grpc`], [`views`], [`metrics`], [`error`]; [`dashboard`]: the web page.
 
 pub mod bundle;
 pub mod codec;
 pub mod config;
+pub mod dashboard;
 pub mod db;
 pub mod error;
 pub mod farm;

@@ -33,6 +33,7 @@ pub fn app(farm: Arc<Farm>) -> Router {
         .into_axum_router();
     crate::rest::router(farm.clone())
         .merge(grpc)
+        .merge(crate::dashboard::router())
         .fallback(not_found)
         .layer(axum::middleware::from_fn_with_state(farm, auth))
 }

@@ -1,0 +1,383 @@
+//! End-to-end test of the web dashboard in a real browser: a `luxfarm server` and a worker on
+//! loopback render the Cornell box while headless Chromium (driven over W3C WebDriver by
+//! chromedriver, started here on a free port) opens the dashboard, finds the job, watches the
+//! preview load and change, cancels the job and sees it cancelled. The browser console must stay
+//! free of errors; a screenshot is saved to `target/dashboard.png`.
+//!
+//! The WebDriver client is a few JSON calls over the `reqwest` already used by the farm tests.
+//! Without `/usr/bin/chromium` and `chromedriver` the test fails and says how to install them
+//! (`.ci/run` does it).
+
+mod farm_common;
+
+use farm_common::*;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+const CHROMIUM: &str = "/usr/bin/chromium";
+
+fn chromedriver() -> PathBuf {
+    ["/usr/bin/chromedriver", "/usr/lib/chromium/chromedriver"]
+        .iter()
+        .map(PathBuf::from)
+        .find(|p| p.exists())
+        .unwrap_or_else(|| {
+            panic!(
+                "chromedriver not found: install Debian's browser with \
+                 `apt-get update && apt-get install -y chromium chromium-driver` (.ci/run does)"
+            )
+        })
+}
+
+/// A WebDriver session (deleted on drop) on a chromedriver process (killed on drop).
+struct Browser {
+    base: String,
+    http: reqwest::blocking::Client,
+    _driver: Proc,
+    _profile: tempfile::TempDir,
+}
+
+impl Browser {
+    fn start() -> Browser {
+        assert!(
+            Path::new(CHROMIUM).exists(),
+            "{CHROMIUM} not found: install it with \
+             `apt-get update && apt-get install -y chromium chromium-driver` (.ci/run does)"
+        );
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .and_then(|l| l.local_addr())
+            .expect("free port")
+            .port();
+        let driver = Proc(
+            Command::new(chromedriver())
+                .arg(format!("--port={port}"))
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .expect("spawn chromedriver"),
+        );
+        let http = http();
+        let base = format!("http://127.0.0.1:{port}");
+        let ready = wait_for(30, || {
+            http.get(format!("{base}/status"))
+                .send()
+                .ok()
+                .and_then(|r| r.json::<Value>().ok())
+                .filter(|v| v["value"]["ready"] == true)
+        });
+        assert!(ready.is_some(), "chromedriver did not become ready");
+        let profile = tempfile::tempdir().expect("profile dir");
+        let caps = json!({"capabilities": {"alwaysMatch": {
+            "browserName": "chrome",
+            "goog:loggingPrefs": {"browser": "ALL"},
+            "goog:chromeOptions": {"binary": CHROMIUM, "args": [
+                "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                "--disable-dev-shm-usage", "--window-size=1280,800",
+                format!("--user-data-dir={}", profile.path().display()),
+            ]},
+        }}});
+        let resp: Value = http
+            .post(format!("{base}/session"))
+            .json(&caps)
+            .send()
+            .expect("new session")
+            .json()
+            .expect("session JSON");
+        let id = resp["value"]["sessionId"]
+            .as_str()
+            .unwrap_or_else(|| panic!("no WebDriver session: {resp}"))
+            .to_string();
+        Browser {
+            base: format!("{base}/session/{id}"),
+            http,
+            _driver: driver,
+            _profile: profile,
+        }
+    }
+
+    fn call(&self, method: reqwest::Method, path: &str, body: Value) -> Value {
+        let req = self.http.request(method, format!("{}{path}", self.base));
+        let req = if body.is_null() { req } else { req.json(&body) };
+        let v: Value = req.send().expect("WebDriver call").json().expect("JSON");
+        if v["value"]["error"].is_string() {
+            panic!("WebDriver {path}: {}", v["value"]);
+        }
+        v["value"].clone()
+    }
+
+    fn goto(&self, url: &str) {
+        self.call(reqwest::Method::POST, "/url", json!({ "url": url }));
+    }
+
+    fn js(&self, script: &str) -> Value {
+        self.call(
+            reqwest::Method::POST,
+            "/execute/sync",
+            json!({"script": script, "args": []}),
+        )
+    }
+
+    /// Types `text` into the element matching a CSS selector (a file input takes a path).
+    fn type_into(&self, css: &str, text: &str) {
+        let e = self.call(
+            reqwest::Method::POST,
+            "/element",
+            json!({"using": "css selector", "value": css}),
+        );
+        let id = e["element-6066-11e4-a52e-4f735466cecf"]
+            .as_str()
+            .unwrap_or_else(|| panic!("no element {css}: {e}"))
+            .to_string();
+        self.call(
+            reqwest::Method::POST,
+            &format!("/element/{id}/value"),
+            json!({ "text": text }),
+        );
+    }
+
+    /// Accepts an open dialog; false when there is none (yet).
+    fn accept_alert(&self) -> bool {
+        self.http
+            .post(format!("{}/alert/accept", self.base))
+            .json(&json!({}))
+            .send()
+            .ok()
+            .and_then(|r| r.json::<Value>().ok())
+            .is_some_and(|v| !v["value"]["error"].is_string())
+    }
+
+    fn resize(&self, w: u32, h: u32) {
+        self.call(
+            reqwest::Method::POST,
+            "/window/rect",
+            json!({"width": w, "height": h}),
+        );
+    }
+
+    fn screenshot(&self, path: &Path) {
+        let v = self.call(reqwest::Method::GET, "/screenshot", Value::Null);
+        let png = base64_decode(v.as_str().expect("screenshot base64"));
+        std::fs::write(path, png).expect("write screenshot");
+    }
+
+    /// Chromium's console log entries (chromedriver's legacy log endpoint).
+    fn console(&self) -> Vec<Value> {
+        self.call(reqwest::Method::POST, "/se/log", json!({"type": "browser"}))
+            .as_array()
+            .cloned()
+            .unwrap_or_default()
+    }
+
+    /// Polls a JS expression (the body of a function) until it returns non-null/false.
+    fn wait_js(&self, secs: u64, what: &str, script: &str) -> Value {
+        wait_for(secs, || {
+            let v = self.js(script);
+            (!v.is_null() && v != false).then_some(v)
+        })
+        .unwrap_or_else(|| panic!("timed out after {secs} s waiting for {what}"))
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self.http.delete(&self.base).send();
+    }
+}
+
+fn wait_for<T>(secs: u64, mut f: impl FnMut() -> Option<T>) -> Option<T> {
+    let end = Instant::now() + Duration::from_secs(secs);
+    loop {
+        if let Some(v) = f() {
+            return Some(v);
+        }
+        if Instant::now() > end {
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(250));
+    }
+}
+
+/// Standard base64 decoding (the screenshot), without another dependency.
+fn base64_decode(s: &str) -> Vec<u8> {
+    let val = |c: u8| match c {
+        b'A'..=b'Z' => Some(c - b'A'),
+        b'a'..=b'z' => Some(c - b'a' + 26),
+        b'0'..=b'9' => Some(c - b'0' + 52),
+        b'+' => Some(62),
+        b'/' => Some(63),
+        _ => None,
+    };
+    let digits: Vec<u8> = s.bytes().filter_map(val).collect();
+    let mut out = Vec::with_capacity(digits.len() * 3 / 4);
+    for chunk in digits.chunks(4) {
+        let n = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |acc, (i, d)| acc | (u32::from(*d) << (18 - 6 * i)));
+        let bytes = n.to_be_bytes();
+        out.extend_from_slice(&bytes[1..chunk.len()]);
+    }
+    out
+}
+
+/// Records console errors and uncaught exceptions of the current document into
+/// `window.__errors`.
+const CAPTURE: &str = "if (!window.__errors) { window.__errors = [];
+  const e = console.error.bind(console);
+  console.error = (...a) => { window.__errors.push(a.map(String).join(' ')); e(...a); };
+  window.addEventListener('error', (ev) => window.__errors.push(String(ev.message)));
+  window.addEventListener('unhandledrejection', (ev) => window.__errors.push(String(ev.reason)));
+} return true;";
+
+#[test]
+fn dashboard_watches_and_cancels_a_job_in_chromium() {
+    let browser = Browser::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let s = server(&dir.path().join("data"), &["--upload-interval", "1"]);
+    let _w = worker(&s.url(), 1, &[]);
+    let scene = shared().join("scenes/cornell/cornell.lxs");
+    let bytes = std::fs::read(&scene).expect("read cornell.lxs");
+    let (status, job) = post_job(&s, bytes, "?filename=cornell.lxs&haltspp=100000");
+    assert_eq!(status, 201, "{job}");
+    let id = job["id"].as_str().expect("job id").to_string();
+
+    browser.goto(&format!("{}/", s.url()));
+    browser.js(CAPTURE);
+    let row = format!("return document.querySelector('#jobs tr[data-id=\"{id}\"]') ? true : null;");
+    browser.wait_js(30, "the job row", &row);
+    browser.js(&format!(
+        "document.querySelector('#jobs tr[data-id=\"{id}\"] a').click(); return true;"
+    ));
+    browser.wait_js(
+        10,
+        "the job page",
+        "return document.getElementById('preview') ? true : null;",
+    );
+
+    // The preview loads once samples arrive, then changes (a new ETag and new pixels).
+    let probe = "const i = document.getElementById('preview');
+      if (!i || !i.complete || !i.naturalWidth || !i.dataset.etag) return null;
+      const c = document.createElement('canvas'); c.width = i.naturalWidth; c.height = i.naturalHeight;
+      const g = c.getContext('2d'); g.drawImage(i, 0, 0);
+      const d = g.getImageData(0, 0, c.width, c.height).data; let h = 0;
+      for (let k = 0; k < d.length; k++) h = (h * 31 + d[k]) >>> 0;
+      return [i.dataset.etag, i.naturalWidth, h];";
+    let first = browser.wait_js(120, "the preview to load", probe);
+    assert_eq!(first[1], 256, "preview width: {first}");
+    let changed = wait_for(120, || {
+        let v = browser.js(probe);
+        (!v.is_null() && v[0] != first[0] && v[2] != first[2]).then_some(v)
+    });
+    assert!(changed.is_some(), "the preview never changed from {first}");
+
+    browser.resize(390, 844);
+    browser.screenshot(&target_dir().join("dashboard-narrow.png"));
+    browser.resize(1280, 800);
+    browser.screenshot(&target_dir().join("dashboard.png"));
+
+    // Cancel through the page (confirm dialog accepted) and see the state change.
+    browser.js("setTimeout(() => document.getElementById('cancel').click(), 0); return true;");
+    wait_for(10, || browser.accept_alert().then_some(())).expect("the cancel confirmation dialog");
+    browser.wait_js(
+        60,
+        "the state to become cancelled",
+        "return document.getElementById('job-info').dataset.state === 'cancelled' ? true : null;",
+    );
+    let api_state = get_json(&s.api(&format!("/jobs/{id}")))["state"].clone();
+    assert_eq!(api_state, "cancelled");
+
+    // Jobs list filtered by state, the workers page, and a submission through the form.
+    browser.js("location.hash = '#/jobs'; return true;");
+    browser.wait_js(10, "the jobs list", &row);
+    browser.js(
+        "const f = document.getElementById('state-filter'); f.value = 'rendering';
+        f.dispatchEvent(new Event('change')); return true;",
+    );
+    browser.wait_js(
+        10,
+        "the cancelled job filtered out",
+        &row.replace("? true : null", "? null : true"),
+    );
+    browser.js("location.hash = '#/workers'; return true;");
+    browser.wait_js(
+        10,
+        "a worker row",
+        "return document.querySelector('#workers tr[data-id]') ? true : null;",
+    );
+    browser.js("location.hash = '#/submit'; return true;");
+    browser.wait_js(
+        10,
+        "the submit form",
+        "return document.getElementById('submit-form') ? true : null;",
+    );
+    browser.type_into("#f-file", &scene.display().to_string());
+    browser.type_into("#f-haltspp", "1");
+    browser.type_into("#f-priority", "3");
+    browser.js("document.querySelector('#submit-form button[type=submit]').click(); return true;");
+    let hash = browser.wait_js(
+        30,
+        "the new job's page",
+        &format!("const h = location.hash; return h.startsWith('#/job/') && h !== '#/job/{id}' ? h : null;"),
+    );
+    let new_id = hash
+        .as_str()
+        .and_then(|h| h.strip_prefix("#/job/"))
+        .expect("job id")
+        .to_string();
+    let new_job = get_json(&s.api(&format!("/jobs/{new_id}")));
+    assert_eq!(new_job["haltspp"], 1.0, "{new_job}");
+    assert_eq!(new_job["priority"], 3, "{new_job}");
+
+    let banner =
+        browser.js("return getComputedStyle(document.getElementById('error')).display === 'none';");
+    assert_eq!(
+        banner,
+        true,
+        "error banner shown: {}",
+        browser.js("return document.getElementById('error-text').textContent;")
+    );
+    let errors = browser.js("return window.__errors;");
+    assert_eq!(errors, json!([]), "errors in the page");
+    let severe: Vec<Value> = browser
+        .console()
+        .into_iter()
+        .filter(|e| e["level"] == "SEVERE")
+        .collect();
+    assert!(severe.is_empty(), "browser console errors: {severe:?}");
+}
+
+/// The workspace's target directory.
+fn target_dir() -> PathBuf {
+    let exe = Path::new(exe());
+    exe.ancestors()
+        .find(|p| p.file_name().is_some_and(|n| n == "target"))
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target")))
+}
+
+#[test]
+fn dashboard_asks_for_the_token_and_sends_it() {
+    let browser = Browser::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let s = server(&dir.path().join("data"), &["--token", "s3cret"]);
+    browser.goto(&format!("{}/", s.url()));
+    // The page itself loads without a token; its API call is refused and the token form opens.
+    browser.wait_js(
+        20,
+        "the token form and the 401 in the banner",
+        "return !document.getElementById('token-form').hidden
+            && document.getElementById('error-text').textContent.includes('401') ? true : null;",
+    );
+    browser.type_into("#token-input", "s3cret");
+    browser.js("document.querySelector('#token-form button').click(); return true;");
+    browser.wait_js(
+        20,
+        "the job list with the token",
+        "const t = document.getElementById('jobs');
+         return t && t.textContent.includes('no jobs')
+            && getComputedStyle(document.getElementById('error')).display === 'none' ? true : null;",
+    );
+}

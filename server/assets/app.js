@@ -1,0 +1,342 @@
+// luxfarm dashboard: a hash-routed single page over the REST API (/api/v1). No framework.
+// Every API error is shown in the banner (#error) with the server's JSON `error` and `detail`.
+
+const API = "/api/v1";
+const main = document.getElementById("main");
+let timer = null; // the current page's poll timer
+let page = 0; // bumps on every navigation so stale polls stop
+
+// ---- API access -------------------------------------------------------------------------
+
+function token() {
+  return localStorage.getItem("luxfarm-token") || "";
+}
+
+function authHeaders(extra = {}) {
+  const t = token();
+  return t ? { ...extra, Authorization: `Bearer ${t}` } : extra;
+}
+
+class ApiError extends Error {}
+
+async function failure(resp) {
+  let text = `${resp.status} ${resp.statusText}`;
+  try {
+    const body = await resp.json();
+    if (body && body.error) text = `${resp.status} ${body.error}: ${body.detail || ""}`;
+  } catch (_) { /* not JSON: keep the status line */ }
+  if (resp.status === 401) showTokenForm();
+  return new ApiError(text);
+}
+
+async function api(path, opts = {}) {
+  let resp;
+  try {
+    resp = await fetch(API + path, { ...opts, headers: authHeaders(opts.headers || {}) });
+  } catch (e) {
+    throw new ApiError(`network error: ${e.message}`);
+  }
+  if (!resp.ok) throw await failure(resp);
+  return resp.json();
+}
+
+function showError(e) {
+  document.getElementById("error-text").textContent = e instanceof Error ? e.message : String(e);
+  document.getElementById("error").hidden = false;
+}
+
+function clearError() {
+  document.getElementById("error").hidden = true;
+}
+
+function showTokenForm() {
+  document.getElementById("token-form").hidden = false;
+  document.getElementById("token-input").focus();
+}
+
+// ---- formatting -------------------------------------------------------------------------
+
+const el = (tag, attrs = {}, ...kids) => {
+  const n = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (k === "class") n.className = v;
+    else if (k.startsWith("on")) n.addEventListener(k.slice(2), v);
+    else if (v !== undefined && v !== null) n.setAttribute(k, v);
+  }
+  for (const k of kids) if (k !== null && k !== undefined) n.append(k);
+  return n;
+};
+
+function num(x, digits = 1) {
+  if (x === null || x === undefined || !isFinite(x)) return "–";
+  if (Math.abs(x) >= 1e6) return (x / 1e6).toFixed(digits) + "M";
+  if (Math.abs(x) >= 1e4) return (x / 1e3).toFixed(digits) + "k";
+  return x.toFixed(digits);
+}
+
+function dur(s) {
+  if (s === null || s === undefined || !isFinite(s)) return "–";
+  s = Math.round(s);
+  const h = Math.floor(s / 3600), m = Math.floor((s % 3600) / 60), r = s % 60;
+  return h ? `${h}h${String(m).padStart(2, "0")}m` : m ? `${m}m${String(r).padStart(2, "0")}s` : `${r}s`;
+}
+
+function bar(frac) {
+  const f = Math.max(0, Math.min(1, frac || 0));
+  return el("span", { class: "bar" }, el("i", { style: `width:${(f * 100).toFixed(1)}%` }));
+}
+
+function progress(value, goal, fmt) {
+  if (goal === null || goal === undefined) return el("span", { class: "mute" }, fmt(value));
+  return el("span", {}, bar(value / goal), `${fmt(value)} / ${fmt(goal)}`);
+}
+
+// Convergence: the failing-pixel fraction falls towards the threshold.
+function convergence(j) {
+  if (j.haltthreshold === null || j.haltthreshold === undefined) return el("span", { class: "mute" }, "–");
+  if (j.convergence === null || j.convergence === undefined) return `– / ${j.haltthreshold}`;
+  const frac = j.convergence <= j.haltthreshold ? 1 : j.haltthreshold / j.convergence;
+  return el("span", {}, bar(frac), `${j.convergence.toFixed(4)} / ${j.haltthreshold}`);
+}
+
+const stateBadge = (s) => el("span", { class: `state state-${s}` }, s);
+
+// ---- job list -----------------------------------------------------------------------------
+
+const COLUMNS = [
+  ["name", "job", (j) => el("a", { href: `#/job/${j.id}` }, j.name)],
+  ["state", "state", (j) => stateBadge(j.state)],
+  ["spp", "spp", (j) => progress(j.spp, j.haltspp, (x) => num(x, 1))],
+  ["elapsed", "time", (j) => progress(j.elapsed, j.halttime, dur)],
+  ["convergence", "convergence", convergence],
+  ["samples_per_sec", "samples/s", (j) => num(j.samples_per_sec)],
+  ["eta", "ETA", (j) => dur(j.eta)],
+  ["active_leases", "workers", (j) => String(j.active_leases)],
+  ["priority", "prio", (j) => String(j.priority)],
+];
+const listState = { sort: null, asc: true, filter: "" };
+
+async function jobsPage(my) {
+  const filter = el("select", { id: "state-filter", onchange: (e) => { listState.filter = e.target.value; refresh(); } },
+    ...["", "queued", "rendering", "done", "cancelled", "failed"].map((s) =>
+      el("option", { value: s }, s || "all states")));
+  filter.value = listState.filter;
+  const table = el("table", { id: "jobs" });
+  main.replaceChildren(el("div", { class: "toolbar" }, el("h2", {}, "Jobs"), el("label", {}, "state ", filter)),
+    el("div", { class: "scroll" }, table));
+  let jobs = [];
+  const draw = () => {
+    let rows = jobs.filter((j) => !listState.filter || j.state === listState.filter);
+    if (listState.sort) {
+      const k = listState.sort, s = listState.asc ? 1 : -1;
+      rows = [...rows].sort((a, b) => (a[k] ?? -Infinity) > (b[k] ?? -Infinity) ? s : (a[k] ?? -Infinity) < (b[k] ?? -Infinity) ? -s : 0);
+    }
+    const head = el("tr", {}, ...COLUMNS.map(([k, label]) => el("th", {
+      class: `sortable ${listState.sort === k ? "sorted" : ""} ${listState.asc ? "asc" : ""}`,
+      onclick: () => { listState.asc = listState.sort === k ? !listState.asc : true; listState.sort = k; draw(); },
+    }, label)));
+    const body = rows.map((j) => el("tr", { "data-id": j.id, "data-state": j.state },
+      ...COLUMNS.map(([, , f]) => el("td", {}, f(j)))));
+    if (!rows.length) body.push(el("tr", {}, el("td", { colspan: COLUMNS.length, class: "mute" }, "no jobs")));
+    table.replaceChildren(el("thead", {}, head), el("tbody", {}, ...body));
+  };
+  const refresh = async () => {
+    try {
+      jobs = await api("/jobs");
+      if (my === page) draw();
+    } catch (e) { showError(e); }
+  };
+  await refresh();
+  timer = setInterval(refresh, 2500);
+}
+
+// ---- job page -----------------------------------------------------------------------------
+
+async function jobPage(my, id) {
+  const img = el("img", { id: "preview", alt: "preview" });
+  const info = el("dl", { id: "job-info" });
+  const chart = el("canvas", { id: "chart", width: 600, height: 160 });
+  const workers = el("table", { id: "job-workers" });
+  const cancel = el("button", { id: "cancel", class: "danger", type: "button" }, "Cancel");
+  const title = el("h2", {}, `Job ${id}`);
+  const dl = (f, label) => el("a", { href: `${API}/jobs/${id}/${f}`, download: f, onclick: download }, label);
+  main.replaceChildren(title, el("div", { class: "job" },
+    el("div", {}, el("div", { class: "preview" }, img),
+      el("p", { class: "mute" }, "Preview uses the scene's tonemapper; the API has no tonemapping parameters yet.")),
+    el("div", {}, info, el("p", {}, cancel),
+      el("p", { class: "downloads" }, dl("image.png", "PNG"), dl("image.exr", "EXR"), dl("film.flm", "FLM")),
+      el("h3", {}, "Progress"), chart, el("h3", {}, "Workers"), el("div", { class: "scroll" }, workers))));
+  const history = [];
+  let etag = null, url = null, job = null;
+  cancel.addEventListener("click", async () => {
+    if (!confirm(`Cancel job ${job ? job.name : id}?`)) return;
+    try {
+      job = await api(`/jobs/${id}`, { method: "DELETE" });
+      drawInfo();
+    } catch (e) { showError(e); }
+  });
+  const drawInfo = () => {
+    title.textContent = `${job.name} `;
+    title.append(stateBadge(job.state));
+    const rows = [["state", job.state + (job.reason ? ` (${job.reason})` : "")],
+      ["resolution", `${job.width}×${job.height}`], ["spp", progress(job.spp, job.haltspp, (x) => num(x, 1))],
+      ["time", progress(job.elapsed, job.halttime, dur)], ["convergence", convergence(job)],
+      ["samples/s", num(job.samples_per_sec)], ["ETA", dur(job.eta)], ["priority", String(job.priority)],
+      ["seed", String(job.seed)]];
+    info.replaceChildren(...rows.flatMap(([k, v]) => [el("dt", {}, k), el("dd", { "data-key": k }, v)]));
+    info.dataset.state = job.state;
+    cancel.disabled = ["done", "cancelled", "failed"].includes(job.state);
+    workers.replaceChildren(el("tr", {}, el("th", {}, "worker"), el("th", {}, "samples"), el("th", {}, "active")),
+      ...job.workers.map((w) => el("tr", {}, el("td", {}, w.worker_id), el("td", {}, num(w.samples)),
+        el("td", {}, w.active ? "yes" : "no"))));
+  };
+  const pollPreview = async () => {
+    const headers = authHeaders(etag ? { "If-None-Match": etag } : {});
+    let resp;
+    try { resp = await fetch(`${API}/jobs/${id}/preview.png`, { headers }); } catch (e) { throw new ApiError(`network error: ${e.message}`); }
+    if (resp.status === 304) return;
+    if (resp.status === 503 || resp.status === 404 && job && job.samples === 0) return; // no film yet
+    if (!resp.ok) throw await failure(resp);
+    const blob = await resp.blob();
+    etag = resp.headers.get("ETag");
+    if (url) URL.revokeObjectURL(url);
+    url = URL.createObjectURL(blob);
+    img.src = url;
+    img.dataset.etag = etag || "";
+    img.dataset.loads = String(Number(img.dataset.loads || 0) + 1);
+  };
+  const refresh = async () => {
+    try {
+      job = await api(`/jobs/${id}`);
+      if (my !== page) return;
+      history.push([job.elapsed, job.spp, job.samples_per_sec]);
+      if (history.length > 600) history.shift();
+      drawInfo();
+      drawChart(chart, history);
+      if (job.samples > 0) await pollPreview();
+    } catch (e) { showError(e); }
+  };
+  await refresh();
+  timer = setInterval(refresh, 2500);
+}
+
+async function download(ev) {
+  if (!token()) return; // plain link works without a token
+  ev.preventDefault();
+  const a = ev.currentTarget;
+  try {
+    const resp = await fetch(a.href, { headers: authHeaders() });
+    if (!resp.ok) throw await failure(resp);
+    const blob = await resp.blob();
+    const tmp = el("a", { href: URL.createObjectURL(blob), download: a.getAttribute("download") });
+    tmp.click();
+    setTimeout(() => URL.revokeObjectURL(tmp.href), 10000);
+  } catch (e) { showError(e); }
+}
+
+// spp (orange, left scale) and samples/s (blue, right scale) against elapsed time.
+function drawChart(canvas, history) {
+  const w = canvas.width, h = canvas.height, pad = 28;
+  const g = canvas.getContext("2d");
+  g.clearRect(0, 0, w, h);
+  g.font = "11px system-ui";
+  if (history.length < 2) { g.fillStyle = "#9aa0aa"; g.fillText("collecting…", pad, h / 2); return; }
+  const t0 = history[0][0], t1 = Math.max(history[history.length - 1][0], t0 + 1e-6);
+  const line = (idx, color, yLabelX) => {
+    const max = Math.max(...history.map((p) => p[idx]), 1e-9);
+    g.strokeStyle = color; g.lineWidth = 2; g.beginPath();
+    history.forEach((p, i) => {
+      const x = pad + (p[0] - t0) / (t1 - t0) * (w - 2 * pad), y = h - pad - p[idx] / max * (h - 2 * pad);
+      i ? g.lineTo(x, y) : g.moveTo(x, y);
+    });
+    g.stroke(); g.fillStyle = color; g.fillText(num(max), yLabelX, pad - 8);
+  };
+  line(1, "#f2a33a", 2);
+  line(2, "#4c8df6", w - pad - 10);
+  g.fillStyle = "#9aa0aa";
+  g.fillText("spp", pad, h - 8); g.fillText("samples/s", w / 2, h - 8); g.fillText(dur(t1), w - pad - 20, h - 8);
+}
+
+// ---- submit -------------------------------------------------------------------------------
+
+function submitPage() {
+  const field = (name, label, attrs = {}) => [el("label", { for: `f-${name}` }, label),
+    el("input", { id: `f-${name}`, name, ...attrs })];
+  const status = el("p", { id: "submit-status", class: "mute" });
+  const form = el("form", { id: "submit-form", class: "grid" },
+    ...field("file", "scene (.lxs, .zip, .tar)", { type: "file", required: "", accept: ".lxs,.zip,.tar" }),
+    ...field("name", "name", { type: "text" }),
+    ...field("haltspp", "haltspp", { type: "number", min: "0", step: "any" }),
+    ...field("halttime", "halttime (s)", { type: "number", min: "0", step: "any" }),
+    ...field("haltthreshold", "haltthreshold", { type: "number", min: "0", step: "any" }),
+    ...field("priority", "priority", { type: "number", step: "1" }),
+    el("span"), el("button", { type: "submit" }, "Submit"));
+  form.addEventListener("submit", async (ev) => {
+    ev.preventDefault();
+    const data = new FormData(form);
+    for (const [k, v] of [...data.entries()]) if (v === "") data.delete(k);
+    status.textContent = "uploading…";
+    try {
+      const job = await api("/jobs", { method: "POST", body: data });
+      clearError();
+      location.hash = `#/job/${job.id}`;
+    } catch (e) { status.textContent = ""; showError(e); }
+  });
+  main.replaceChildren(el("h2", {}, "Submit a scene"), form, status);
+}
+
+// ---- workers ------------------------------------------------------------------------------
+
+async function workersPage(my) {
+  const table = el("table", { id: "workers" });
+  main.replaceChildren(el("h2", {}, "Workers"), el("div", { class: "scroll" }, table));
+  const prev = new Map(); // id -> [time, samples] for a client-side samples/s
+  const refresh = async () => {
+    try {
+      const ws = await api("/workers");
+      if (my !== page) return;
+      const now = performance.now() / 1000;
+      const rows = ws.map((w) => {
+        const p = prev.get(w.id);
+        const rate = p && now > p[0] ? (w.samples - p[1]) / (now - p[0]) : null;
+        prev.set(w.id, [now, w.samples]);
+        return el("tr", { "data-id": w.id }, el("td", {}, w.name), el("td", {}, stateBadge(w.state)),
+          el("td", {}, String(w.threads)), el("td", {}, num(rate)),
+          el("td", {}, w.job_id ? el("a", { href: `#/job/${w.job_id}` }, w.job_id) : "–"),
+          el("td", {}, `${dur(w.last_seen_secs)} ago`), el("td", { class: "hide-narrow" }, num(w.samples)));
+      });
+      if (!rows.length) rows.push(el("tr", {}, el("td", { colspan: 7, class: "mute" }, "no workers")));
+      table.replaceChildren(el("tr", {}, ...["name", "state", "threads", "samples/s", "job", "heartbeat"].map((h) => el("th", {}, h)),
+        el("th", { class: "hide-narrow" }, "samples")), ...rows);
+    } catch (e) { showError(e); }
+  };
+  await refresh();
+  timer = setInterval(refresh, 2500);
+}
+
+// ---- routing ------------------------------------------------------------------------------
+
+function route() {
+  clearInterval(timer);
+  page += 1;
+  const my = page;
+  const hash = location.hash || "#/jobs";
+  for (const a of document.querySelectorAll("nav a")) a.classList.toggle("active", hash.startsWith(a.getAttribute("href")));
+  const m = hash.match(/^#\/job\/([^/]+)$/);
+  if (m) return jobPage(my, decodeURIComponent(m[1]));
+  if (hash === "#/submit") return submitPage();
+  if (hash === "#/workers") return workersPage(my);
+  return jobsPage(my);
+}
+
+document.getElementById("error-close").addEventListener("click", clearError);
+document.getElementById("token-button").addEventListener("click", showTokenForm);
+document.getElementById("token-form").addEventListener("submit", (ev) => {
+  ev.preventDefault();
+  localStorage.setItem("luxfarm-token", document.getElementById("token-input").value.trim());
+  document.getElementById("token-form").hidden = true;
+  clearError();
+  route();
+});
+window.addEventListener("hashchange", route);
+route();
