@@ -43,7 +43,7 @@ enum Command {
     Cancel(cmd::cancel::Args),
     /// List the master's workers.
     Workers(cmd::workers::Args),
-    /// Run a master (gRPC and REST on one address).
+    /// Run a master (gRPC, REST and the dashboard on one address).
     Server(cmd::server::Args),
     /// Run a worker for a master.
     Worker(cmd::worker::Args),

@@ -1,6 +1,6 @@
 //! `luxfarm render SCENE.lxs --workers N`: the one-command farm. An embedded master in a
 //! temporary data directory, N local worker processes (`luxfarm worker`, spawned from this
-//! executable) over loopback, a progress bar, the master URL printed, and the outputs
+//! executable) over loopback, a progress bar, the dashboard URL printed, and the outputs
 //! written beside the scene (or at `-o BASENAME`).
 //!
 //! The render command's argument parsing (client/src/cmd/render.rs) calls [`run`] when
@@ -75,7 +75,7 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
     cfg.checkpoint_interval = 10.0;
     let running = rt.block_on(luxfarm_server::start(cfg))?;
     let url = format!("http://{}", running.addr);
-    eprintln!("master: {url} (REST API under {url}/api/v1)");
+    eprintln!("dashboard: {url}/");
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let threads = o.threads.unwrap_or((cores / o.workers.max(1)).max(1));
     let workers = spawn_workers(&url, o.workers.max(1), threads)?;
