@@ -238,7 +238,11 @@ fn dashboard_watches_and_cancels_a_job_in_chromium() {
     let dir = tempfile::tempdir().expect("tempdir");
     let s = server(&dir.path().join("data"), &["--upload-interval", "1"]);
     let _w = worker(&s.url(), 1, &[]);
-    let scene = shared().join("scenes/cornell/cornell.lxs");
+    // Chromium's file input takes only canonical paths (no `..`).
+    let scene = shared()
+        .join("scenes/cornell/cornell.lxs")
+        .canonicalize()
+        .expect("cornell.lxs exists");
     let bytes = std::fs::read(&scene).expect("read cornell.lxs");
     let (status, job) = post_job(&s, bytes, "?filename=cornell.lxs&haltspp=100000");
     assert_eq!(status, 201, "{job}");
