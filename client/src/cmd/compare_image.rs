@@ -4,6 +4,13 @@
 //! `spectrum::rgb_to_xyz`), without any tonemapping — LuxRender's EXR output is tonemapped by
 //! default (`write_exr_applyimaging`), so an FLM is the faithful linear source.
 //! `--exclude-above V` leaves out pixels where the reference exceeds V (visible emitters).
+//!
+//! `--shift-rows N` compares A's row `y - N` with B's row `y` (rows without a partner are left
+//! out). Pixel conventions differ between renderers: LuxRender (and luxfarm) map image row `y`
+//! to raster rows `[y, y + 1)`, while LuxCore's cameras use `filmHeight - filmY - 1`, so LuxCore's
+//! row `y` shows what LuxRender shows in row `y - 1`. `--shift-rows 1` compares a luxfarm image
+//! with a LuxCore reference under one convention; the shift is a whole row, so nothing is
+//! resampled.
 
 use anyhow::{bail, Context};
 use luxfarm::film::flm::read_flm;
@@ -23,6 +30,25 @@ pub struct Args {
     /// visible emitters, whose edges dominate the RMSE).
     #[arg(long)]
     pub exclude_above: Option<f32>,
+    /// Compare A's row y - N with B's row y (1 aligns luxfarm/LuxRender images with LuxCore's
+    /// pixel convention; see the module docs).
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
+    pub shift_rows: i64,
+}
+
+/// Index pairs (a, b) of pixels compared when A is shifted down by `rows` rows.
+pub fn row_pairs(w: usize, h: usize, rows: i64) -> Vec<(usize, usize)> {
+    let mut out = Vec::with_capacity(w * h);
+    for y in 0..h as i64 {
+        let ya = y - rows;
+        if ya < 0 || ya >= h as i64 {
+            continue;
+        }
+        for x in 0..w {
+            out.push((ya as usize * w + x, y as usize * w + x));
+        }
+    }
+    out
 }
 
 /// Error metrics of A against the reference B.
@@ -70,15 +96,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if (wa, ha) != (wb, hb) {
         bail!("image sizes differ: {wa}x{ha} vs {wb}x{hb}");
     }
-    let keep = |i: &usize| {
+    let keep = |(_, ib): &(usize, usize)| {
         args.exclude_above
-            .is_none_or(|v| b[*i].max_component() <= v)
+            .is_none_or(|v| b[*ib].max_component() <= v)
     };
-    let idx: Vec<usize> = (0..a.len()).filter(keep).collect();
-    let a: Vec<[f32; 3]> = idx.iter().map(|&i| a[i].to_array()).collect();
-    let b: Vec<[f32; 3]> = idx.iter().map(|&i| b[i].to_array()).collect();
+    let idx: Vec<(usize, usize)> = row_pairs(wa, ha, args.shift_rows)
+        .into_iter()
+        .filter(keep)
+        .collect();
+    let a: Vec<[f32; 3]> = idx.iter().map(|&(i, _)| a[i].to_array()).collect();
+    let b: Vec<[f32; 3]> = idx.iter().map(|&(_, i)| b[i].to_array()).collect();
     let mut out = std::io::stdout().lock();
-    if args.exclude_above.is_some() {
+    if args.exclude_above.is_some() || args.shift_rows != 0 {
         writeln!(out, "pixels      {} of {}", idx.len(), wa * ha)?;
     }
     let m = metrics(&a, &b);
@@ -122,6 +151,15 @@ mod tests {
         assert_eq!(m.rmse, 0.0);
         assert_eq!(m.rel_mse, 0.0);
         assert_eq!(m.mean_ratio, 1.0);
+    }
+
+    #[test]
+    fn row_shift_pairs_a_row_above_with_b() {
+        // 2x3 image: shifting by one row pairs A's row 0 with B's row 1, A's 1 with B's 2.
+        assert_eq!(row_pairs(2, 3, 1), vec![(0, 2), (1, 3), (2, 4), (3, 5)]);
+        assert_eq!(row_pairs(2, 3, -1), vec![(2, 0), (3, 1), (4, 2), (5, 3)]);
+        assert_eq!(row_pairs(2, 3, 0).len(), 6);
+        assert!(row_pairs(2, 3, 5).is_empty());
     }
 
     #[test]
