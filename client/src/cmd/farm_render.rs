@@ -20,6 +20,7 @@ pub struct Options {
     pub threads: Option<usize>,
     pub haltspp: Option<f64>,
     pub halttime: Option<f64>,
+    pub haltthreshold: Option<f64>,
     pub seed: Option<u64>,
     /// Output base name (default: the film's `filename`, beside the scene).
     pub output: Option<PathBuf>,
@@ -88,6 +89,7 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
         file_name: upload.file_name,
         haltspp: o.haltspp,
         halttime: o.halttime,
+        haltthreshold: o.haltthreshold,
         seed: o.seed,
         ..Default::default()
     };

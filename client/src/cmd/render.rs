@@ -1,13 +1,21 @@
-//! `luxfarm render SCENE.lxs [--workers N] [--threads N] [--haltspp N] [--halttime S] [--seed S]
+//! `luxfarm render SCENE.lxs [--workers N] [--threads N] [--haltspp N] [--halttime S]
+//! [--haltthreshold F] [--seed S]
 //! [-o BASENAME]`: renders a scene locally on all cores (or, with `--workers`, on a local farm)
 //! with a progress bar, halting at the
-//! scene's (or the given) haltspp/halttime, and writes what the Film asks for.
+//! scene's (or the given) haltspp/halttime/haltthreshold, and writes what the Film asks for.
+//!
+//! haltthreshold works as LuxRender's: every `convergencestep` spp the display image is
+//! compared with the previous snapshot (Yee's perceptual test); the render stops once the
+//! fraction of pixels that still change perceptibly is at most the threshold.
 
 use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
+use luxfarm::film::convergence::{ConvergenceTest, YeeParams};
 use luxfarm::film::output::write_outputs;
+use luxfarm::film::Film;
 use luxfarm::lxs::{parse_file, ParseOptions};
 use luxfarm::render::{Session, SessionOptions};
+use luxfarm::tonemap::{tonemap_display, TonemapParams};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
@@ -25,6 +33,10 @@ pub struct Args {
     /// Stop after this many seconds (overrides the Film's halttime).
     #[arg(long)]
     pub halttime: Option<f64>,
+    /// Stop when at most this fraction of pixels still changes perceptibly between two
+    /// convergence tests (overrides the Film's haltthreshold).
+    #[arg(long)]
+    pub haltthreshold: Option<f64>,
     /// Seed of the sample streams.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -41,11 +53,41 @@ pub struct Args {
 struct Halt {
     spp: Option<f64>,
     time: Option<f64>,
+    threshold: Option<Threshold>,
+}
+
+/// The haltthreshold state: the Yee test against the previous snapshot, run every `step` spp.
+struct Threshold {
+    limit: f64,
+    step: f64,
+    next_spp: f64,
+    test: ConvergenceTest,
+    failing: Option<f64>,
+}
+
+impl Threshold {
+    /// Runs the test when due; true once the failing fraction is at most the limit.
+    fn converged(&mut self, film: &Film, tonemap: &TonemapParams) -> bool {
+        let spp = film.spp();
+        if spp < self.next_spp {
+            return false;
+        }
+        self.next_spp = spp + self.step;
+        let failing = self.test.update(&tonemap_display(film, tonemap));
+        let first = self.failing.is_none();
+        self.failing = Some(failing);
+        !first && failing <= self.limit
+    }
 }
 
 impl Halt {
-    fn done(&self, spp: f64, secs: f64) -> bool {
-        self.spp.is_some_and(|h| spp >= h) || self.time.is_some_and(|t| secs >= t)
+    fn done(&mut self, film: &Film, tonemap: &TonemapParams, secs: f64) -> bool {
+        let spp = film.spp();
+        let converged = self
+            .threshold
+            .as_mut()
+            .is_some_and(|t| t.converged(film, tonemap));
+        converged || self.spp.is_some_and(|h| spp >= h) || self.time.is_some_and(|t| secs >= t)
     }
 }
 
@@ -57,6 +99,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             threads: (args.threads > 0).then_some(args.threads),
             haltspp: args.haltspp.map(f64::from),
             halttime: args.halttime,
+            haltthreshold: args.haltthreshold,
             seed: Some(args.seed),
             output: args.output,
             upload_interval: 2.0,
@@ -78,14 +121,27 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         eprintln!("warning: {w}");
     }
     let fp = session.film_params().clone();
-    let halt = Halt {
+    let limit = args.haltthreshold.or(fp.haltthreshold.map(f64::from));
+    if let Some(l) = limit {
+        if !(0.0..=1.0).contains(&l) {
+            bail!("haltthreshold {l} is not a fraction in [0, 1]");
+        }
+    }
+    let mut halt = Halt {
         spp: args.haltspp.or(fp.haltspp).map(f64::from),
         time: args.halttime.or(fp.halttime.map(f64::from)),
+        threshold: limit.map(|limit| Threshold {
+            limit,
+            step: fp.convergence_step,
+            next_spp: fp.convergence_step,
+            test: ConvergenceTest::new(YeeParams::default()),
+            failing: None,
+        }),
     };
-    if halt.spp.is_none() && halt.time.is_none() {
+    if halt.spp.is_none() && halt.time.is_none() && halt.threshold.is_none() {
         bail!(
-            "{}: no halt condition: the Film has no haltspp/halttime (haltthreshold is not \
-             supported by `luxfarm render` yet); give --haltspp or --halttime",
+            "{}: no halt condition: the Film has no haltspp/halttime/haltthreshold; give \
+             --haltspp, --halttime or --haltthreshold",
             args.scene.display()
         );
     }
@@ -104,7 +160,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             None => secs as u64,
         });
         bar.set_message(format!("{spp:.1} spp, {:.2} Msamples/s", rate / 1e6));
-        if halt.done(spp, secs) || pixels == 0.0 {
+        if let Some(f) = halt.threshold.as_ref().and_then(|t| t.failing) {
+            bar.set_message(format!(
+                "{spp:.1} spp, {:.2} Msamples/s, {:.2}% of pixels changing",
+                rate / 1e6,
+                100.0 * f
+            ));
+        }
+        if halt.done(session.film(), &fp.tonemap, secs) || pixels == 0.0 {
             break;
         }
     }
