@@ -5,6 +5,7 @@ use crate::db::{JobRow, JobState};
 use crate::error::Result;
 use crate::farm::{lock, now_ms, Farm};
 use luxfarm_proto as pb;
+use std::collections::HashMap;
 use std::sync::atomic::Ordering;
 
 /// A job as the API shows it.
@@ -69,6 +70,9 @@ pub struct WorkerView {
     /// Seconds since the last heartbeat.
     pub last_seen_secs: f64,
     pub samples: f64,
+    /// Samples per second of the worker's acknowledged uploads over the last minute (0 when
+    /// it is not rendering).
+    pub samples_per_sec: f64,
 }
 
 /// The view of one job.
@@ -167,29 +171,77 @@ pub fn job_views(farm: &Farm) -> Result<Vec<JobView>> {
 }
 
 /// Views of every known worker.
-pub fn worker_views(farm: &Farm) -> Vec<WorkerView> {
+pub fn worker_views(farm: &Farm) -> Result<Vec<WorkerView>> {
+    let rates = worker_rates(farm, now_ms())?;
     let mut v: Vec<WorkerView> = lock(&farm.workers)
         .values()
-        .map(|w| WorkerView {
-            id: w.id.clone(),
-            name: w.name.clone(),
-            threads: w.threads,
-            state: if w.lost {
-                "lost".into()
-            } else if w.lease.is_some() {
-                "rendering".into()
-            } else {
-                "idle".into()
-            },
-            job_id: w.lease.as_ref().map(|(j, _)| j.clone()),
-            lease_id: w.lease.as_ref().map(|(_, l)| l.clone()),
-            last_seen_ms: w.last_seen_ms,
-            last_seen_secs: w.last_seen.elapsed().as_secs_f64(),
-            samples: w.samples,
+        .map(|w| {
+            let rendering = !w.lost && w.lease.is_some();
+            WorkerView {
+                id: w.id.clone(),
+                name: w.name.clone(),
+                threads: w.threads,
+                state: if w.lost {
+                    "lost".into()
+                } else if rendering {
+                    "rendering".into()
+                } else {
+                    "idle".into()
+                },
+                job_id: w.lease.as_ref().map(|(j, _)| j.clone()),
+                lease_id: w.lease.as_ref().map(|(_, l)| l.clone()),
+                last_seen_ms: w.last_seen_ms,
+                last_seen_secs: w.last_seen.elapsed().as_secs_f64(),
+                samples: w.samples,
+                samples_per_sec: if rendering {
+                    rates.get(&w.id).copied().unwrap_or(0.0)
+                } else {
+                    0.0
+                },
+            }
         })
         .collect();
     v.sort_by(|a, b| a.name.cmp(&b.name).then(a.id.cmp(&b.id)));
-    v
+    Ok(v)
+}
+
+/// The window of [`worker_rates`].
+pub const RATE_WINDOW_MS: i64 = 60_000;
+
+/// Each worker's samples per second from its acknowledged uploads (the ledger): the samples of
+/// its uploads merged in the last [`RATE_WINDOW_MS`] over the time they cover, from the upload
+/// before the first of them (or the start of its lease) to the last of them.
+///
+/// The ledger is read through a read-only connection of its own: the store's methods belong to
+/// the farm module, and WAL lets this reader run beside the writer.
+pub fn worker_rates(farm: &Farm, now_ms: i64) -> Result<HashMap<String, f64>> {
+    use rusqlite::OpenFlags;
+    let conn = rusqlite::Connection::open_with_flags(
+        farm.cfg.data_dir.join("farm.sqlite"),
+        OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX,
+    )?;
+    let mut st = conn.prepare(
+        "SELECT worker_id, SUM(samples), MIN(prev), MAX(merged_ms) FROM ( \
+           SELECT l.worker_id AS worker_id, g.samples AS samples, g.merged_ms AS merged_ms, \
+             COALESCE(LAG(g.merged_ms) OVER (PARTITION BY g.lease_id ORDER BY g.seq), \
+                      l.started_ms) AS prev \
+           FROM ledger g JOIN leases l ON l.id = g.lease_id \
+           WHERE g.lease_id IN (SELECT lease_id FROM ledger WHERE merged_ms >= ?1)) \
+         WHERE merged_ms >= ?1 GROUP BY worker_id",
+    )?;
+    let rows = st.query_map([now_ms - RATE_WINDOW_MS], |r| {
+        let (id, samples): (String, f64) = (r.get(0)?, r.get(1)?);
+        let (from, to): (i64, i64) = (r.get(2)?, r.get(3)?);
+        Ok((id, samples, from, to))
+    })?;
+    let mut rates = HashMap::new();
+    for row in rows {
+        let (id, samples, from, to) = row?;
+        if to > from && samples.is_finite() {
+            rates.insert(id, samples * 1000.0 / (to - from) as f64);
+        }
+    }
+    Ok(rates)
 }
 
 impl From<JobView> for pb::JobInfo {
@@ -230,7 +282,7 @@ impl From<WorkerView> for pb::WorkerInfo {
             lease_id: w.lease_id.unwrap_or_default(),
             last_seen_ms: w.last_seen_ms,
             samples: w.samples,
-            samples_per_sec: 0.0,
+            samples_per_sec: w.samples_per_sec,
         }
     }
 }
