@@ -194,8 +194,9 @@ function tonemapPanel(settings, onChange) {
     ...Object.keys(TM_KERNELS).map((k) => el("option", { value: k }, k === scene.kernel ? `${k} (scene)` : k)));
   const params = el("div", { id: "tm-params", class: "tm-params" });
   const reset = el("button", { id: "tm-reset", type: "button", class: "secondary" }, "Scene default");
-  const panel = el("section", { id: "tonemap", class: "panel" }, el("h3", {}, "Tonemapping"),
-    el("div", { class: "tm-row" }, el("label", { for: "tm-kernel" }, "kernel"), kernel, reset), params);
+  const panel = el("section", { id: "tonemap", class: "panel" },
+    el("div", { class: "panel-head" }, el("h3", {}, "Tonemapping"), reset),
+    el("div", { class: "tm-row tm-kernel" }, el("label", { for: "tm-kernel" }, "kernel"), kernel), params);
   let debounce = null;
   const query = () => {
     const names = [...TM_KERNELS[state.kernel], "gamma"];
@@ -253,14 +254,15 @@ async function jobPage(my, id) {
   const workers = el("table", { id: "job-workers" });
   const cancel = el("button", { id: "cancel", class: "danger", type: "button" }, "Cancel");
   const title = el("h2", {}, `Job ${id}`);
-  const tmSlot = el("div", { id: "tonemap-slot" });
+  const tmSlot = el("div", { id: "tonemap-slot", class: "job-tonemap" });
   const dl = (f, label) => el("a", { href: `${API}/jobs/${id}/${f}`, download: f, onclick: download, id: `dl-${f.replace(".", "-")}` }, label);
   const pngLink = dl("image.png", "PNG");
   main.replaceChildren(title, el("div", { class: "job" },
-    el("div", {}, el("div", { class: "preview" }, img), tmSlot),
-    el("div", {}, info, el("p", {}, cancel),
-      el("p", { class: "downloads" }, pngLink, dl("image.exr", "EXR"), dl("film.flm", "FLM")),
-      el("h3", {}, "Progress"), chart, el("h3", {}, "Workers"), el("div", { class: "scroll" }, workers))));
+    el("div", { class: "preview" }, img), tmSlot,
+    el("div", { class: "job-side" }, info, el("p", { class: "actions" }, cancel,
+      el("span", { class: "downloads" }, pngLink, dl("image.exr", "EXR"), dl("film.flm", "FLM")))),
+    el("div", { class: "job-progress" }, el("h3", {}, "Progress"), chart, el("h3", {}, "Workers"),
+      el("div", { class: "scroll" }, workers))));
   const history = [];
   let etag = null, url = null, job = null, query = "", fetchSeq = 0;
   cancel.addEventListener("click", async () => {
