@@ -326,6 +326,14 @@ fn dashboard_watches_and_cancels_a_job_in_chromium() {
     let later = browser.js(probe);
     assert_eq!(later[4], toned[4], "the poll dropped the tonemapping query");
 
+    // The job's worker row shows the master's samples/s for the worker.
+    browser.wait_js(
+        30,
+        "the worker's samples/s on the job page",
+        "const c = document.querySelector('#job-workers tr[data-worker] td:nth-child(3)');
+         return c && parseFloat(c.textContent) > 0 ? c.textContent : null;",
+    );
+
     browser.resize(390, 844);
     browser.js("document.getElementById('tonemap').scrollIntoView(); return true;");
     browser.screenshot(&target_dir().join("dashboard-narrow-tonemap.png"));

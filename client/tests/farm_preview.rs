@@ -39,6 +39,24 @@ fn mean_brightness(png: &[u8]) -> f64 {
     sum / img.texels.len() as f64
 }
 
+/// `samples_per_sec` of every worker from the gRPC Jobs service.
+fn grpc_worker_rates(url: &str) -> Vec<f64> {
+    let rt = tokio::runtime::Runtime::new().expect("tokio runtime");
+    rt.block_on(async {
+        let ch = luxfarm_proto::connect::channel(url, None, None).expect("channel");
+        let mut c = luxfarm_proto::connect::jobs_client(ch);
+        let r = c
+            .list_workers(luxfarm_proto::ListWorkersRequest {})
+            .await
+            .expect("ListWorkers");
+        r.into_inner()
+            .workers
+            .iter()
+            .map(|w| w.samples_per_sec)
+            .collect()
+    })
+}
+
 fn assert_bad_request(url: &str, names: &str) {
     let r = http().get(url).send().expect("GET");
     assert_eq!(r.status().as_u16(), 400, "{url}");

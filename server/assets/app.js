@@ -265,6 +265,7 @@ async function jobPage(my, id) {
       el("div", { class: "scroll" }, workers))));
   const history = [];
   let etag = null, url = null, job = null, query = "", fetchSeq = 0;
+  let farmWorkers = new Map(); // worker id -> the master's view (samples/s, last heartbeat)
   cancel.addEventListener("click", async () => {
     if (!confirm(`Cancel job ${job ? job.name : id}?`)) return;
     try {
@@ -283,9 +284,15 @@ async function jobPage(my, id) {
     info.replaceChildren(...rows.flatMap(([k, v]) => [el("dt", {}, k), el("dd", { "data-key": k }, v)]));
     info.dataset.state = job.state;
     cancel.disabled = ["done", "cancelled", "failed"].includes(job.state);
-    workers.replaceChildren(el("tr", {}, el("th", {}, "worker"), el("th", {}, "samples"), el("th", {}, "active")),
-      ...job.workers.map((w) => el("tr", {}, el("td", {}, w.worker_id), el("td", {}, num(w.samples)),
-        el("td", {}, w.active ? "yes" : "no"))));
+    workers.replaceChildren(el("tr", {}, el("th", {}, "worker"), el("th", {}, "samples"),
+      el("th", {}, "samples/s"), el("th", {}, "last seen"), el("th", {}, "active")),
+      ...job.workers.map((w) => {
+        const live = farmWorkers.get(w.worker_id);
+        const here = w.active && live && live.lease_id === w.lease_id;
+        return el("tr", { "data-worker": w.worker_id }, el("td", {}, live ? live.name : w.worker_id),
+          el("td", {}, num(w.samples)), el("td", {}, here ? num(live.samples_per_sec) : "–"),
+          el("td", {}, live ? `${dur(live.last_seen_secs)} ago` : "–"), el("td", {}, w.active ? "yes" : "no"));
+      }));
   };
   // Fetches the preview with the current tonemapping query; a response to an older query is
   // dropped so the image always shows the latest setting.
@@ -320,7 +327,9 @@ async function jobPage(my, id) {
   };
   const refresh = async () => {
     try {
-      job = await api(`/jobs/${id}`);
+      const [j, ws] = await Promise.all([api(`/jobs/${id}`), api("/workers")]);
+      job = j;
+      farmWorkers = new Map(ws.map((w) => [w.id, w]));
       if (my !== page) return;
       history.push([job.elapsed, job.spp, job.samples_per_sec]);
       if (history.length > 600) history.shift();
