@@ -151,10 +151,7 @@ impl pb::jobs_server::Jobs for JobsService {
         let farm = self.0.clone();
         let workers = blocking(move || views::worker_views(&farm)).await?;
         Ok(Response::new(pb::ListWorkersReply {
-            workers: workers
-                .into_iter()
-                .map(Into::into)
-                .collect(),
+            workers: workers.into_iter().map(Into::into).collect(),
         }))
     }
 }

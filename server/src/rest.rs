@@ -327,7 +327,8 @@ async fn output(
     if matches {
         return Ok((StatusCode::NOT_MODIFIED, [(header::ETAG, etag)]).into_response());
     }
-    let out = blocking(move || crate::output::render_with(&farm, &id, format, max_size, &tm)).await?;
+    let out =
+        blocking(move || crate::output::render_with(&farm, &id, format, max_size, &tm)).await?;
     let mut resp = (
         [
             (header::CONTENT_TYPE, out.content_type.to_string()),

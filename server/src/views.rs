@@ -205,43 +205,57 @@ pub fn worker_views(farm: &Farm) -> Result<Vec<WorkerView>> {
     Ok(v)
 }
 
-/// The window of [`worker_rates`].
+/// The shortest window of [`worker_rates`]; it grows to three upload intervals when the
+/// farm's interval is longer, so a rendering worker always has uploads in it.
 pub const RATE_WINDOW_MS: i64 = 60_000;
 
+/// Ledger rows may be slightly out of time order (merges run concurrently): the backwards scan
+/// of [`worker_rates`] goes this far past the window's start before it stops.
+const SCAN_SLACK_MS: i64 = 10_000;
+
 /// Each worker's samples per second from its acknowledged uploads (the ledger): the samples of
-/// its uploads merged in the last [`RATE_WINDOW_MS`] over the time they cover, from the upload
-/// before the first of them (or the start of its lease) to the last of them.
+/// its uploads merged within the window over the time they cover, from the upload before the
+/// first of them (or the start of its lease) to the last of them.
 ///
-/// The ledger is read through a read-only connection of its own: the store's methods belong to
-/// the farm module, and WAL lets this reader run beside the writer.
+/// The ledger is read newest first through a read-only connection of its own (the store's
+/// methods belong to the farm module; WAL lets this reader run beside the writer), so the cost
+/// follows the uploads in the window, not the size of the ledger.
 pub fn worker_rates(farm: &Farm, now_ms: i64) -> Result<HashMap<String, f64>> {
     use rusqlite::OpenFlags;
+    let interval_ms = (farm.cfg.upload_interval * 3000.0).min(86_400_000.0) as i64;
+    let from = now_ms - RATE_WINDOW_MS.max(interval_ms);
     let conn = rusqlite::Connection::open_with_flags(
         farm.cfg.data_dir.join("farm.sqlite"),
         OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX,
     )?;
     let mut st = conn.prepare(
-        "SELECT worker_id, SUM(samples), MIN(prev), MAX(merged_ms) FROM ( \
-           SELECT l.worker_id AS worker_id, g.samples AS samples, g.merged_ms AS merged_ms, \
-             COALESCE(LAG(g.merged_ms) OVER (PARTITION BY g.lease_id ORDER BY g.seq), \
-                      l.started_ms) AS prev \
-           FROM ledger g JOIN leases l ON l.id = g.lease_id \
-           WHERE g.lease_id IN (SELECT lease_id FROM ledger WHERE merged_ms >= ?1)) \
-         WHERE merged_ms >= ?1 GROUP BY worker_id",
+        "SELECT l.worker_id, g.samples, g.merged_ms, COALESCE( \
+           (SELECT p.merged_ms FROM ledger p WHERE p.lease_id = g.lease_id AND p.seq < g.seq \
+            ORDER BY p.seq DESC LIMIT 1), l.started_ms) \
+         FROM ledger g JOIN leases l ON l.id = g.lease_id ORDER BY g.rowid DESC",
     )?;
-    let rows = st.query_map([now_ms - RATE_WINDOW_MS], |r| {
-        let (id, samples): (String, f64) = (r.get(0)?, r.get(1)?);
-        let (from, to): (i64, i64) = (r.get(2)?, r.get(3)?);
-        Ok((id, samples, from, to))
-    })?;
-    let mut rates = HashMap::new();
-    for row in rows {
-        let (id, samples, from, to) = row?;
-        if to > from && samples.is_finite() {
-            rates.insert(id, samples * 1000.0 / (to - from) as f64);
+    let mut rows = st.query([])?;
+    // worker -> (samples, first covered time, last upload time)
+    let mut acc: HashMap<String, (f64, i64, i64)> = HashMap::new();
+    while let Some(r) = rows.next()? {
+        let merged: i64 = r.get(2)?;
+        if merged < from - SCAN_SLACK_MS {
+            break;
         }
+        if merged < from {
+            continue;
+        }
+        let (worker, samples, prev): (String, f64, i64) = (r.get(0)?, r.get(1)?, r.get(3)?);
+        let e = acc.entry(worker).or_insert((0.0, prev, merged));
+        e.0 += samples;
+        e.1 = e.1.min(prev);
+        e.2 = e.2.max(merged);
     }
-    Ok(rates)
+    Ok(acc
+        .into_iter()
+        .filter(|(_, (s, a, b))| b > a && s.is_finite())
+        .map(|(w, (s, a, b))| (w, s * 1000.0 / (b - a) as f64))
+        .collect())
 }
 
 impl From<JobView> for pb::JobInfo {
@@ -284,5 +298,60 @@ impl From<WorkerView> for pb::WorkerInfo {
             samples: w.samples,
             samples_per_sec: w.samples_per_sec,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Config;
+    use crate::db::NewJob;
+
+    const NOW: i64 = 1_000_000_000;
+
+    #[test]
+    fn worker_rates_cover_the_uploads_of_the_window() {
+        let dir = tempfile::tempdir().unwrap();
+        let farm = Farm::open(Config::local(dir.path().to_path_buf())).unwrap();
+        {
+            let mut db = lock(&farm.db);
+            db.insert_job(&NewJob {
+                id: "j",
+                name: "j",
+                priority: 0,
+                bundle_hash: "h",
+                scene_path: "s.lxs",
+                seed: 1,
+                haltspp: None,
+                halttime: None,
+                haltthreshold: None,
+                width: 8,
+                height: 6,
+                submitted_ms: 0,
+            })
+            .unwrap();
+            // Rows come in merge order. w3: uploads long ago only.
+            db.create_lease("l3", "j", "w3", NOW - 900_000).unwrap();
+            db.ledger_insert("l3", 1, "j", 1e6, 10, NOW - 800_000)
+                .unwrap();
+            // w1: 1000 samples every 10 s for 200 s.
+            db.create_lease("l1", "j", "w1", NOW - 200_000).unwrap();
+            for k in 1..=20 {
+                db.ledger_insert("l1", k, "j", 1000.0, 10, NOW - 200_000 + k as i64 * 10_000)
+                    .unwrap();
+            }
+            // w2: one upload of 500 samples 4 s after its lease began (merged a little out
+            // of time order).
+            db.create_lease("l2", "j", "w2", NOW - 5_000).unwrap();
+            db.ledger_insert("l2", 1, "j", 500.0, 10, NOW - 1_000)
+                .unwrap();
+        }
+        let r = worker_rates(&farm, NOW).unwrap();
+        // The 7 uploads from NOW - 60 s on, covering NOW - 70 s .. NOW.
+        assert!((r["w1"] - 100.0).abs() < 1e-9, "{r:?}");
+        assert!((r["w2"] - 125.0).abs() < 1e-9, "{r:?}");
+        assert!(!r.contains_key("w3"), "{r:?}");
+        // A minute later nothing is recent.
+        assert!(worker_rates(&farm, NOW + 200_000).unwrap().is_empty());
     }
 }

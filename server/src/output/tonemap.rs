@@ -259,7 +259,10 @@ impl TonemapView {
 mod tests {
     use super::*;
 
-    fn parse(kernel: Option<&str>, pairs: &[(&'static str, &'static str)]) -> Result<TonemapOverride> {
+    fn parse(
+        kernel: Option<&str>,
+        pairs: &[(&'static str, &'static str)],
+    ) -> Result<TonemapOverride> {
         TonemapOverride::parse(kernel, pairs.iter().map(|&(n, v)| (n, Some(v))))
     }
 
