@@ -70,8 +70,8 @@ pub struct WorkerView {
     /// Seconds since the last heartbeat.
     pub last_seen_secs: f64,
     pub samples: f64,
-    /// Samples per second of the worker's acknowledged uploads over the last minute (0 when
-    /// it is not rendering).
+    /// Samples per second of the worker's acknowledged uploads over the last minute (three
+    /// upload intervals if that is longer); 0 when it is not rendering.
     pub samples_per_sec: f64,
 }
 
