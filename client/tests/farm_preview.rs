@@ -94,6 +94,12 @@ fn preview_tonemapping_query_etag_and_worker_rate() {
         "no worker samples/s: {}",
         get_json(&s.api("/workers"))
     );
+    // The same number over gRPC (ListWorkers' WorkerInfo).
+    let grpc_rate = grpc_worker_rates(&s.url());
+    assert!(
+        grpc_rate.iter().any(|&r| r > 0.0),
+        "gRPC WorkerInfo.samples_per_sec: {grpc_rate:?}"
+    );
 
     // The scene's settings (autolinear by default) and LuxRender's defaults.
     let tm = get_json(&job_url("/tonemap"));
@@ -168,6 +174,10 @@ fn preview_tonemapping_query_etag_and_worker_rate() {
     assert_bad_request(&job_url("/preview.png?gamma=abc"), "gamma");
     assert_bad_request(&job_url("/preview.png?max_size=0"), "max_size");
     assert_bad_request(&job_url("/preview.png?exposure=2"), "exposure");
+    assert_bad_request(
+        &job_url("/preview.png?kernel=reinhard&linear_exposure=2"),
+        "linear_exposure",
+    );
     assert_bad_request(
         &job_url("/image.png?kernel=linear&linear_gamma=100"),
         "linear_gamma",

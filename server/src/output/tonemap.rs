@@ -11,7 +11,7 @@ use crate::error::{Result, ServerError};
 use luxfarm::tonemap::{Kernel, TonemapParams};
 
 /// One tonemapping query parameter: its name, the kernel it belongs to (None: every kernel),
-/// the accepted range and where it lives in [`TonemapParams`].
+/// the accepted range and its field of [`TonemapParams`].
 pub struct ParamSpec {
     pub name: &'static str,
     pub kernel: Option<Kernel>,
@@ -19,84 +19,53 @@ pub struct ParamSpec {
     pub min: f64,
     pub min_open: bool,
     pub max: f64,
-    field: fn(&mut TonemapParams) -> &mut f32,
-}
-
-const fn spec(
-    name: &'static str,
-    kernel: Option<Kernel>,
-    (min, min_open, max): (f64, bool, f64),
-    field: fn(&mut TonemapParams) -> &mut f32,
-) -> ParamSpec {
-    ParamSpec {
-        name,
-        kernel,
-        min,
-        min_open,
-        max,
-        field,
-    }
+    read: fn(&TonemapParams) -> f32,
+    write: fn(&mut TonemapParams, f32),
 }
 
 /// Strictly positive, bounded so that f32 arithmetic stays finite.
 const POSITIVE: (f64, bool, f64) = (0.0, true, 1e6);
 
+/// A [`ParamSpec`] for the field of [`TonemapParams`] named like the query parameter.
+macro_rules! param {
+    ($field:ident, $kernel:expr, $range:expr) => {
+        ParamSpec {
+            name: stringify!($field),
+            kernel: $kernel,
+            min: $range.0,
+            min_open: $range.1,
+            max: $range.2,
+            read: |p| p.$field,
+            write: |p, v| p.$field = v,
+        }
+    };
+}
+
 /// The tonemapping parameters, in query and ETag order.
 pub const PARAMS: [ParamSpec; 9] = [
-    spec("reinhard_prescale", Some(Kernel::Reinhard), POSITIVE, |p| {
-        &mut p.reinhard_prescale
-    }),
-    spec(
-        "reinhard_postscale",
+    param!(reinhard_prescale, Some(Kernel::Reinhard), POSITIVE),
+    param!(
+        reinhard_postscale,
         Some(Kernel::Reinhard),
-        (0.0, false, 1e6),
-        |p| &mut p.reinhard_postscale,
+        (0.0, false, 1e6)
     ),
-    spec("reinhard_burn", Some(Kernel::Reinhard), POSITIVE, |p| {
-        &mut p.reinhard_burn
-    }),
-    spec("linear_sensitivity", Some(Kernel::Linear), POSITIVE, |p| {
-        &mut p.linear_sensitivity
-    }),
-    spec("linear_exposure", Some(Kernel::Linear), POSITIVE, |p| {
-        &mut p.linear_exposure
-    }),
-    spec(
-        "linear_fstop",
-        Some(Kernel::Linear),
-        (0.0, true, 1e3),
-        |p| &mut p.linear_fstop,
-    ),
-    spec(
-        "linear_gamma",
-        Some(Kernel::Linear),
-        (0.0, true, 10.0),
-        |p| &mut p.linear_gamma,
-    ),
-    spec("contrast_ywa", Some(Kernel::Contrast), POSITIVE, |p| {
-        &mut p.contrast_ywa
-    }),
-    spec("gamma", None, (0.0, true, 10.0), |p| &mut p.gamma),
-];
-
-/// The kernels, by LuxRender name.
-pub const KERNELS: [Kernel; 5] = [
-    Kernel::Reinhard,
-    Kernel::Linear,
-    Kernel::Contrast,
-    Kernel::MaxWhite,
-    Kernel::AutoLinear,
+    param!(reinhard_burn, Some(Kernel::Reinhard), POSITIVE),
+    param!(linear_sensitivity, Some(Kernel::Linear), POSITIVE),
+    param!(linear_exposure, Some(Kernel::Linear), POSITIVE),
+    param!(linear_fstop, Some(Kernel::Linear), (0.0, true, 1e3)),
+    param!(linear_gamma, Some(Kernel::Linear), (0.0, true, 10.0)),
+    param!(contrast_ywa, Some(Kernel::Contrast), POSITIVE),
+    param!(gamma, None, (0.0, true, 10.0)),
 ];
 
 impl ParamSpec {
     /// The parameter's value in `p`.
     pub fn get(&self, p: &TonemapParams) -> f32 {
-        let mut p = p.clone();
-        *(self.field)(&mut p)
+        (self.read)(p)
     }
 
     fn set(&self, p: &mut TonemapParams, v: f32) {
-        *(self.field)(p) = v;
+        (self.write)(p, v)
     }
 
     /// Parses and range-checks a query value; errors name the parameter.
@@ -152,7 +121,17 @@ impl TonemapOverride {
                 .iter()
                 .position(|s| s.name == name)
                 .ok_or_else(|| ServerError::BadRequest(format!("unknown parameter {name:?}")))?;
-            values.push((i, PARAMS[i].parse(text)?));
+            let spec = &PARAMS[i];
+            if let (Some(k), Some(own)) = (kernel, spec.kernel) {
+                if k != own {
+                    return Err(ServerError::BadRequest(format!(
+                        "parameter {name}: belongs to the {} kernel, not {}",
+                        own.name(),
+                        k.name()
+                    )));
+                }
+            }
+            values.push((i, spec.parse(text)?));
         }
         values.sort_by_key(|&(i, _)| i);
         values.dedup_by_key(|&mut (i, _)| i);
@@ -327,6 +306,12 @@ mod tests {
         }
         assert!(parse(None, &[("reinhard_postscale", "0")]).is_ok());
         assert!(detail(parse(None, &[("exposure", "1")])).contains("exposure"));
+        let d = detail(parse(Some("reinhard"), &[("linear_exposure", "1")]));
+        assert!(
+            d.contains("linear_exposure") && d.contains("linear kernel"),
+            "{d}"
+        );
+        assert!(parse(Some("reinhard"), &[("gamma", "2")]).is_ok());
     }
 
     #[test]
@@ -334,10 +319,12 @@ mod tests {
         let a = parse(Some("linear"), &[("linear_exposure", "2")]).unwrap();
         let b = parse(Some("linear"), &[("linear_exposure", "2.0")]).unwrap();
         let c = parse(Some("linear"), &[("linear_exposure", "3")]).unwrap();
-        let d = parse(Some("reinhard"), &[("linear_exposure", "2")]).unwrap();
+        let d = parse(Some("linear"), &[("linear_exposure", "2"), ("gamma", "2")]).unwrap();
+        let e = parse(None, &[("linear_exposure", "2")]).unwrap();
         assert_eq!(a.tag(), b.tag());
-        assert_ne!(a.tag(), c.tag());
-        assert_ne!(a.tag(), d.tag());
+        for other in [&c, &d, &e] {
+            assert_ne!(a.tag(), other.tag(), "{other:?}");
+        }
         assert_eq!(parse(None, &[]).unwrap().tag(), "scene");
     }
 
