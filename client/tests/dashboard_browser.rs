@@ -1,8 +1,9 @@
 //! End-to-end test of the web dashboard in a real browser: a `luxfarm server` and a worker on
 //! loopback render the Cornell box while headless Chromium (driven over W3C WebDriver by
 //! chromedriver, started here on a free port) opens the dashboard, finds the job, watches the
-//! preview load and change, cancels the job and sees it cancelled. The browser console must stay
-//! free of errors; a screenshot is saved to `target/dashboard.png`.
+//! preview load and change, switches the tonemapping (the preview is refetched with the new
+//! query and gets brighter), cancels the job and sees it cancelled. The browser console must
+//! stay free of errors; screenshots are saved to `target/dashboard*.png`.
 //!
 //! The WebDriver client is a few JSON calls over the `reqwest` already used by the farm tests.
 //! Without `/usr/bin/chromium` and `chromedriver` the test fails and says how to install them
@@ -266,9 +267,9 @@ fn dashboard_watches_and_cancels_a_job_in_chromium() {
       if (!i || !i.complete || !i.naturalWidth || !i.dataset.etag) return null;
       const c = document.createElement('canvas'); c.width = i.naturalWidth; c.height = i.naturalHeight;
       const g = c.getContext('2d'); g.drawImage(i, 0, 0);
-      const d = g.getImageData(0, 0, c.width, c.height).data; let h = 0;
-      for (let k = 0; k < d.length; k++) h = (h * 31 + d[k]) >>> 0;
-      return [i.dataset.etag, i.naturalWidth, h];";
+      const d = g.getImageData(0, 0, c.width, c.height).data; let h = 0, sum = 0;
+      for (let k = 0; k < d.length; k++) { h = (h * 31 + d[k]) >>> 0; if (k % 4 !== 3) sum += d[k]; }
+      return [i.dataset.etag, i.naturalWidth, h, sum / (d.length * 0.75), i.dataset.query || ''];";
     let first = browser.wait_js(120, "the preview to load", probe);
     assert_eq!(first[1], 256, "preview width: {first}");
     let changed = wait_for(120, || {
@@ -276,6 +277,78 @@ fn dashboard_watches_and_cancels_a_job_in_chromium() {
         (!v.is_null() && v[0] != first[0] && v[2] != first[2]).then_some(v)
     });
     assert!(changed.is_some(), "the preview never changed from {first}");
+
+    // Tonemapping panel: the linear kernel with a long exposure refetches the preview with that
+    // query (debounced), and the picture gets brighter; "Scene default" goes back.
+    browser.wait_js(
+        10,
+        "the tonemapping panel",
+        "return document.getElementById('tm-kernel') ? true : null;",
+    );
+    let before = browser.js(probe);
+    browser.js(
+        "const k = document.getElementById('tm-kernel'); k.value = 'linear';
+        k.dispatchEvent(new Event('change')); return true;",
+    );
+    browser.wait_js(
+        10,
+        "the linear kernel's controls",
+        "return document.getElementById('tm-linear_exposure') ? true : null;",
+    );
+    browser.js(
+        "const e = document.getElementById('tm-linear_exposure'); e.value = '1000';
+        e.dispatchEvent(new Event('input')); return true;",
+    );
+    let toned = browser.wait_js(
+        30,
+        "the preview with the linear kernel",
+        &format!(
+            "const v = (() => {{ {probe} }})();
+         return v && v[4].includes('kernel=linear') && v[4].includes('linear_exposure=1000')
+           ? v : null;"
+        ),
+    );
+    assert!(
+        toned[3].as_f64() > before[3].as_f64().map(|b| b + 10.0),
+        "exposure 1000 s did not brighten the preview: {before} -> {toned}"
+    );
+    let requested = browser.js(
+        "return performance.getEntriesByType('resource').map((e) => e.name)
+           .filter((n) => n.includes('/preview.png?') && n.includes('kernel=linear')
+             && n.includes('linear_exposure=1000')).length;",
+    );
+    assert!(
+        requested.as_u64() >= Some(1),
+        "no preview request with the query"
+    );
+    // The periodic poll keeps the query (a 304 or a newer film with the same setting).
+    std::thread::sleep(Duration::from_secs(3));
+    let later = browser.js(probe);
+    assert_eq!(later[4], toned[4], "the poll dropped the tonemapping query");
+
+    // The job's worker row shows the master's samples/s for the worker.
+    browser.wait_js(
+        30,
+        "the worker's samples/s on the job page",
+        "const c = document.querySelector('#job-workers tr[data-worker] td:nth-child(3)');
+         return c && parseFloat(c.textContent) > 0 ? c.textContent : null;",
+    );
+
+    browser.resize(390, 844);
+    browser.js("document.getElementById('tonemap').scrollIntoView(); return true;");
+    browser.screenshot(&target_dir().join("dashboard-narrow-tonemap.png"));
+    browser.js("window.scrollTo(0, 0); return true;");
+    browser.resize(1280, 800);
+    browser.screenshot(&target_dir().join("dashboard-tonemap.png"));
+
+    browser.js("document.getElementById('tm-reset').click(); return true;");
+    browser.wait_js(
+        30,
+        "the scene's tonemapping back",
+        &format!("const v = (() => {{ {probe} }})(); return v && v[4] === '' ? v : null;"),
+    );
+    let select = browser.js("return document.getElementById('tm-kernel').value;");
+    assert_eq!(select, "autolinear");
 
     browser.resize(390, 844);
     browser.screenshot(&target_dir().join("dashboard-narrow.png"));

@@ -150,6 +150,101 @@ async function jobsPage(my) {
   timer = setInterval(refresh, 2500);
 }
 
+// ---- tonemapping panel --------------------------------------------------------------------
+
+// The query parameters of preview.png / image.png per kernel (LuxRender's film parameter names),
+// with the slider ranges offered here; the server validates the values.
+const TM_PARAMS = {
+  reinhard_prescale: { label: "prescale", min: 0.01, max: 10, log: true },
+  reinhard_postscale: { label: "postscale", min: 0.01, max: 10, log: true },
+  reinhard_burn: { label: "burn", min: 0.1, max: 20, log: true },
+  linear_sensitivity: { label: "sensitivity (ISO)", min: 3, max: 12800, log: true },
+  linear_exposure: { label: "exposure (s)", min: 1e-4, max: 100, log: true },
+  linear_fstop: { label: "f-stop", min: 0.5, max: 64, log: true },
+  linear_gamma: { label: "linear gamma", min: 0.1, max: 5, log: false },
+  contrast_ywa: { label: "Ywa", min: 0.01, max: 1000, log: true },
+  gamma: { label: "output gamma", min: 0.5, max: 4, log: false },
+};
+const TM_KERNELS = {
+  reinhard: ["reinhard_prescale", "reinhard_postscale", "reinhard_burn"],
+  linear: ["linear_sensitivity", "linear_exposure", "linear_fstop", "linear_gamma"],
+  contrast: ["contrast_ywa"],
+  maxwhite: [],
+  autolinear: [],
+};
+const SLIDER_STEPS = 1000;
+
+function toSlider(p, v) {
+  const f = p.log ? Math.log(v / p.min) / Math.log(p.max / p.min) : (v - p.min) / (p.max - p.min);
+  return String(Math.round(Math.max(0, Math.min(1, f)) * SLIDER_STEPS));
+}
+
+function fromSlider(p, s) {
+  const f = Number(s) / SLIDER_STEPS;
+  const v = p.log ? p.min * Math.pow(p.max / p.min, f) : p.min + f * (p.max - p.min);
+  return Number(v.toPrecision(3));
+}
+
+// The "Tonemapping" panel: kernel, its parameters and the output gamma. `onChange(query)` gets
+// the query string for the image URLs ("" for the scene's own tonemapping), debounced.
+function tonemapPanel(settings, onChange) {
+  const { scene, defaults } = settings;
+  const state = { kernel: scene.kernel, values: {} };
+  const kernel = el("select", { id: "tm-kernel" },
+    ...Object.keys(TM_KERNELS).map((k) => el("option", { value: k }, k === scene.kernel ? `${k} (scene)` : k)));
+  const params = el("div", { id: "tm-params", class: "tm-params" });
+  const reset = el("button", { id: "tm-reset", type: "button", class: "secondary" }, "Scene default");
+  const panel = el("section", { id: "tonemap", class: "panel" },
+    el("div", { class: "panel-head" }, el("h3", {}, "Tonemapping"), reset),
+    el("div", { class: "tm-row tm-kernel" }, el("label", { for: "tm-kernel" }, "kernel"), kernel), params);
+  let debounce = null;
+  const query = () => {
+    const names = [...TM_KERNELS[state.kernel], "gamma"];
+    const same = state.kernel === scene.kernel && names.every((n) => state.values[n] === scene[n]);
+    if (same) return "";
+    const q = new URLSearchParams({ kernel: state.kernel });
+    for (const n of names) q.set(n, String(state.values[n]));
+    return `?${q}`;
+  };
+  const changed = () => {
+    clearTimeout(debounce);
+    debounce = setTimeout(() => onChange(query()), 300);
+  };
+  const draw = () => {
+    kernel.value = state.kernel;
+    params.replaceChildren(...[...TM_KERNELS[state.kernel], "gamma"].map((n) => {
+      const p = TM_PARAMS[n];
+      const number = el("input", { id: `tm-${n}`, type: "number", step: "any", min: "0",
+        value: String(state.values[n]), "aria-label": p.label });
+      const slider = el("input", { id: `tm-range-${n}`, type: "range", min: "0", max: String(SLIDER_STEPS),
+        value: toSlider(p, state.values[n]), "aria-label": `${p.label} slider` });
+      slider.addEventListener("input", () => {
+        state.values[n] = fromSlider(p, slider.value);
+        number.value = String(state.values[n]);
+        changed();
+      });
+      number.addEventListener("input", () => {
+        if (number.value === "" || !isFinite(Number(number.value))) return;
+        state.values[n] = Number(number.value);
+        slider.value = toSlider(p, state.values[n]);
+        changed();
+      });
+      return el("div", { class: "tm-row" }, el("label", { for: `tm-${n}` }, p.label), slider, number);
+    }));
+  };
+  // Values of a kernel's parameters: the scene's for the scene's kernel, else LuxRender's.
+  const start = (k) => {
+    state.kernel = k;
+    for (const n of TM_KERNELS[k]) state.values[n] = (k === scene.kernel ? scene : defaults)[n];
+  };
+  kernel.addEventListener("change", () => { start(kernel.value); draw(); changed(); });
+  reset.addEventListener("click", () => { start(scene.kernel); state.values.gamma = scene.gamma; draw(); changed(); });
+  start(scene.kernel);
+  state.values.gamma = scene.gamma;
+  draw();
+  return panel;
+}
+
 // ---- job page -----------------------------------------------------------------------------
 
 async function jobPage(my, id) {
@@ -159,15 +254,18 @@ async function jobPage(my, id) {
   const workers = el("table", { id: "job-workers" });
   const cancel = el("button", { id: "cancel", class: "danger", type: "button" }, "Cancel");
   const title = el("h2", {}, `Job ${id}`);
-  const dl = (f, label) => el("a", { href: `${API}/jobs/${id}/${f}`, download: f, onclick: download }, label);
+  const tmSlot = el("div", { id: "tonemap-slot", class: "job-tonemap" });
+  const dl = (f, label) => el("a", { href: `${API}/jobs/${id}/${f}`, download: f, onclick: download, id: `dl-${f.replace(".", "-")}` }, label);
+  const pngLink = dl("image.png", "PNG");
   main.replaceChildren(title, el("div", { class: "job" },
-    el("div", {}, el("div", { class: "preview" }, img),
-      el("p", { class: "mute" }, "Preview uses the scene's tonemapper; the API has no tonemapping parameters yet.")),
-    el("div", {}, info, el("p", {}, cancel),
-      el("p", { class: "downloads" }, dl("image.png", "PNG"), dl("image.exr", "EXR"), dl("film.flm", "FLM")),
-      el("h3", {}, "Progress"), chart, el("h3", {}, "Workers"), el("div", { class: "scroll" }, workers))));
+    el("div", { class: "preview" }, img), tmSlot,
+    el("div", { class: "job-side" }, info, el("p", { class: "actions" }, cancel,
+      el("span", { class: "downloads" }, pngLink, dl("image.exr", "EXR"), dl("film.flm", "FLM")))),
+    el("div", { class: "job-progress" }, el("h3", {}, "Progress"), chart, el("h3", {}, "Workers"),
+      el("div", { class: "scroll" }, workers))));
   const history = [];
-  let etag = null, url = null, job = null;
+  let etag = null, url = null, job = null, query = "", fetchSeq = 0;
+  let farmWorkers = new Map(); // worker id -> the master's view (samples/s, last heartbeat)
   cancel.addEventListener("click", async () => {
     if (!confirm(`Cancel job ${job ? job.name : id}?`)) return;
     try {
@@ -186,28 +284,52 @@ async function jobPage(my, id) {
     info.replaceChildren(...rows.flatMap(([k, v]) => [el("dt", {}, k), el("dd", { "data-key": k }, v)]));
     info.dataset.state = job.state;
     cancel.disabled = ["done", "cancelled", "failed"].includes(job.state);
-    workers.replaceChildren(el("tr", {}, el("th", {}, "worker"), el("th", {}, "samples"), el("th", {}, "active")),
-      ...job.workers.map((w) => el("tr", {}, el("td", {}, w.worker_id), el("td", {}, num(w.samples)),
-        el("td", {}, w.active ? "yes" : "no"))));
+    workers.replaceChildren(el("tr", {}, el("th", {}, "worker"), el("th", {}, "samples"),
+      el("th", {}, "samples/s"), el("th", {}, "last seen"), el("th", {}, "active")),
+      ...job.workers.map((w) => {
+        const live = farmWorkers.get(w.worker_id);
+        const here = w.active && live && live.lease_id === w.lease_id;
+        return el("tr", { "data-worker": w.worker_id }, el("td", {}, live ? live.name : w.worker_id),
+          el("td", {}, num(w.samples)), el("td", {}, here ? num(live.samples_per_sec) : "–"),
+          el("td", {}, live ? `${dur(live.last_seen_secs)} ago` : "–"), el("td", {}, w.active ? "yes" : "no"));
+      }));
   };
+  // Fetches the preview with the current tonemapping query; a response to an older query is
+  // dropped so the image always shows the latest setting.
   const pollPreview = async () => {
+    const seq = ++fetchSeq, q = query;
     const headers = authHeaders(etag ? { "If-None-Match": etag } : {});
     let resp;
-    try { resp = await fetch(`${API}/jobs/${id}/preview.png`, { headers }); } catch (e) { throw new ApiError(`network error: ${e.message}`); }
+    try { resp = await fetch(`${API}/jobs/${id}/preview.png${q}`, { headers }); } catch (e) { throw new ApiError(`network error: ${e.message}`); }
+    if (seq !== fetchSeq || my !== page) return;
     if (resp.status === 304) return;
     if (resp.status === 503 || resp.status === 404 && job && job.samples === 0) return; // no film yet
     if (!resp.ok) throw await failure(resp);
     const blob = await resp.blob();
+    if (seq !== fetchSeq) return;
     etag = resp.headers.get("ETag");
     if (url) URL.revokeObjectURL(url);
     url = URL.createObjectURL(blob);
     img.src = url;
     img.dataset.etag = etag || "";
+    img.dataset.query = q;
     img.dataset.loads = String(Number(img.dataset.loads || 0) + 1);
+  };
+  const retone = async (q) => {
+    if (my !== page || q === query) return;
+    query = q;
+    etag = null;
+    pngLink.href = `${API}/jobs/${id}/image.png${q}`;
+    try {
+      if (job && job.samples > 0) await pollPreview();
+      clearError();
+    } catch (e) { showError(e); }
   };
   const refresh = async () => {
     try {
-      job = await api(`/jobs/${id}`);
+      const [j, ws] = await Promise.all([api(`/jobs/${id}`), api("/workers")]);
+      job = j;
+      farmWorkers = new Map(ws.map((w) => [w.id, w]));
       if (my !== page) return;
       history.push([job.elapsed, job.spp, job.samples_per_sec]);
       if (history.length > 600) history.shift();
@@ -216,6 +338,9 @@ async function jobPage(my, id) {
       if (job.samples > 0) await pollPreview();
     } catch (e) { showError(e); }
   };
+  api(`/jobs/${id}/tonemap`).then((tm) => {
+    if (my === page) tmSlot.replaceChildren(tonemapPanel(tm, retone));
+  }).catch(showError);
   await refresh();
   timer = setInterval(refresh, 2500);
 }
@@ -290,21 +415,15 @@ function submitPage() {
 async function workersPage(my) {
   const table = el("table", { id: "workers" });
   main.replaceChildren(el("h2", {}, "Workers"), el("div", { class: "scroll" }, table));
-  const prev = new Map(); // id -> [time, samples] for a client-side samples/s
   const refresh = async () => {
     try {
       const ws = await api("/workers");
       if (my !== page) return;
-      const now = performance.now() / 1000;
-      const rows = ws.map((w) => {
-        const p = prev.get(w.id);
-        const rate = p && now > p[0] ? (w.samples - p[1]) / (now - p[0]) : null;
-        prev.set(w.id, [now, w.samples]);
-        return el("tr", { "data-id": w.id }, el("td", {}, w.name), el("td", {}, stateBadge(w.state)),
-          el("td", {}, String(w.threads)), el("td", {}, num(rate)),
+      const rows = ws.map((w) =>
+        el("tr", { "data-id": w.id }, el("td", {}, w.name), el("td", {}, stateBadge(w.state)),
+          el("td", {}, String(w.threads)), el("td", { "data-key": "samples_per_sec" }, num(w.samples_per_sec)),
           el("td", {}, w.job_id ? el("a", { href: `#/job/${w.job_id}` }, w.job_id) : "–"),
-          el("td", {}, `${dur(w.last_seen_secs)} ago`), el("td", { class: "hide-narrow" }, num(w.samples)));
-      });
+          el("td", {}, `${dur(w.last_seen_secs)} ago`), el("td", { class: "hide-narrow" }, num(w.samples))));
       if (!rows.length) rows.push(el("tr", {}, el("td", { colspan: 7, class: "mute" }, "no workers")));
       table.replaceChildren(el("tr", {}, ...["name", "state", "threads", "samples/s", "job", "heartbeat"].map((h) => el("th", {}, h)),
         el("th", { class: "hide-narrow" }, "samples")), ...rows);

@@ -148,11 +148,10 @@ impl pb::jobs_server::Jobs for JobsService {
         &self,
         _: Request<pb::ListWorkersRequest>,
     ) -> Result<Response<pb::ListWorkersReply>, Status> {
+        let farm = self.0.clone();
+        let workers = blocking(move || views::worker_views(&farm)).await?;
         Ok(Response::new(pb::ListWorkersReply {
-            workers: views::worker_views(&self.0)
-                .into_iter()
-                .map(Into::into)
-                .collect(),
+            workers: workers.into_iter().map(Into::into).collect(),
         }))
     }
 }

@@ -3,6 +3,7 @@
 
 use crate::error::{ErrorBody, Result, ServerError};
 use crate::farm::{Farm, SubmitOptions};
+use crate::output::tonemap::{TonemapOverride, TonemapSettings, TonemapView};
 use crate::views::{self, JobView, WorkerView};
 use axum::body::Bytes;
 use axum::extract::rejection::QueryRejection;
@@ -29,6 +30,7 @@ type AppState = Arc<Farm>;
         get_job,
         cancel_job,
         preview_png,
+        job_tonemap,
         film_flm,
         image_exr,
         image_png,
@@ -42,6 +44,8 @@ type AppState = Arc<Farm>;
         WorkerView,
         ErrorBody,
         views::JobWorkerView,
+        TonemapView,
+        TonemapSettings,
         crate::db::JobState
     ))
 )]
@@ -54,6 +58,7 @@ pub fn router(farm: AppState) -> Router {
         .route("/api/v1/jobs", get(list_jobs).post(submit_job))
         .route("/api/v1/jobs/{id}", get(get_job).delete(cancel_job))
         .route("/api/v1/jobs/{id}/preview.png", get(preview_png))
+        .route("/api/v1/jobs/{id}/tonemap", get(job_tonemap))
         .route("/api/v1/jobs/{id}/film.flm", get(film_flm))
         .route("/api/v1/jobs/{id}/image.exr", get(image_exr))
         .route("/api/v1/jobs/{id}/image.png", get(image_png))
@@ -224,10 +229,82 @@ async fn cancel_job(State(farm): State<AppState>, Path(id): Path<String>) -> Res
     ))
 }
 
-/// Preview query: the longer side of the PNG at most `max_size` pixels.
-#[derive(Debug, serde::Deserialize, utoipa::IntoParams)]
-pub struct PreviewQuery {
-    pub max_size: Option<u32>,
+/// Image query: size and tonemapping of preview.png and image.png. The tonemapping is applied
+/// to this response only (the job and its stored outputs keep the scene's). Missing kernel
+/// parameters keep the scene's values when `kernel` is the scene's kernel, else LuxRender's
+/// defaults; `gamma` defaults to the scene's. Bad values are a 400 naming the parameter.
+#[derive(Debug, Default, serde::Deserialize, utoipa::IntoParams)]
+#[serde(deny_unknown_fields)]
+#[into_params(parameter_in = Query)]
+pub struct ImageQuery {
+    /// The PNG's longer side at most this many pixels (preview.png: 1024 by default;
+    /// image.png: full size).
+    #[param(value_type = Option<u32>, minimum = 1)]
+    pub max_size: Option<String>,
+    /// Tonemapping kernel: `reinhard`, `linear`, `contrast`, `maxwhite` or `autolinear`
+    /// (default: the scene's).
+    pub kernel: Option<String>,
+    /// reinhard: prescale (> 0; LuxRender default 1).
+    #[param(value_type = Option<f64>)]
+    pub reinhard_prescale: Option<String>,
+    /// reinhard: postscale (>= 0; default 1).
+    #[param(value_type = Option<f64>)]
+    pub reinhard_postscale: Option<String>,
+    /// reinhard: burn (> 0; default 6).
+    #[param(value_type = Option<f64>)]
+    pub reinhard_burn: Option<String>,
+    /// linear: film sensitivity, ISO (> 0; default 50).
+    #[param(value_type = Option<f64>)]
+    pub linear_sensitivity: Option<String>,
+    /// linear: exposure time in seconds (> 0; default 1).
+    #[param(value_type = Option<f64>)]
+    pub linear_exposure: Option<String>,
+    /// linear: f-stop (> 0, <= 1000; default 2.8).
+    #[param(value_type = Option<f64>)]
+    pub linear_fstop: Option<String>,
+    /// linear: the gamma of the middle-grey mapping (> 0, <= 10; default 1).
+    #[param(value_type = Option<f64>)]
+    pub linear_gamma: Option<String>,
+    /// contrast: display adaptation luminance Ywa (> 0; default 1).
+    #[param(value_type = Option<f64>)]
+    pub contrast_ywa: Option<String>,
+    /// Output gamma (> 0, <= 10; default: the scene's, LuxRender's 2.2).
+    #[param(value_type = Option<f64>)]
+    pub gamma: Option<String>,
+}
+
+impl ImageQuery {
+    /// The validated tonemapping request.
+    fn tonemap(&self) -> Result<TonemapOverride> {
+        TonemapOverride::parse(
+            self.kernel.as_deref(),
+            [
+                ("reinhard_prescale", &self.reinhard_prescale),
+                ("reinhard_postscale", &self.reinhard_postscale),
+                ("reinhard_burn", &self.reinhard_burn),
+                ("linear_sensitivity", &self.linear_sensitivity),
+                ("linear_exposure", &self.linear_exposure),
+                ("linear_fstop", &self.linear_fstop),
+                ("linear_gamma", &self.linear_gamma),
+                ("contrast_ywa", &self.contrast_ywa),
+                ("gamma", &self.gamma),
+            ]
+            .map(|(n, v)| (n, v.as_deref())),
+        )
+    }
+
+    /// The validated `max_size` (None when absent).
+    fn max_size(&self) -> Result<Option<u32>> {
+        let Some(text) = self.max_size.as_deref().map(str::trim) else {
+            return Ok(None);
+        };
+        match text.parse::<u32>() {
+            Ok(n) if n >= 1 => Ok(Some(n)),
+            _ => Err(ServerError::BadRequest(format!(
+                "parameter max_size: {text:?} is not a positive integer"
+            ))),
+        }
+    }
 }
 
 async fn output(
@@ -235,13 +312,14 @@ async fn output(
     id: String,
     format: &'static str,
     max_size: Option<u32>,
+    tm: TonemapOverride,
     headers: &HeaderMap,
     file_name: Option<&str>,
 ) -> Result<Response> {
     let f = farm.clone();
     let i = id.clone();
     let version = blocking(move || crate::output::film_version(&f, &i)).await?;
-    let etag = format!("\"{version}-{}\"", max_size.unwrap_or(0));
+    let etag = format!("\"{version}-{}-{}\"", max_size.unwrap_or(0), tm.tag());
     let matches = headers
         .get(header::IF_NONE_MATCH)
         .and_then(|v| v.to_str().ok())
@@ -249,7 +327,8 @@ async fn output(
     if matches {
         return Ok((StatusCode::NOT_MODIFIED, [(header::ETAG, etag)]).into_response());
     }
-    let out = blocking(move || crate::output::render(&farm, &id, format, max_size)).await?;
+    let out =
+        blocking(move || crate::output::render_with(&farm, &id, format, max_size, &tm)).await?;
     let mut resp = (
         [
             (header::CONTENT_TYPE, out.content_type.to_string()),
@@ -267,20 +346,35 @@ async fn output(
     Ok(resp)
 }
 
-/// Tonemapped preview of the merged film (the scene's tonemapper); ETag / If-None-Match
-/// answer 304 while the film is unchanged.
+/// Tonemapped preview of the merged film (by default the scene's tonemapper; the query
+/// chooses another kernel and parameters for this response only); ETag / If-None-Match
+/// answer 304 while the film and the query's tonemapping are unchanged.
 #[utoipa::path(get, path = "/api/v1/jobs/{id}/preview.png",
-    params(("id" = String, Path), PreviewQuery),
+    params(("id" = String, Path), ImageQuery),
     responses((status = 200, content_type = "image/png", body = Vec<u8>), (status = 304),
-              (status = 404, body = ErrorBody), (status = 503, body = ErrorBody)))]
+              (status = 400, body = ErrorBody), (status = 404, body = ErrorBody),
+              (status = 503, body = ErrorBody)))]
 async fn preview_png(
     State(farm): State<AppState>,
     Path(id): Path<String>,
-    q: std::result::Result<Query<PreviewQuery>, QueryRejection>,
+    q: std::result::Result<Query<ImageQuery>, QueryRejection>,
     headers: HeaderMap,
 ) -> Result<Response> {
     let q = query(q)?;
-    output(farm, id, "png", q.max_size.or(Some(1024)), &headers, None).await
+    let (tm, size) = (q.tonemap()?, q.max_size()?.or(Some(1024)));
+    output(farm, id, "png", size, tm, &headers, None).await
+}
+
+/// A job's tonemapping settings: the scene's and LuxRender's defaults (what preview.png and
+/// image.png use for parameters the query leaves out).
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/tonemap", params(("id" = String, Path)),
+    responses((status = 200, body = TonemapView), (status = 404, body = ErrorBody)))]
+async fn job_tonemap(
+    State(farm): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Json<TonemapView>> {
+    let info = blocking(move || crate::output::scene_info(&farm, &id)).await?;
+    Ok(Json(TonemapView::new(&info.params.tonemap)))
 }
 
 /// The merged film as a LuxRender FLM.
@@ -292,7 +386,8 @@ async fn film_flm(
     Path(id): Path<String>,
     headers: HeaderMap,
 ) -> Result<Response> {
-    output(farm, id, "flm", None, &headers, Some("film.flm")).await
+    let tm = TonemapOverride::default();
+    output(farm, id, "flm", None, tm, &headers, Some("film.flm")).await
 }
 
 /// The merged film as EXR.
@@ -304,25 +399,31 @@ async fn image_exr(
     Path(id): Path<String>,
     headers: HeaderMap,
 ) -> Result<Response> {
-    output(farm, id, "exr", None, &headers, Some("image.exr")).await
+    let tm = TonemapOverride::default();
+    output(farm, id, "exr", None, tm, &headers, Some("image.exr")).await
 }
 
-/// The merged film tonemapped to PNG at full resolution.
-#[utoipa::path(get, path = "/api/v1/jobs/{id}/image.png", params(("id" = String, Path)),
-    responses((status = 200, content_type = "image/png", body = Vec<u8>),
-              (status = 404, body = ErrorBody)))]
+/// The merged film tonemapped to PNG, at full resolution unless `max_size` is given; the
+/// same tonemapping parameters as preview.png.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/image.png",
+    params(("id" = String, Path), ImageQuery),
+    responses((status = 200, content_type = "image/png", body = Vec<u8>), (status = 304),
+              (status = 400, body = ErrorBody), (status = 404, body = ErrorBody)))]
 async fn image_png(
     State(farm): State<AppState>,
     Path(id): Path<String>,
+    q: std::result::Result<Query<ImageQuery>, QueryRejection>,
     headers: HeaderMap,
 ) -> Result<Response> {
-    output(farm, id, "png", None, &headers, Some("image.png")).await
+    let q = query(q)?;
+    let (tm, size) = (q.tonemap()?, q.max_size()?);
+    output(farm, id, "png", size, tm, &headers, Some("image.png")).await
 }
 
 /// Known workers.
 #[utoipa::path(get, path = "/api/v1/workers", responses((status = 200, body = Vec<WorkerView>)))]
-async fn list_workers(State(farm): State<AppState>) -> Json<Vec<WorkerView>> {
-    Json(views::worker_views(&farm))
+async fn list_workers(State(farm): State<AppState>) -> Result<Json<Vec<WorkerView>>> {
+    Ok(Json(blocking(move || views::worker_views(&farm)).await?))
 }
 
 /// Liveness.

@@ -5,6 +5,7 @@ use crate::db::{JobRow, JobState};
 use crate::error::Result;
 use crate::farm::{lock, now_ms, Farm};
 use luxfarm_proto as pb;
+use std::collections::HashMap;
 use std::sync::atomic::Ordering;
 
 /// A job as the API shows it.
@@ -69,6 +70,9 @@ pub struct WorkerView {
     /// Seconds since the last heartbeat.
     pub last_seen_secs: f64,
     pub samples: f64,
+    /// Samples per second of the worker's acknowledged uploads over the last minute (three
+    /// upload intervals if that is longer); 0 when it is not rendering.
+    pub samples_per_sec: f64,
 }
 
 /// The view of one job.
@@ -167,29 +171,91 @@ pub fn job_views(farm: &Farm) -> Result<Vec<JobView>> {
 }
 
 /// Views of every known worker.
-pub fn worker_views(farm: &Farm) -> Vec<WorkerView> {
+pub fn worker_views(farm: &Farm) -> Result<Vec<WorkerView>> {
+    let rates = worker_rates(farm, now_ms())?;
     let mut v: Vec<WorkerView> = lock(&farm.workers)
         .values()
-        .map(|w| WorkerView {
-            id: w.id.clone(),
-            name: w.name.clone(),
-            threads: w.threads,
-            state: if w.lost {
-                "lost".into()
-            } else if w.lease.is_some() {
-                "rendering".into()
-            } else {
-                "idle".into()
-            },
-            job_id: w.lease.as_ref().map(|(j, _)| j.clone()),
-            lease_id: w.lease.as_ref().map(|(_, l)| l.clone()),
-            last_seen_ms: w.last_seen_ms,
-            last_seen_secs: w.last_seen.elapsed().as_secs_f64(),
-            samples: w.samples,
+        .map(|w| {
+            let rendering = !w.lost && w.lease.is_some();
+            WorkerView {
+                id: w.id.clone(),
+                name: w.name.clone(),
+                threads: w.threads,
+                state: if w.lost {
+                    "lost".into()
+                } else if rendering {
+                    "rendering".into()
+                } else {
+                    "idle".into()
+                },
+                job_id: w.lease.as_ref().map(|(j, _)| j.clone()),
+                lease_id: w.lease.as_ref().map(|(_, l)| l.clone()),
+                last_seen_ms: w.last_seen_ms,
+                last_seen_secs: w.last_seen.elapsed().as_secs_f64(),
+                samples: w.samples,
+                samples_per_sec: if rendering {
+                    rates.get(&w.id).copied().unwrap_or(0.0)
+                } else {
+                    0.0
+                },
+            }
         })
         .collect();
     v.sort_by(|a, b| a.name.cmp(&b.name).then(a.id.cmp(&b.id)));
-    v
+    Ok(v)
+}
+
+/// The shortest window of [`worker_rates`]; it grows to three upload intervals when the
+/// farm's interval is longer, so a rendering worker always has uploads in it.
+pub const RATE_WINDOW_MS: i64 = 60_000;
+
+/// Ledger rows may be slightly out of time order (merges run concurrently): the backwards scan
+/// of [`worker_rates`] goes this far past the window's start before it stops.
+const SCAN_SLACK_MS: i64 = 10_000;
+
+/// Each worker's samples per second from its acknowledged uploads (the ledger): the samples of
+/// its uploads merged within the window over the time they cover, from the upload before the
+/// first of them (or the start of its lease) to the last of them.
+///
+/// The ledger is read newest first through a read-only connection of its own (the store's
+/// methods belong to the farm module; WAL lets this reader run beside the writer), so the cost
+/// follows the uploads in the window, not the size of the ledger.
+pub fn worker_rates(farm: &Farm, now_ms: i64) -> Result<HashMap<String, f64>> {
+    use rusqlite::OpenFlags;
+    let interval_ms = (farm.cfg.upload_interval * 3000.0).min(86_400_000.0) as i64;
+    let from = now_ms - RATE_WINDOW_MS.max(interval_ms);
+    let conn = rusqlite::Connection::open_with_flags(
+        farm.cfg.data_dir.join("farm.sqlite"),
+        OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX,
+    )?;
+    let mut st = conn.prepare(
+        "SELECT l.worker_id, g.samples, g.merged_ms, COALESCE( \
+           (SELECT p.merged_ms FROM ledger p WHERE p.lease_id = g.lease_id AND p.seq < g.seq \
+            ORDER BY p.seq DESC LIMIT 1), l.started_ms) \
+         FROM ledger g JOIN leases l ON l.id = g.lease_id ORDER BY g.rowid DESC",
+    )?;
+    let mut rows = st.query([])?;
+    // worker -> (samples, first covered time, last upload time)
+    let mut acc: HashMap<String, (f64, i64, i64)> = HashMap::new();
+    while let Some(r) = rows.next()? {
+        let merged: i64 = r.get(2)?;
+        if merged < from - SCAN_SLACK_MS {
+            break;
+        }
+        if merged < from {
+            continue;
+        }
+        let (worker, samples, prev): (String, f64, i64) = (r.get(0)?, r.get(1)?, r.get(3)?);
+        let e = acc.entry(worker).or_insert((0.0, prev, merged));
+        e.0 += samples;
+        e.1 = e.1.min(prev);
+        e.2 = e.2.max(merged);
+    }
+    Ok(acc
+        .into_iter()
+        .filter(|(_, (s, a, b))| b > a && s.is_finite())
+        .map(|(w, (s, a, b))| (w, s * 1000.0 / (b - a) as f64))
+        .collect())
 }
 
 impl From<JobView> for pb::JobInfo {
@@ -230,7 +296,62 @@ impl From<WorkerView> for pb::WorkerInfo {
             lease_id: w.lease_id.unwrap_or_default(),
             last_seen_ms: w.last_seen_ms,
             samples: w.samples,
-            samples_per_sec: 0.0,
+            samples_per_sec: w.samples_per_sec,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Config;
+    use crate::db::NewJob;
+
+    const NOW: i64 = 1_000_000_000;
+
+    #[test]
+    fn worker_rates_cover_the_uploads_of_the_window() {
+        let dir = tempfile::tempdir().unwrap();
+        let farm = Farm::open(Config::local(dir.path().to_path_buf())).unwrap();
+        {
+            let mut db = lock(&farm.db);
+            db.insert_job(&NewJob {
+                id: "j",
+                name: "j",
+                priority: 0,
+                bundle_hash: "h",
+                scene_path: "s.lxs",
+                seed: 1,
+                haltspp: None,
+                halttime: None,
+                haltthreshold: None,
+                width: 8,
+                height: 6,
+                submitted_ms: 0,
+            })
+            .unwrap();
+            // Rows come in merge order. w3: uploads long ago only.
+            db.create_lease("l3", "j", "w3", NOW - 900_000).unwrap();
+            db.ledger_insert("l3", 1, "j", 1e6, 10, NOW - 800_000)
+                .unwrap();
+            // w1: 1000 samples every 10 s for 200 s.
+            db.create_lease("l1", "j", "w1", NOW - 200_000).unwrap();
+            for k in 1..=20 {
+                db.ledger_insert("l1", k, "j", 1000.0, 10, NOW - 200_000 + k as i64 * 10_000)
+                    .unwrap();
+            }
+            // w2: one upload of 500 samples 4 s after its lease began (merged a little out
+            // of time order).
+            db.create_lease("l2", "j", "w2", NOW - 5_000).unwrap();
+            db.ledger_insert("l2", 1, "j", 500.0, 10, NOW - 1_000)
+                .unwrap();
+        }
+        let r = worker_rates(&farm, NOW).unwrap();
+        // The 7 uploads from NOW - 60 s on, covering NOW - 70 s .. NOW.
+        assert!((r["w1"] - 100.0).abs() < 1e-9, "{r:?}");
+        assert!((r["w2"] - 125.0).abs() < 1e-9, "{r:?}");
+        assert!(!r.contains_key("w3"), "{r:?}");
+        // A minute later nothing is recent.
+        assert!(worker_rates(&farm, NOW + 200_000).unwrap().is_empty());
     }
 }

@@ -1,10 +1,14 @@
 //! Job outputs on demand: the merged film as FLM, a tonemapped PNG (preview, optionally
-//! scaled down) or an EXR, from the live film of a rendering job or the last checkpoint.
+//! scaled down, optionally with another tonemapping, see [`tonemap`]) or an EXR, from the live
+//! film of a rendering job or the last checkpoint.
+
+pub mod tonemap;
 
 use crate::error::{Result, ServerError};
 use crate::farm::{lock, Farm};
-use crate::scene;
+use crate::scene::{self, SceneInfo};
 use std::sync::atomic::Ordering;
+use tonemap::TonemapOverride;
 
 /// An output and the film version it was made from (the ETag).
 pub struct Output {
@@ -23,12 +27,33 @@ pub fn film_version(farm: &Farm, id: &str) -> Result<String> {
     Ok(format!("{}-{}", row.ckpt_gen, live))
 }
 
-/// Makes `format` (png, exr, flm) of job `id`; `max_size` bounds the PNG's longer side.
+/// The scene information of job `id` (the live job's, else parsed from its stored scene).
+pub fn scene_info(farm: &Farm, id: &str) -> Result<SceneInfo> {
+    let row = farm.job_row(id)?;
+    if let Some(rt) = lock(&farm.jobs).get(id) {
+        return Ok(rt.info.clone());
+    }
+    scene::inspect(&farm.scene_dir(&row.bundle_hash), row.scene_path.as_ref())
+}
+
+/// Makes `format` (png, exr, flm) of job `id` with the scene's tonemapping; `max_size`
+/// bounds the PNG's longer side.
 pub fn render(farm: &Farm, id: &str, format: &str, max_size: Option<u32>) -> Result<Output> {
+    render_with(farm, id, format, max_size, &TonemapOverride::default())
+}
+
+/// [`render`] with the PNG tonemapped as `tm` asks (over the scene's settings).
+pub fn render_with(
+    farm: &Farm,
+    id: &str,
+    format: &str,
+    max_size: Option<u32>,
+    tm: &TonemapOverride,
+) -> Result<Output> {
     let row = farm.job_row(id)?;
     let version = film_version(farm, id)?;
     let live = lock(&farm.jobs).get(id).cloned();
-    let (film, info) = match live {
+    let (film, mut info) = match live {
         Some(rt) => (lock(&rt.film).clone(), rt.info.clone()),
         None => {
             let path = crate::halt::latest_checkpoint(farm, &row).ok_or_else(|| {
@@ -39,7 +64,10 @@ pub fn render(farm: &Farm, id: &str, format: &str, max_size: Option<u32>) -> Res
         }
     };
     let (bytes, content_type) = match format {
-        "png" => (scene::png_bytes(&film, &info, max_size)?, "image/png"),
+        "png" => {
+            info.params.tonemap = tm.apply(&info.params.tonemap);
+            (scene::png_bytes(&film, &info, max_size)?, "image/png")
+        }
         "exr" => (scene::exr_bytes(&film, &info)?, "image/x-exr"),
         "flm" => (scene::flm_bytes(&film, &info)?, "application/octet-stream"),
         other => {
