@@ -56,6 +56,9 @@ enum Command {
 enum BenchCommand {
     /// Ray throughput of the BVH on incoherent rays (closest hit and any hit).
     Bvh(cmd::bench_bvh::Args),
+    /// Issue 3's Cornell benchmark side by side with LuxCore: samples/s and RMSE against the
+    /// 2048-spp reference.
+    Cornell(cmd::bench_cornell::Args),
     /// Parse speed and peak memory on a generated mesh scene.
     Parse(cmd::bench_parse::Args),
     /// FLM decode + merge and encode throughput of a 1080p delta.
@@ -80,6 +83,7 @@ fn main() -> ExitCode {
         Command::Server(a) => cmd::server::run(a),
         Command::Worker(a) => cmd::worker::run(a),
         Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
+        Command::Bench(BenchCommand::Cornell(a)) => cmd::bench_cornell::run(a),
         Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
         Command::Bench(BenchCommand::Flm(a)) => cmd::bench_flm::run(a),
     };

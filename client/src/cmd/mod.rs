@@ -1,6 +1,7 @@
 //! One module per subcommand (farm commands share `farm_remote` and `farm_bundle`).
 
 pub mod bench_bvh;
+pub mod bench_cornell;
 pub mod bench_flm;
 pub mod bench_parse;
 pub mod cancel;
