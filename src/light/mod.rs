@@ -17,6 +17,9 @@
 //!   escaping rays; the map is indexed with the light-space direction d by
 //!   s = φ/2π (φ = atan2(y, x) in [0, 2π)), t = θ/π (θ from +z), row 0 at the top.
 //!   Maps are importance sampled with a 2D piecewise-constant distribution.
+//! - **sun**, **sky**, **sunsky**: Preetham et al.'s daylight as LuxRender has it: a sun disc
+//!   of spectral radiance from the turbidity and an analytic sky (see [`sun`], [`sky`],
+//!   [`sunsky`]).
 //!
 //! The film side: LuxRender's camera ray weight is 1 and the sample pipeline adds the
 //! radiance's XYZ times the filter weight, with the filter weight summed alongside; the
@@ -27,8 +30,12 @@ pub mod distant;
 pub mod distribution;
 pub mod infinite;
 pub mod point;
+pub mod sky;
 pub mod spot;
 pub mod strategy;
+pub mod sun;
+pub mod sunsky;
+pub mod sunsky_data;
 pub mod warp;
 
 use crate::geometry::{Interaction, SurfaceInteraction};
@@ -41,8 +48,10 @@ pub use area::AreaLight;
 pub use distant::DistantLight;
 pub use infinite::InfiniteLight;
 pub use point::PointLight;
+pub use sky::SkyLight;
 pub use spot::SpotLight;
 pub use strategy::{LightSelector, LightStrategy};
+pub use sun::SunLight;
 
 /// A light that failed to build, with the place it was declared.
 #[derive(Debug, thiserror::Error)]
@@ -144,6 +153,8 @@ pub enum Light {
     Distant(DistantLight),
     Infinite(Box<InfiniteLight>),
     Area(AreaLight),
+    Sun(SunLight),
+    Sky(Box<SkyLight>),
 }
 
 impl Light {
@@ -154,6 +165,8 @@ impl Light {
             Light::Distant(l) => &l.common,
             Light::Infinite(l) => &l.common,
             Light::Area(l) => &l.common,
+            Light::Sun(l) => &l.common,
+            Light::Sky(l) => &l.common,
         }
     }
 
@@ -170,8 +183,16 @@ impl Light {
         match self {
             Light::Point(_) | Light::Spot(_) => true,
             Light::Distant(l) => l.is_delta(),
-            Light::Infinite(_) | Light::Area(_) => false,
+            Light::Infinite(_) | Light::Area(_) | Light::Sun(_) | Light::Sky(_) => false,
         }
+    }
+
+    /// True for lights at infinity, seen by rays that leave the scene.
+    pub fn is_infinite(&self) -> bool {
+        matches!(
+            self,
+            Light::Infinite(_) | Light::Distant(_) | Light::Sun(_) | Light::Sky(_)
+        )
     }
 
     /// Called once the scene bounds are known (distant and infinite lights need them).
@@ -179,6 +200,8 @@ impl Light {
         match self {
             Light::Distant(l) => l.world_radius = radius,
             Light::Infinite(l) => l.world_radius = radius,
+            Light::Sun(l) => l.world_radius = radius,
+            Light::Sky(l) => l.world_radius = radius,
             _ => {}
         }
         let _ = center;
@@ -198,6 +221,8 @@ impl Light {
             Light::Distant(l) => l.sample_li(r, u),
             Light::Infinite(l) => l.sample_li(r, u),
             Light::Area(l) => l.sample_li(r, u, u_pick, shapes),
+            Light::Sun(l) => l.sample_li(r, u),
+            Light::Sky(l) => l.sample_li(r, u),
         }?;
         (s.pdf > 0.0 && s.pdf.is_finite() && s.li.is_finite() && !s.li.is_black()).then_some(s)
     }
@@ -210,15 +235,19 @@ impl Light {
             Light::Distant(l) => l.pdf_li(wi),
             Light::Infinite(l) => l.pdf_li(wi),
             Light::Area(l) => hit.map_or(0.0, |h| l.pdf_li(r, h)),
+            Light::Sun(l) => l.pdf_li(wi),
+            Light::Sky(l) => l.pdf_li(wi),
         }
     }
 
-    /// Radiance reaching a ray that escapes the scene in direction `dir` (infinite lights and
-    /// wide distant lights).
+    /// Radiance reaching a ray that escapes the scene in direction `dir` (infinite lights, sun,
+    /// sky and wide distant lights).
     pub fn le(&self, dir: Vec3A) -> Rgb {
         match self {
             Light::Infinite(l) => l.le(dir),
             Light::Distant(l) => l.le(dir),
+            Light::Sun(l) => l.le(dir),
+            Light::Sky(l) => l.le(dir),
             _ => Rgb::BLACK,
         }
     }
@@ -231,6 +260,8 @@ impl Light {
             Light::Distant(l) => l.power(),
             Light::Infinite(l) => l.power(),
             Light::Area(l) => l.power(),
+            Light::Sun(l) => l.power(),
+            Light::Sky(l) => l.power(),
         };
         if p.is_finite() {
             p.max(0.0)

@@ -7,7 +7,7 @@ use crate::film::FilmParams;
 use crate::filter::Filter;
 use crate::integrator::Integrator;
 use crate::light::{
-    AreaLight, DistantLight, Emission, InfiniteLight, Light, LightColor, LightCommon,
+    sunsky, AreaLight, DistantLight, Emission, InfiniteLight, Light, LightColor, LightCommon,
     LightSelector, PointLight, SpotLight,
 };
 use crate::lxs::{Diagnostic, Entity, LightDesc, Loc, ParamSet, SceneDescription};
@@ -157,6 +157,11 @@ impl Scene {
         let mut lights = Vec::new();
         for ld in &desc.lights {
             let common = LightCommon::from_params(&ld.entity.params, group_of(&ld.light_group));
+            let (e, l2w) = (&ld.entity, ld.light_to_world.start().as_mat4());
+            if let Some(built) = sunsky::build(&e.kind, &e.params, l2w, common, &e.loc) {
+                lights.extend(built?);
+                continue;
+            }
             lights.push(build_light(ld, common, &mut textures, base_dir)?);
         }
         let mut emitters = Vec::new();
@@ -188,7 +193,7 @@ impl Scene {
             l.preprocess(center, radius.max(1e-6));
         }
         let infinite = (0..lights.len())
-            .filter(|&i| matches!(lights[i], Light::Infinite(_) | Light::Distant(_)))
+            .filter(|&i| lights[i].is_infinite())
             .collect();
         let selector = LightSelector::new(integrator.direct_settings().strategy, &lights);
         if lights.is_empty() {
@@ -283,7 +288,7 @@ fn build_light(
                 e.loc.clone(),
                 format!(
                     "LightSource \"{other}\" is not supported by luxfarm yet \
-                     (point, spot, distant, infinite, area)"
+                     (point, spot, distant, infinite, sun, sky, sunsky, area)"
                 ),
             ))
         }

@@ -89,8 +89,6 @@ pub fn modern_equivalent(family: Family, kind: &str) -> Option<&'static str> {
         (Family::Sampler, "bestcandidate") | (Family::Sampler, "stratified") => {
             Some("lowdiscrepancy")
         }
-        (Family::Light, "sunsky") => Some("sunsky2"),
-        (Family::Light, "sky") => Some("sky2"),
         _ => None,
     }
 }
@@ -121,5 +119,8 @@ mod tests {
             Some("fleximage")
         );
         assert_eq!(modern_equivalent(Family::Film, "fleximage"), None);
+        // LuxRender 1.x still has the Preetham sun/sky plugins beside Hosek-Wilkie's sky2.
+        assert_eq!(modern_equivalent(Family::Light, "sunsky"), None);
+        assert_eq!(modern_equivalent(Family::Light, "sky"), None);
     }
 }

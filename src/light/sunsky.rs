@@ -1,0 +1,90 @@
+//! The `sun`, `sky` and `sunsky` LightSource plugins of LuxRender 1.x. `sunsky` is both
+//! lights built from the same parameters (so they share `sundir`, `turbidity`, `gain` and
+//! `nsamples`, and the light group), the sun first, as LuxRender's API does it. Note that
+//! LuxRender's defaults for a missing `sundir` differ: (0, 0, −1) for the sun (below the
+//! horizon: it emits nothing) and (0, 0, 1) for the sky. `L` is not a parameter of these
+//! lights (0.x exporters wrote it; it is reported unused).
+//!
+//! Hosek–Wilkie's `sky2`/`sunsky2` are different plugins, not supported here.
+
+use super::{Light, LightCommon, LightError, SkyLight, SunLight};
+use crate::lxs::{Loc, ParamSet};
+use glam::Mat4;
+
+/// The plugin names handled here.
+pub const KINDS: [&str; 3] = ["sun", "sky", "sunsky"];
+
+/// Builds the light(s) of a `sun`, `sky` or `sunsky` LightSource; `None` for other kinds.
+pub fn build(
+    kind: &str,
+    params: &ParamSet,
+    l2w: Mat4,
+    common: LightCommon,
+    loc: &Loc,
+) -> Option<Result<Vec<Light>, LightError>> {
+    let err = |m: String| LightError::new(loc, m);
+    let sun = || SunLight::new(params, l2w, common).map(Light::Sun);
+    let sky = || SkyLight::new(params, l2w, common).map(|s| Light::Sky(Box::new(s)));
+    let built = match kind {
+        "sun" => sun().map(|l| vec![l]),
+        "sky" => sky().map(|l| vec![l]),
+        "sunsky" => sun().and_then(|a| Ok(vec![a, sky()?])),
+        _ => return None,
+    };
+    Some(built.map_err(err))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lxs::ParamValue;
+
+    fn common() -> LightCommon {
+        LightCommon {
+            group: 2,
+            nsamples: 3,
+        }
+    }
+
+    #[test]
+    fn sunsky_is_a_sun_and_a_sky_sharing_parameters() {
+        let mut ps = ParamSet::new();
+        ps.add("sundir", ParamValue::Vector(vec![[0.3, 0.2, 0.8]]));
+        ps.add("gain", ParamValue::Float(vec![0.01]));
+        ps.add("L", ParamValue::Color(vec![[1.0; 3]]));
+        let lights = build("sunsky", &ps, Mat4::IDENTITY, common(), &Loc::default())
+            .unwrap()
+            .unwrap();
+        assert_eq!(lights.len(), 2);
+        let (Light::Sun(sun), Light::Sky(sky)) = (&lights[0], &lights[1]) else {
+            panic!("expected a sun then a sky");
+        };
+        assert!((sun.to_light - sky.model.sun).length() < 1e-6);
+        assert_eq!(sky.gain(), 0.01);
+        for l in &lights {
+            assert_eq!(l.group(), 2);
+            assert_eq!(l.nsamples(), 3);
+            assert!(!l.is_delta() && l.is_infinite());
+        }
+        assert_eq!(ps.unused().count(), 1, "L is not a sun/sky parameter");
+        assert!(build("sky2", &ps, Mat4::IDENTITY, common(), &Loc::default()).is_none());
+    }
+
+    #[test]
+    fn bad_parameters_are_located_errors() {
+        let mut ps = ParamSet::new();
+        ps.add("relsize", ParamValue::Float(vec![0.0]));
+        let loc = Loc::default();
+        let e = match build("sun", &ps, Mat4::IDENTITY, common(), &loc) {
+            Some(Err(e)) => e,
+            _ => panic!("relsize 0 must be refused"),
+        };
+        assert!(e.to_string().contains("relsize"), "{e}");
+        let mut ps = ParamSet::new();
+        ps.add("sundir", ParamValue::Vector(vec![[0.0; 3]]));
+        assert!(matches!(
+            build("sky", &ps, Mat4::IDENTITY, common(), &loc),
+            Some(Err(_))
+        ));
+    }
+}
