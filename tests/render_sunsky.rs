@@ -17,7 +17,13 @@ const SUNSKY: &str = "testsuite/sunsky_low-mid-high";
 /// The scene at 64×48 pixels and 2 samples per pixel.
 fn reduced(rel: &str) -> (SceneDescription, std::path::PathBuf) {
     let path = scene_path(rel);
-    let mut desc = parse(&path);
+    reduce(parse(&path), path)
+}
+
+fn reduce(
+    mut desc: SceneDescription,
+    path: std::path::PathBuf,
+) -> (SceneDescription, std::path::PathBuf) {
     let film = desc.film.as_mut().expect("scene has a Film");
     film.params
         .add("xresolution", ParamValue::Integer(vec![64]));
@@ -39,12 +45,16 @@ struct Rendered {
 
 fn render_reduced(rel: &str) -> Rendered {
     let (desc, path) = reduced(rel);
+    render_desc(&desc, &path)
+}
+
+fn render_desc(desc: &SceneDescription, path: &std::path::Path) -> Rendered {
     let opts = SessionOptions {
         threads: 2,
         seed: 5,
         stream: 0,
     };
-    let mut s = Session::new(&desc, path.parent().unwrap(), opts).expect("scene builds");
+    let mut s = Session::new(desc, path.parent().unwrap(), opts).expect("scene builds");
     let lights = s
         .scene()
         .lights()
@@ -115,4 +125,26 @@ fn uvmaptest_renders() {
         &render_reduced("testsuite/uvmaptest/uvmaptest.lxs"),
         "uvmaptest",
     );
+}
+
+/// SunSky_Params.lxs's light (Perez multipliers aconst..econst, relsize 2; its own geometry
+/// file is missing on purpose) over sunsky_low's geometry: every parameter is consumed.
+#[test]
+fn sunsky_params_light_is_understood() {
+    let path = scene_path(&format!("{SUNSKY}/sunsky_low.lxs"));
+    let text = std::fs::read_to_string(&path).unwrap();
+    let params = "\"float turbidity\" [2.000000]\n\
+        \"float aconst\" [0.500000] \"float bconst\" [0.500000] \"float cconst\" [1.000000] \
+        \"float dconst\" [1.000000] \"float econst\" [1.000000]\n\"float relsize\" [2.000000]\n";
+    assert!(text.contains("\"float turbidity\" [2.000000]"));
+    let text = text.replace("\"float turbidity\" [2.000000]", params);
+    let (desc, path) = reduce(parse_text(&text, &path), path);
+    let r = render_desc(&desc, &path);
+    mean_y(&r, "sunsky_params light");
+    let about_light: Vec<_> = r
+        .warnings
+        .iter()
+        .filter(|w| w.contains("LightSource"))
+        .collect();
+    assert_eq!(about_light.len(), 1, "{about_light:?}");
 }

@@ -70,7 +70,7 @@ pub fn air_mass(theta_s: f32) -> f32 {
 /// Transmittance of the atmosphere at `nm` along a path of air mass `m` with turbidity `t`.
 pub fn transmittance(nm: f32, m: f32, t: f32) -> f32 {
     let um = nm / 1000.0;
-    let beta = 0.046_083_658_220_50 * t - 0.045_860_259_285_22;
+    let beta = 0.046_083_66 * t - 0.045_860_26;
     let rayleigh = (-m * 0.008735 * um.powf(-4.08)).exp();
     let aerosol = (-m * beta * um.powf(-1.3)).exp();
     let ozone = (-m * data::sample_irregular(&data::OZONE_NM, &data::OZONE_K, nm) * 0.35).exp();
