@@ -211,3 +211,23 @@ fn light_transform_rotates_the_sky() {
         .unwrap();
     assert!((l.pdf_li(s.wi) - s.pdf).abs() < 2e-3 * s.pdf);
 }
+
+/// A sun below the horizon is outside the model: the sky stays finite and non-negative.
+#[test]
+fn sun_below_the_horizon_gives_a_finite_sky() {
+    for sun in [[0.3, 0.0, -0.05], [0.0, 0.0, -1.0]] {
+        let l = sky(sun, &[]);
+        for i in 0..18 {
+            for j in 0..12 {
+                let c = l.le(dir(i as f32 * 10.0 + 1.0, j as f32 * 30.0));
+                assert!(
+                    c.is_finite() && c.r >= 0.0 && c.g >= 0.0 && c.b >= 0.0,
+                    "{c:?}"
+                );
+            }
+        }
+        let s = l.sample_li(&Interaction::default(), Vec2::new(0.5, 0.5));
+        assert!(s.is_none_or(|s| s.li.is_finite() && s.pdf.is_finite()));
+        assert!(l.power().is_finite() && l.power() >= 0.0);
+    }
+}
