@@ -132,7 +132,7 @@ impl Link {
             worker_id: self.worker_id(),
             lease_id: lease.to_string(),
             seq,
-            encoding: "lxd1".into(),
+            encoding: luxfarm_server::codec::DELTA_ENCODING.into(),
             last,
         };
         let mut chunks = vec![pb::UploadChunk {
