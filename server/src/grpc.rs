@@ -213,6 +213,12 @@ impl pb::worker_server::Worker for WorkerService {
         &self,
         req: Request<Streaming<pb::UploadChunk>>,
     ) -> Result<Response<pb::UploadAck>, Status> {
+        let _receiving = self
+            .0
+            .receive_slots
+            .acquire()
+            .await
+            .map_err(|e| Status::internal(e.to_string()))?;
         let mut stream = req.into_inner();
         let mut header = None;
         let mut data = Vec::new();
@@ -231,6 +237,12 @@ impl pb::worker_server::Worker for WorkerService {
         let h = header.ok_or_else(|| Status::invalid_argument("missing upload header"))?;
         let farm = self.0.clone();
         let span = tracing::info_span!("upload", lease = %h.lease_id, seq = h.seq);
+        let _slot = self
+            .0
+            .merge_slots
+            .acquire()
+            .await
+            .map_err(|e| Status::internal(e.to_string()))?;
         let (status, stop) = blocking(move || {
             let _e = span.enter();
             farm.upload(&h, &data)
