@@ -166,13 +166,14 @@ impl SimWorker {
         }
     }
 
-    /// A second handle on the same connection (for the heartbeat task).
-    pub fn handle(&self) -> SimWorker {
-        SimWorker {
-            client: self.client.clone(),
+    /// A handle on a second connection for the heartbeats, as the worker keeps uploads and
+    /// control calls apart (a held-back upload would block heartbeats on its connection).
+    pub fn control(&self, url: &str) -> anyhow::Result<SimWorker> {
+        Ok(SimWorker {
+            client: connect::worker_client(connect::channel(url, None, None)?),
             id: self.id.clone(),
             lease: self.lease.clone(),
-        }
+        })
     }
 
     /// Uploads on the schedule; a late upload goes out as soon as the previous one is

@@ -169,7 +169,8 @@ async fn generate(
     let mut beats = Vec::new();
     for (i, wk) in workers.into_iter().enumerate() {
         beats.push(tokio::spawn(
-            wk.handle().heartbeats(Duration::from_secs(5), stats.clone()),
+            wk.control(url)?
+                .heartbeats(Duration::from_secs(5), stats.clone()),
         ));
         tasks.push(tokio::spawn(wk.uploads(
             i,
@@ -336,8 +337,10 @@ fn report(
     let (c0, c1) = run.cpu;
     let gen = (c1.generator - c0.generator) / win;
     let master = ((c1.total - c0.total) - (c1.generator - c0.generator)) / win;
+    let lost = lock(&farm.workers).values().filter(|w| w.lost).count();
     println!(
-        "CPU (cores busy over the window): master {master:.2}, generator {gen:.2}, heartbeats {}",
+        "CPU (cores busy over the window): master {master:.2}, generator {gen:.2}; heartbeats {}, \
+         workers timed out {lost}",
         stats.heartbeats.load(Ordering::Relaxed)
     );
     match run.drain {
@@ -347,6 +350,7 @@ fn report(
     let ok = verify(farm, job, stats)?;
     let keeps_up = last <= first + (a.workers as f64 * 0.02).max(2.0)
         && run.drain.is_some()
+        && lost == 0
         && stats.abandoned.load(Ordering::Relaxed) == 0;
     println!(
         "VERDICT: {} — {} workers x {}x{} every {} s: offered {:.2}/s, acknowledged {:.2}/s, \
