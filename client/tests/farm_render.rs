@@ -84,7 +84,10 @@ fn check_metrics(s: &Server, merged: usize, kept: &[&Path]) {
             .unwrap_or_else(|| panic!("no {name} in /metrics:\n{text}"));
         line[name.len()..].trim().parse().unwrap()
     };
-    assert!(text.contains("# TYPE luxfarm_merge_seconds histogram"), "{text}");
+    assert!(
+        text.contains("# TYPE luxfarm_merge_seconds histogram"),
+        "{text}"
+    );
     assert_eq!(value("luxfarm_merge_seconds_count"), merged as f64);
     assert_eq!(
         value("luxfarm_merge_seconds_bucket{le=\"+Inf\"}"),

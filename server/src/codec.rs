@@ -204,7 +204,10 @@ fn read_header(r: &mut Reader, raw: bool) -> Result<Film> {
     }
     if raw && r.rest() as u64 != bytes {
         let expected = r.pos as u64 + bytes;
-        return Err(bad(&format!("{} bytes, expected {expected}", r.bytes.len())));
+        return Err(bad(&format!(
+            "{} bytes, expected {expected}",
+            r.bytes.len()
+        )));
     }
     let mut film =
         Film::with_buffers(width, height, groups, types).map_err(|e| bad(&e.to_string()))?;

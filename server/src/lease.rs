@@ -3,8 +3,8 @@
 
 use crate::db::{JobRow, JobState};
 use crate::error::{Result, ServerError};
-use crate::metrics::MergeTiming;
 use crate::farm::{lock, new_id, now_ms, Farm, JobRt, LeaseRt, RunState, WorkerRt};
+use crate::metrics::MergeTiming;
 use crate::scene;
 use luxfarm_proto as pb;
 use std::collections::{HashMap, VecDeque};

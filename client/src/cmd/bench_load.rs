@@ -34,7 +34,11 @@ pub fn noise_film(w: u32, h: u32, spp: u32, seed: u32) -> Film {
             for _ in 0..spp {
                 let n = next();
                 // Path tracing noise: mostly near the mean, sometimes a bright firefly.
-                let v = if n > 0.98 { base * 20.0 * n } else { base * 2.0 * n };
+                let v = if n > 0.98 {
+                    base * 20.0 * n
+                } else {
+                    base * 2.0 * n
+                };
                 let weight = 0.2 + 0.8 * next();
                 f.add_splat(0, x, y, [v * 0.95, v, v * 1.08], 1.0, weight);
             }
@@ -78,11 +82,11 @@ impl Stats {
         f64::from_bits(self.acked_samples_bits.load(Ordering::Relaxed))
     }
     fn add_samples(&self, v: f64) {
-        let _ = self.acked_samples_bits.fetch_update(
-            Ordering::Relaxed,
-            Ordering::Relaxed,
-            |b| Some((f64::from_bits(b) + v).to_bits()),
-        );
+        let _ = self
+            .acked_samples_bits
+            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |b| {
+                Some((f64::from_bits(b) + v).to_bits())
+            });
     }
 }
 
@@ -194,7 +198,9 @@ impl SimWorker {
             loop {
                 let start = Instant::now();
                 stats.in_flight.fetch_add(1, Ordering::Relaxed);
-                let r = self.upload_once(seq, &payloads, (i + k) % payloads.len()).await;
+                let r = self
+                    .upload_once(seq, &payloads, (i + k) % payloads.len())
+                    .await;
                 stats.in_flight.fetch_sub(1, Ordering::Relaxed);
                 let end = Instant::now();
                 match r {
@@ -204,7 +210,9 @@ impl SimWorker {
                         lock(&stats.rtts).push((rtt, when));
                         if ack.status == "merged" {
                             stats.acked.fetch_add(1, Ordering::Relaxed);
-                            stats.acked_bytes.fetch_add(p.bytes as u64, Ordering::Relaxed);
+                            stats
+                                .acked_bytes
+                                .fetch_add(p.bytes as u64, Ordering::Relaxed);
                             stats.add_samples(p.samples);
                         } else {
                             stats.duplicates.fetch_add(1, Ordering::Relaxed);

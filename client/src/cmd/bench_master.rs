@@ -182,7 +182,8 @@ async fn generate(
     tokio::time::sleep_until(sched.t0).await;
     let cpu0 = Cpu::now();
     let mut samples = Vec::new();
-    let mut tick = tokio::time::interval_at(sched.t0 + Duration::from_secs(1), Duration::from_secs(1));
+    let mut tick =
+        tokio::time::interval_at(sched.t0 + Duration::from_secs(1), Duration::from_secs(1));
     let end = sched.t0 + sched.duration;
     while Instant::now() < end {
         tick.tick().await;
@@ -338,6 +339,13 @@ fn report(
     let gen = (c1.generator - c0.generator) / win;
     let master = ((c1.total - c0.total) - (c1.generator - c0.generator)) / win;
     let lost = lock(&farm.workers).values().filter(|w| w.lost).count();
+    let per_merge = master * win / (in_window.max(1) as f64);
+    println!(
+        "master CPU per merged delta {:.0} ms (receive, decode, merge, checkpoints, heartbeats): \
+         {:.1} merges/s per core that the master gets",
+        per_merge * 1e3,
+        1.0 / per_merge.max(1e-9)
+    );
     println!(
         "CPU (cores busy over the window): master {master:.2}, generator {gen:.2}; heartbeats {}, \
          workers timed out {lost}",
@@ -386,7 +394,11 @@ fn verify(farm: &luxfarm_server::farm::Farm, job: &str, stats: &Stats) -> anyhow
         "check: job film holds {merged} samples, acknowledged deltas sum to {acked}; master \
          merges {merges} = acknowledged {} -> {}",
         stats.acked.load(Ordering::Relaxed),
-        if ok { "exact, no double count" } else { "MISMATCH" }
+        if ok {
+            "exact, no double count"
+        } else {
+            "MISMATCH"
+        }
     );
     Ok(ok)
 }

@@ -74,7 +74,8 @@ fn render_delta(scene: &Path, res: (u32, u32), filter: &str, spp: u32) -> anyhow
     let dir = tempfile::tempdir()?;
     let path = dir.path().join("bench.lxs");
     std::fs::write(&path, out)?;
-    let desc = lxs::parse_file(&path, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let desc =
+        lxs::parse_file(&path, &ParseOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))?;
     let opts = SessionOptions {
         threads: 0,
         seed: 1,
@@ -148,7 +149,13 @@ fn measure(
 fn rows_for(film: &Film, runs: u32) -> anyhow::Result<Vec<Row>> {
     let params = FilmParams::with_resolution(film.width(), film.height());
     let dec = |b: &[u8]| codec::decode(b).map_err(anyhow::Error::from);
-    let mut rows = vec![measure("lxd1 (raw f64)", film, runs, |f| Ok(codec::encode(f)), dec)?];
+    let mut rows = vec![measure(
+        "lxd1 (raw f64)",
+        film,
+        runs,
+        |f| Ok(codec::encode(f)),
+        dec,
+    )?];
     for level in [1u32, 6] {
         let enc = |f: &Film| -> anyhow::Result<Vec<u8>> {
             let mut v = Vec::new();

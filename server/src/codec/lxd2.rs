@@ -52,8 +52,9 @@ impl Compressor {
         match self {
             Compressor::Lz4 => lz4_flex::block::compress(raw),
             // Compressing a memory buffer cannot fail; fall back to lz4 if it ever did.
-            Compressor::Zstd(level) => zstd::bulk::compress(raw, level)
-                .unwrap_or_else(|_| lz4_flex::block::compress(raw)),
+            Compressor::Zstd(level) => {
+                zstd::bulk::compress(raw, level).unwrap_or_else(|_| lz4_flex::block::compress(raw))
+            }
         }
     }
 }
@@ -204,7 +205,14 @@ mod tests {
                 s ^= s >> 17;
                 s ^= s << 5;
                 let v = (s >> 8) as f32 / 16_777_216.0;
-                f.add_splat((s & 1) as usize, x, y, [v * 0.3, v, v * 1.7], v.min(0.9), 0.5 + v);
+                f.add_splat(
+                    (s & 1) as usize,
+                    x,
+                    y,
+                    [v * 0.3, v, v * 1.7],
+                    v.min(0.9),
+                    0.5 + v,
+                );
             }
         }
         f.add_rejected(3);
