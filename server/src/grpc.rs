@@ -11,6 +11,9 @@ use std::time::Duration;
 use tokio_stream::{Stream, StreamExt};
 use tonic::{Request, Response, Status, Streaming};
 
+/// Largest film delta upload (bytes).
+const MAX_DELTA: usize = 4 << 30;
+
 type BoxStream<T> = Pin<Box<dyn Stream<Item = Result<T, Status>> + Send>>;
 
 /// Runs blocking work (file I/O, film decoding and merging) off the async threads.
@@ -224,9 +227,14 @@ impl pb::worker_server::Worker for WorkerService {
         let mut data = Vec::new();
         while let Some(chunk) = stream.next().await {
             match chunk?.part {
-                Some(pb::upload_chunk::Part::Header(h)) => header = Some(h),
+                Some(pb::upload_chunk::Part::Header(h)) => {
+                    // One allocation instead of doubling (pages are only touched as filled).
+                    let hint = usize::try_from(h.size).unwrap_or(0).min(MAX_DELTA);
+                    data.reserve_exact(hint.saturating_sub(data.len()));
+                    header = Some(h);
+                }
                 Some(pb::upload_chunk::Part::Data(d)) => {
-                    if data.len() + d.len() > (4usize << 30) {
+                    if data.len() + d.len() > MAX_DELTA {
                         return Err(Status::resource_exhausted("delta too large"));
                     }
                     data.extend_from_slice(&d);

@@ -140,6 +140,7 @@ impl Link {
             seq,
             encoding: luxfarm_server::codec::DELTA_ENCODING.into(),
             last,
+            size: data.len() as u64,
         };
         let mut chunks = vec![pb::UploadChunk {
             part: Some(pb::upload_chunk::Part::Header(header)),

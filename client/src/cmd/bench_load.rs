@@ -247,6 +247,7 @@ impl SimWorker {
                 seq,
                 encoding: payload_encoding(&payloads[which]).into(),
                 last: false,
+                size: payloads[which].bytes as u64,
             })),
         };
         let p = payloads.clone();
