@@ -15,6 +15,7 @@ use super::{bad, write_header, Reader};
 use crate::error::{Result, ServerError};
 use luxfarm::film::{Film, PIXEL_VALUES};
 use rayon::prelude::*;
+use std::cell::RefCell;
 
 /// Magic of the encoding.
 pub const MAGIC: &[u8; 4] = b"LXD2";
@@ -59,13 +60,31 @@ impl Compressor {
     }
 }
 
+thread_local! {
+    /// Per-thread zstd context and band buffer, reused across bands and uploads (a fresh
+    /// context and a fresh megabyte buffer per band cost more than the decoding).
+    static SCRATCH: RefCell<(Option<zstd::bulk::Decompressor<'static>>, Vec<u8>)> =
+        const { RefCell::new((None, Vec::new())) };
+}
+
 /// Decompresses into exactly `out.len()` bytes.
-fn decompress(tag: u8, src: &[u8], out: &mut [u8]) -> Result<()> {
+fn decompress(
+    tag: u8,
+    src: &[u8],
+    out: &mut [u8],
+    zctx: &mut Option<zstd::bulk::Decompressor<'static>>,
+) -> Result<()> {
     let n = match tag {
         1 => lz4_flex::block::decompress_into(src, out).map_err(|e| bad(&e.to_string()))?,
-        2 => zstd::bulk::Decompressor::new()
-            .and_then(|mut d| d.decompress_to_buffer(src, out))
-            .map_err(|e| bad(&format!("zstd: {e}")))?,
+        2 => {
+            if zctx.is_none() {
+                *zctx =
+                    Some(zstd::bulk::Decompressor::new().map_err(|e| bad(&format!("zstd: {e}")))?);
+            }
+            let d = zctx.as_mut().ok_or_else(|| bad("zstd context"))?;
+            d.decompress_to_buffer(src, out)
+                .map_err(|e| bad(&format!("zstd: {e}")))?
+        }
         _ => return Err(bad("unknown compressor")),
     };
     if n != out.len() {
@@ -162,28 +181,56 @@ fn decode_band(tag: u8, src: &[u8], dst: &mut [f64]) -> Result<(), ServerError> 
         dst.fill(0.0);
         return Ok(());
     }
-    let n = dst.len() / PIXEL_VALUES;
-    let m = n * PIXEL_VALUES;
-    let mut shuffled = vec![0u8; m * 8];
-    decompress(tag, src, &mut shuffled)?;
-    let mut planes = vec![0u64; m];
-    for (k, bytes) in shuffled.chunks_exact(m).enumerate() {
-        let shift = 8 * k as u32;
-        for (v, &b) in planes.iter_mut().zip(bytes) {
-            *v |= u64::from(b) << shift;
+    SCRATCH.with(|cell| {
+        let mut scratch = cell.borrow_mut();
+        let (zctx, shuffled) = &mut *scratch;
+        shuffled.resize(dst.len() * 8, 0);
+        decompress(tag, src, shuffled, zctx)?;
+        unshuffle(shuffled, dst)
+    })
+}
+
+/// Gathers each value's 8 bytes from the byte planes straight into the interleaved pixels,
+/// undoes alpha XOR weight and checks that every value is finite.
+fn unshuffle(shuffled: &[u8], dst: &mut [f64]) -> Result<(), ServerError> {
+    let m = dst.len();
+    let n = m / PIXEL_VALUES;
+    let p: Vec<&[u8]> = shuffled.chunks_exact(m).collect();
+    let [p0, p1, p2, p3, p4, p5, p6, p7] = p[..] else {
+        return Err(bad("band has the wrong size"));
+    };
+    // Weight before alpha: alpha's bits are XORed with the weight's.
+    for c in [WEIGHT, 0, 1, 2, ALPHA] {
+        let range = c * n..(c + 1) * n;
+        let planes = [
+            &p0[range.clone()],
+            &p1[range.clone()],
+            &p2[range.clone()],
+            &p3[range.clone()],
+            &p4[range.clone()],
+            &p5[range.clone()],
+            &p6[range.clone()],
+            &p7[range],
+        ];
+        for (i, px) in dst.chunks_exact_mut(PIXEL_VALUES).enumerate() {
+            let bits = u64::from_le_bytes([
+                planes[0][i],
+                planes[1][i],
+                planes[2][i],
+                planes[3][i],
+                planes[4][i],
+                planes[5][i],
+                planes[6][i],
+                planes[7][i],
+            ]);
+            px[c] = f64::from_bits(if c == ALPHA {
+                bits ^ px[WEIGHT].to_bits()
+            } else {
+                bits
+            });
         }
     }
-    let mut all_finite = true;
-    for (i, p) in dst.chunks_exact_mut(PIXEL_VALUES).enumerate() {
-        let weight = planes[WEIGHT * n + i];
-        for (c, d) in p.iter_mut().enumerate() {
-            let bits = planes[c * n + i];
-            let v = f64::from_bits(if c == ALPHA { bits ^ weight } else { bits });
-            all_finite &= v.is_finite();
-            *d = v;
-        }
-    }
-    if all_finite {
+    if dst.iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
         Err(bad("non-finite pixel value"))
