@@ -63,6 +63,10 @@ enum BenchCommand {
     Parse(cmd::bench_parse::Args),
     /// FLM decode + merge and encode throughput of a 1080p delta.
     Flm(cmd::bench_flm::Args),
+    /// Master capacity: N simulated workers uploading full-frame deltas over gRPC.
+    Master(cmd::bench_master::Args),
+    /// Film delta encodings (lxd1, FLM, lxd2) on a rendered delta: bytes, encode, decode.
+    Transport(cmd::bench_transport::Args),
 }
 
 fn main() -> ExitCode {
@@ -86,6 +90,8 @@ fn main() -> ExitCode {
         Command::Bench(BenchCommand::Cornell(a)) => cmd::bench_cornell::run(a),
         Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
         Command::Bench(BenchCommand::Flm(a)) => cmd::bench_flm::run(a),
+        Command::Bench(BenchCommand::Master(a)) => cmd::bench_master::run(a),
+        Command::Bench(BenchCommand::Transport(a)) => cmd::bench_transport::run(a),
     };
     match result {
         Ok(code) => code,

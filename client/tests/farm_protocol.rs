@@ -33,6 +33,7 @@ async fn upload(
                 seq,
                 encoding: "lxd1".into(),
                 last: false,
+                size: 0,
             })),
         },
         pb::UploadChunk {
@@ -126,6 +127,7 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
             seq: 3,
             encoding: "lxd1".into(),
             last: true,
+            size: 0,
         };
         let empty = Film::new(8, 6, vec!["default".into()]);
         let chunks = vec![

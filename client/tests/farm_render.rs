@@ -68,6 +68,46 @@ fn final_checkpoint(s: &Server, id: &str) -> Film {
     codec::decode(&std::fs::read(p).unwrap()).unwrap()
 }
 
+/// GET /metrics after a render: the merge latency histogram counts every merged delta, and
+/// the upload bytes are those of the kept (lxd2-encoded) merged deltas.
+fn check_metrics(s: &Server, merged: usize, kept: &[&Path]) {
+    let text = http()
+        .get(format!("{}/metrics", s.url()))
+        .send()
+        .unwrap()
+        .text()
+        .unwrap();
+    let value = |name: &str| -> f64 {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(name) && l[name.len()..].starts_with(' '))
+            .unwrap_or_else(|| panic!("no {name} in /metrics:\n{text}"));
+        line[name.len()..].trim().parse().unwrap()
+    };
+    assert!(
+        text.contains("# TYPE luxfarm_merge_seconds histogram"),
+        "{text}"
+    );
+    assert_eq!(value("luxfarm_merge_seconds_count"), merged as f64);
+    assert_eq!(
+        value("luxfarm_merge_seconds_bucket{le=\"+Inf\"}"),
+        merged as f64
+    );
+    assert!(value("luxfarm_merge_seconds_bucket{le=\"0.001\"}") <= merged as f64);
+    assert!(value("luxfarm_merge_seconds_sum") > 0.0);
+    let mut bytes = 0u64;
+    for d in kept {
+        for p in files_under(d) {
+            if p.to_string_lossy().ends_with(".merged.lxd") {
+                let data = std::fs::read(&p).unwrap();
+                assert_eq!(&data[..4], b"LXD2", "workers upload lxd2");
+                bytes += data.len() as u64;
+            }
+        }
+    }
+    assert_eq!(value("luxfarm_upload_bytes_total"), bytes as f64);
+}
+
 #[test]
 fn two_workers_render_cornell_to_haltspp() {
     let dir = tempfile::tempdir().unwrap();
@@ -97,6 +137,7 @@ fn two_workers_render_cornell_to_haltspp() {
     assert_eq!(n as u64, v["merged_deltas"].as_u64().unwrap());
     assert_same_sums(&merged, &sum);
     assert!(v["workers"].as_array().unwrap().len() >= 2, "{v}");
+    check_metrics(&s, n, &[&k1, &k2]);
     // outputs
     let out = s.data.join("jobs").join(&id).join("out");
     for ext in ["png", "exr", "flm"] {

@@ -124,6 +124,13 @@ pub struct Farm {
     pub changed: tokio::sync::watch::Sender<u64>,
     /// Wakes workers waiting for an assignment.
     pub work_available: tokio::sync::Notify,
+    /// Uploads decoded and merged at once (one per core): more would only hold more decoded
+    /// films in memory while competing for the same cores.
+    pub merge_slots: tokio::sync::Semaphore,
+    /// Uploads received at once (four per core): the others wait before their bytes are read,
+    /// held back by HTTP/2 flow control, so the master's memory stays bounded under load
+    /// (a waiting worker keeps rendering into its film).
+    pub receive_slots: tokio::sync::Semaphore,
 }
 
 impl Farm {
@@ -145,6 +152,7 @@ impl Farm {
             }
         }
         let (changed, _) = tokio::sync::watch::channel(0);
+        let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
         Ok(Arc::new(Farm {
             cfg,
             db: Mutex::new(db),
@@ -153,6 +161,8 @@ impl Farm {
             metrics: Metrics::default(),
             changed,
             work_available: tokio::sync::Notify::new(),
+            merge_slots: tokio::sync::Semaphore::new(cores),
+            receive_slots: tokio::sync::Semaphore::new(4 * cores),
         }))
     }
 

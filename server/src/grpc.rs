@@ -11,6 +11,9 @@ use std::time::Duration;
 use tokio_stream::{Stream, StreamExt};
 use tonic::{Request, Response, Status, Streaming};
 
+/// Largest film delta upload (bytes).
+const MAX_DELTA: usize = 4 << 30;
+
 type BoxStream<T> = Pin<Box<dyn Stream<Item = Result<T, Status>> + Send>>;
 
 /// Runs blocking work (file I/O, film decoding and merging) off the async threads.
@@ -212,14 +215,25 @@ impl pb::worker_server::Worker for WorkerService {
         &self,
         req: Request<Streaming<pb::UploadChunk>>,
     ) -> Result<Response<pb::UploadAck>, Status> {
+        let _receiving = self
+            .0
+            .receive_slots
+            .acquire()
+            .await
+            .map_err(|e| Status::internal(e.to_string()))?;
         let mut stream = req.into_inner();
         let mut header = None;
         let mut data = Vec::new();
         while let Some(chunk) = stream.next().await {
             match chunk?.part {
-                Some(pb::upload_chunk::Part::Header(h)) => header = Some(h),
+                Some(pb::upload_chunk::Part::Header(h)) => {
+                    // One allocation instead of doubling (pages are only touched as filled).
+                    let hint = usize::try_from(h.size).unwrap_or(0).min(MAX_DELTA);
+                    data.reserve_exact(hint.saturating_sub(data.len()));
+                    header = Some(h);
+                }
                 Some(pb::upload_chunk::Part::Data(d)) => {
-                    if data.len() + d.len() > (4usize << 30) {
+                    if data.len() + d.len() > MAX_DELTA {
                         return Err(Status::resource_exhausted("delta too large"));
                     }
                     data.extend_from_slice(&d);
@@ -230,6 +244,12 @@ impl pb::worker_server::Worker for WorkerService {
         let h = header.ok_or_else(|| Status::invalid_argument("missing upload header"))?;
         let farm = self.0.clone();
         let span = tracing::info_span!("upload", lease = %h.lease_id, seq = h.seq);
+        let _slot = self
+            .0
+            .merge_slots
+            .acquire()
+            .await
+            .map_err(|e| Status::internal(e.to_string()))?;
         let (status, stop) = blocking(move || {
             let _e = span.enter();
             farm.upload(&h, &data)

@@ -4,6 +4,7 @@
 use crate::db::{JobRow, JobState};
 use crate::error::{Result, ServerError};
 use crate::farm::{lock, new_id, now_ms, Farm, JobRt, LeaseRt, RunState, WorkerRt};
+use crate::metrics::MergeTiming;
 use crate::scene;
 use luxfarm_proto as pb;
 use std::collections::{HashMap, VecDeque};
@@ -202,8 +203,11 @@ impl Farm {
             )));
         }
         let rt = self.job_rt(&row)?;
-        let delta = scene::decode_delta(&h.encoding, data)?;
+        let decode_start = Instant::now();
+        let delta = crate::codec::decode_as(&h.encoding, data)?;
+        let decode = decode_start.elapsed();
         let samples = delta.total_samples();
+        let merge_start = Instant::now();
         {
             let mut film = lock(&rt.film);
             film.check_layout(&delta)
@@ -237,6 +241,7 @@ impl Farm {
                 return Ok((UploadStatus::Duplicate, self.lease_should_stop(&h.lease_id)));
             }
         }
+        let merge = merge_start.elapsed();
         rt.version.fetch_add(1, Ordering::Relaxed);
         let stop = {
             let mut leases = lock(&rt.leases);
@@ -262,10 +267,15 @@ impl Farm {
         if let Some(w) = lock(&self.workers).get_mut(&h.worker_id) {
             w.samples += samples;
         }
-        self.metrics
-            .record_merge(data.len() as u64, samples, started.elapsed());
         tracing::debug!(job = %row.id, lease = %h.lease_id, seq = h.seq, samples, "delta merged");
         crate::halt::after_merge(self, &row, &rt)?;
+        let timing = MergeTiming {
+            decode,
+            merge,
+            total: started.elapsed(),
+        };
+        self.metrics
+            .record_merge(data.len() as u64, samples, timing);
         self.touch();
         Ok((
             UploadStatus::Merged,

@@ -161,9 +161,10 @@ fn render_thread(
     }
 }
 
-/// A film delta in the transport encoding (`lxd1`: lossless f64, see the master's codec).
+/// A film delta in the transport encoding (`lxd2`: lossless compressed f64, see the master's
+/// codec).
 pub fn encode(film: &luxfarm::film::Film) -> Vec<u8> {
-    luxfarm_server::codec::encode(film)
+    luxfarm_server::codec::encode_delta(film)
 }
 
 /// Heartbeats while the lease runs; a stop reply stops the lease.

@@ -14,6 +14,9 @@ use tonic::Code;
 #[derive(Clone)]
 pub struct Link {
     channel: AuthChannel,
+    /// Uploads travel on their own connection: an upload the master holds back (HTTP/2 flow
+    /// control while it is busy) must not hold back heartbeats sharing its connection window.
+    upload_channel: AuthChannel,
     name: String,
     threads: u32,
     worker_id: Arc<Mutex<String>>,
@@ -34,8 +37,11 @@ impl Link {
     /// A link to the configured master (connects lazily).
     pub fn new(cfg: &Config, threads: usize, shutdown: Arc<AtomicBool>) -> anyhow::Result<Link> {
         let channel = connect::channel(&cfg.master, cfg.token.as_deref(), cfg.ca_cert.as_deref())?;
+        let upload_channel =
+            connect::channel(&cfg.master, cfg.token.as_deref(), cfg.ca_cert.as_deref())?;
         Ok(Link {
             channel,
+            upload_channel,
             name: cfg.name(),
             threads: threads as u32,
             worker_id: Arc::new(Mutex::new(String::new())),
@@ -132,8 +138,9 @@ impl Link {
             worker_id: self.worker_id(),
             lease_id: lease.to_string(),
             seq,
-            encoding: "lxd1".into(),
+            encoding: luxfarm_server::codec::DELTA_ENCODING.into(),
             last,
+            size: data.len() as u64,
         };
         let mut chunks = vec![pb::UploadChunk {
             part: Some(pb::upload_chunk::Part::Header(header)),
@@ -143,8 +150,7 @@ impl Link {
                 part: Some(pb::upload_chunk::Part::Data(c.to_vec())),
             });
         }
-        let r = self
-            .client()
+        let r = connect::worker_client(self.upload_channel.clone())
             .upload_delta(tokio_stream::iter(chunks))
             .await?;
         Ok(r.into_inner())

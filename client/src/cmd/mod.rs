@@ -3,7 +3,10 @@
 pub mod bench_bvh;
 pub mod bench_cornell;
 pub mod bench_flm;
+pub mod bench_load;
+pub mod bench_master;
 pub mod bench_parse;
+pub mod bench_transport;
 pub mod cancel;
 pub mod compare_image;
 pub mod farm_bundle;
