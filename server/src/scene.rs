@@ -83,16 +83,6 @@ pub fn new_film(info: &SceneInfo) -> Film {
     Film::new(info.width, info.height, info.groups.clone())
 }
 
-/// Decodes a delta upload (`lxd1`, see [`crate::codec`]).
-pub fn decode_delta(encoding: &str, data: &[u8]) -> Result<Film> {
-    match encoding {
-        "lxd1" => codec::decode(data),
-        other => Err(ServerError::BadRequest(format!(
-            "unknown delta encoding {other:?} (expected \"lxd1\")"
-        ))),
-    }
-}
-
 /// Writes bytes to `path` atomically (temporary file, fsync, rename).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let tmp = path.with_extension("tmp");
