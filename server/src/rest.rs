@@ -148,7 +148,7 @@ async fn submit_job(
                 StatusCode::PAYLOAD_TOO_LARGE => ServerError::TooLarge(e.body_text()),
                 _ => ServerError::BadRequest(e.body_text()),
             })?;
-        (bytes.to_vec(), name, q.options())
+        (bytes, name, q.options())
     };
     let f = farm.clone();
     let view = blocking(move || {
@@ -162,7 +162,7 @@ async fn submit_job(
 async fn read_multipart(
     mut mp: Multipart,
     mut opts: SubmitOptions,
-) -> Result<(Vec<u8>, String, SubmitOptions)> {
+) -> Result<(Bytes, String, SubmitOptions)> {
     let bad = |e: axum::extract::multipart::MultipartError| match e.status() {
         StatusCode::PAYLOAD_TOO_LARGE => ServerError::TooLarge(e.body_text()),
         _ => ServerError::BadRequest(e.body_text()),
@@ -172,7 +172,7 @@ async fn read_multipart(
         let name = field.name().unwrap_or("").to_string();
         if name == "file" {
             let fname = field.file_name().unwrap_or("scene.lxs").to_string();
-            file = Some((field.bytes().await.map_err(bad)?.to_vec(), fname));
+            file = Some((field.bytes().await.map_err(bad)?, fname));
             continue;
         }
         let text = field.text().await.map_err(bad)?;
