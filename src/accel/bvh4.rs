@@ -289,3 +289,60 @@ impl Node4 {
         n
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::accel::bench::Rng;
+    use crate::accel::bvh::{padded, BuildQuality, Bvh, BvhLayout, BvhOptions};
+    use glam::Vec3A;
+    use obvhs::aabb::Aabb;
+
+    /// Entry distance of the ray into box `b` if it is in (0, t_max), else infinity.
+    fn box_t(b: &Aabb, o: Vec3A, d: Vec3A, t_max: f32) -> f32 {
+        let (mut t0, mut t1) = (0.0f32, t_max);
+        for a in 0..3 {
+            let (lo, hi) = ((b.min[a] - o[a]) / d[a], (b.max[a] - o[a]) / d[a]);
+            t0 = t0.max(lo.min(hi));
+            t1 = t1.min(lo.max(hi));
+        }
+        if t0 <= t1 && t0 > 0.0 && t0 < t_max {
+            t0
+        } else {
+            f32::INFINITY
+        }
+    }
+
+    #[test]
+    fn closest_and_any_match_brute_force() {
+        let mut rng = Rng::new(5);
+        for (n, leaf) in [(1, 2), (7, 1), (300, 2), (2000, 4)] {
+            let boxes: Vec<Aabb> = (0..n)
+                .map(|i| {
+                    let c = rng.in_box(Vec3A::splat(-10.0), Vec3A::splat(10.0));
+                    let s = [0.01, 0.3, 2.0][i % 3];
+                    padded(c - s, c + s)
+                })
+                .collect();
+            let opts = BvhOptions {
+                layout: BvhLayout::Bvh4,
+                quality: BuildQuality::Medium,
+                max_prims_per_leaf: leaf,
+            };
+            let (bvh, perm) = Bvh::build(&boxes, opts);
+            let prim = |slot: usize| &boxes[perm[slot] as usize];
+            for _ in 0..2000 {
+                let o = rng.in_box(Vec3A::splat(-12.0), Vec3A::splat(12.0));
+                let d = rng.direction();
+                let t_max = 5.0 + 20.0 * rng.f32();
+                let brute = (0..n)
+                    .map(|s| (s, box_t(prim(s), o, d, t_max)))
+                    .filter(|h| h.1 < t_max)
+                    .min_by(|a, b| a.1.total_cmp(&b.1));
+                let got = bvh.closest(o, d, t_max, |o, d, tm, s| box_t(prim(s), o, d, tm));
+                assert_eq!(got.map(|h| h.1), brute.map(|h| h.1), "n {n}");
+                let any = bvh.any(o, d, t_max, |o, d, tm, s| box_t(prim(s), o, d, tm));
+                assert_eq!(any, brute.is_some(), "n {n}");
+            }
+        }
+    }
+}
