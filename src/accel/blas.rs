@@ -20,11 +20,14 @@ enum Item {
     },
 }
 
-/// A hit found by traversal: distance (in the caller's ray parameter) and the item slot.
+/// A hit found by traversal: distance (in the caller's ray parameter), the item slot and,
+/// for a triangle, the barycentric coordinates the traversal's test found (so that
+/// [`Blas::hit_geometry`] need not intersect the triangle again).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BlasHit {
     pub t: f32,
     pub slot: u32,
+    pub b: [f32; 3],
 }
 
 #[derive(Clone, Debug)]
@@ -106,12 +109,46 @@ impl Blas {
         }
         let dn = d / len;
         let tm = t_max * len;
-        self.bvh
-            .closest(o, dn, tm, |o, d, tm, slot| self.item_t(slot, o, d, tm))
-            .map(|(slot, t)| BlasHit {
-                t: t / len,
-                slot: slot as u32,
-            })
+        // Barycentrics of the last accepted triangle hit: every hit `item_t` reports is
+        // below the traversal's current t_max, so the last one reported is the winner.
+        let mut best = (u32::MAX, [0.0f32; 3]);
+        let found = self.bvh.closest(o, dn, tm, |o, d, tm, slot| {
+            self.item_hit(slot, o, d, tm, &mut best)
+        });
+        found.map(|(slot, t)| BlasHit {
+            t: t / len,
+            slot: slot as u32,
+            b: if best.0 as usize == slot {
+                best.1
+            } else {
+                [f32::NAN; 3]
+            },
+        })
+    }
+
+    /// As [`Self::item_t`], recording a triangle hit's slot and barycentrics in `best`.
+    #[inline(always)]
+    fn item_hit(
+        &self,
+        slot: usize,
+        o: Vec3A,
+        d: Vec3A,
+        t_max: f32,
+        best: &mut (u32, [f32; 3]),
+    ) -> f32 {
+        match &self.items[slot] {
+            Item::Tri { v, .. } => match triangle::intersect(v, o, d, t_max) {
+                Some(h) => {
+                    *best = (slot as u32, h.b);
+                    h.t
+                }
+                None => f32::INFINITY,
+            },
+            Item::Quadric { shape } => match &self.shapes[*shape as usize] {
+                Shape::Quadric(q) => q.intersect_t(o, d, t_max).unwrap_or(f32::INFINITY),
+                Shape::Mesh(_) => f32::INFINITY,
+            },
+        }
     }
 
     /// Whether anything is hit with 0 < t < t_max.
@@ -127,7 +164,8 @@ impl Blas {
         })
     }
 
-    /// Geometry of the hit found by [`Self::closest`] for the same ray, and its primitive id.
+    /// Geometry of the hit found by [`Self::closest`] for the same ray, and its primitive id
+    /// (a triangle's point comes from the hit's barycentrics).
     pub fn hit_geometry(
         &self,
         hit: BlasHit,
@@ -140,14 +178,16 @@ impl Blas {
         let tm = t_max * len;
         match self.items.get(hit.slot as usize)? {
             Item::Tri { v, shape, index } => {
-                let h = triangle::intersect(v, o, dn, tm)?;
+                // Barycentrics from the traversal; re-intersect only if they were not kept.
+                let b = if hit.b[0].is_nan() {
+                    triangle::intersect(v, o, dn, tm)?.b
+                } else {
+                    hit.b
+                };
                 let Shape::Mesh(m) = &self.shapes[*shape as usize] else {
                     return None;
                 };
-                Some((
-                    m.geometry(*index as usize, h.b),
-                    self.prims[*shape as usize],
-                ))
+                Some((m.geometry(*index as usize, b), self.prims[*shape as usize]))
             }
             Item::Quadric { shape } => {
                 let Shape::Quadric(q) = &self.shapes[*shape as usize] else {

@@ -1,10 +1,12 @@
 //! Thin wrapper over obvhs: build a BVH over padded primitive boxes with a chosen layout and
-//! build quality, and traverse it for the closest or any hit.
+//! build quality, and traverse it for the closest or any hit (obvhs's traversal for its CWBVH
+//! and BVH2 layouts, ours for the 4-wide one, [`super::bvh4`]).
 //!
 //! Rays handed to obvhs have a unit direction and an exact reciprocal (obvhs's own
 //! `Ray::new` clamps tiny direction components to 1/ε, which shrinks slabs at small scales);
 //! primitive boxes are padded by a relative margin so the f32 slab test stays conservative.
 
+use super::bvh4::Bvh4;
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::builder::build_bvh2;
@@ -22,6 +24,8 @@ pub enum BvhLayout {
     Cwbvh,
     /// Binary BVH.
     Bvh2,
+    /// Uncompressed 4-wide BVH collapsed from the binary one ([`super::bvh4`]).
+    Bvh4,
 }
 
 /// obvhs build presets (PLOC search distance, reinsertion, spatial pre-splits).
@@ -46,9 +50,9 @@ impl Default for BvhOptions {
     /// The fastest traversal measured by `luxfarm bench bvh` (see the accel module docs).
     fn default() -> Self {
         BvhOptions {
-            layout: BvhLayout::Cwbvh,
+            layout: BvhLayout::Bvh4,
             quality: BuildQuality::Slow,
-            max_prims_per_leaf: 3,
+            max_prims_per_leaf: 2,
         }
     }
 }
@@ -84,6 +88,7 @@ pub enum Bvh {
     /// CWBVH and the power-of-two ray-parameter scale (see [`ray_scale`]).
     Cw(CwBvh, f32),
     Bin(Bvh2, f32),
+    Wide(Bvh4),
 }
 
 /// obvhs's CWBVH node test clamps the entry distance to an absolute 1e-4, which would cull
@@ -109,6 +114,7 @@ impl std::fmt::Debug for Bvh {
             Bvh::Empty => write!(f, "Bvh::Empty"),
             Bvh::Cw(b, _) => write!(f, "Bvh::Cw({} nodes)", b.nodes.len()),
             Bvh::Bin(b, _) => write!(f, "Bvh::Bin({} nodes)", b.nodes.len()),
+            Bvh::Wide(_) => write!(f, "Bvh::Wide"),
         }
     }
 }
@@ -144,6 +150,11 @@ impl Bvh {
                 let perm = bvh.primitive_indices.clone();
                 (Bvh::Bin(bvh, k), perm)
             }
+            BvhLayout::Bvh4 => {
+                let bvh = build_bvh2(boxes, opts.params(), &mut t);
+                let perm = bvh.primitive_indices.clone();
+                (Bvh::Wide(Bvh4::from_bvh2(&bvh)), perm)
+            }
         }
     }
 
@@ -169,6 +180,7 @@ impl Bvh {
                 let g = |r: &BvhRay, slot: usize| f(o, d, r.tmax / k, slot) * k;
                 (b.ray_traverse(make_ray(o, d, t_max, *k), &mut hit, g), *k)
             }
+            Bvh::Wide(b) => return b.closest(o, d, t_max, |slot, tm| f(o, d, tm, slot)),
         };
         let t = hit.t / k;
         (found && t < t_max).then_some((hit.primitive_id as usize, t))
@@ -200,6 +212,7 @@ impl Bvh {
                     f32::INFINITY
                 }
             }),
+            Bvh::Wide(b) => b.any(o, d, t_max, |slot, tm| f(o, d, tm, slot)),
         }
     }
 }

@@ -1,19 +1,23 @@
-//! Acceleration structures: BVH over primitives (obvhs) and a two-level BVH for object instances.
+//! Acceleration structures: BVH over primitives (obvhs builds) and a two-level BVH for object
+//! instances.
 //!
 //! World-level shapes share one bottom-level BVH ([`blas::Blas`]); each `ObjectBegin` object
 //! gets its own, and a top-level BVH over the instances' world boxes transforms rays into the
 //! object's space (f64 transform, one f32 rounding) and hits back to world space with error
 //! bounds. Layout and build quality were chosen by measurement (`luxfarm bench bvh --all`,
 //! see [`bench`]; the shared 2-core machine was loaded, so rates are per CPU-second
-//! received): CWBVH with up to 3 primitives per leaf led on cornell-mesh.lxs (about 9 M
-//! closest-hit and 15-16 M any-hit rays/s on 2 threads, BVH2 variants at most 8.3 M and 11.9
-//! M); between obvhs's medium and slow PLOC builds the difference was within the noise there
-//! (7.6-9.8 M vs 9.3 M), and on 500k triangles the slow build traversed ~10% faster (1.50 vs
+//! received). On cornell-mesh.lxs, single thread: our uncompressed 4-wide BVH ([`bvh4`],
+//! collapsed from obvhs's BVH2) with 2 primitives per leaf ran 5.7-6.2 M closest-hit and
+//! 10.0-10.9 M any-hit rays per CPU-second, obvhs's CWBVH (leaf 3) 5.6-5.9 M and 8.4-8.5 M,
+//! its BVH2 at most 4.9 M and 6.4 M; rendering the scene took 8% less CPU time than with the
+//! CWBVH. Earlier, between obvhs's medium and slow PLOC builds the difference was within the
+//! noise on that scene, and on 500k triangles the slow build traversed ~10% faster (1.50 vs
 //! 1.35 M rays/s) for a 2.4 s instead of 1.4 s build: the slow build is the default.
 
 pub mod bench;
 pub mod blas;
 pub mod bvh;
+pub mod bvh4;
 
 use crate::geometry::frame::LocalGeometry;
 use crate::geometry::transform::{to_f32, to_f64};
