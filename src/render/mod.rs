@@ -44,6 +44,8 @@ pub struct PassStats {
     pub samples: u64,
     /// Contributions discarded as NaN/Inf/negative.
     pub rejected: u64,
+    /// Finite contributions discarded by the film's outlier rejection (`outlierrejection_k`).
+    pub outliers: u64,
     pub seconds: f64,
     /// False when the pass was cancelled (its partial work is discarded).
     pub complete: bool,
@@ -57,6 +59,7 @@ pub struct Session {
     pool: rayon::ThreadPool,
     cancel: Arc<AtomicBool>,
     rejected: u64,
+    outliers: u64,
 }
 
 impl Session {
@@ -84,6 +87,7 @@ impl Session {
             pool,
             cancel: Arc::new(AtomicBool::new(false)),
             rejected: 0,
+            outliers: 0,
         })
     }
 
@@ -124,6 +128,11 @@ impl Session {
         self.rejected
     }
 
+    /// Finite samples discarded by outlier rejection over the whole session.
+    pub fn outlier_samples(&self) -> u64 {
+        self.outliers
+    }
+
     /// Set it to stop the current pass between tiles (the pass is then discarded).
     pub fn cancel_flag(&self) -> Arc<AtomicBool> {
         self.cancel.clone()
@@ -140,7 +149,7 @@ impl Session {
         let pass = self.pass;
         let (seed, stream) = (self.opts.seed, self.opts.stream);
         let cancel = &self.cancel;
-        let results: Vec<Option<(Film, Tile, u64)>> = self.pool.install(|| {
+        let results: Vec<Option<(Film, Tile, tile::Discarded)>> = self.pool.install(|| {
             list.par_iter()
                 .map(|t| {
                     if cancel.load(Ordering::Relaxed) {
@@ -156,22 +165,26 @@ impl Session {
                 ..Default::default()
             };
         }
-        let mut rejected = 0;
-        for (tf, t, rej) in results.into_iter().flatten() {
+        let (mut rejected, mut outliers) = (0, 0);
+        for (tf, t, d) in results.into_iter().flatten() {
             // Layouts match by construction; an error here would be a bug, not input.
             if let Err(e) = self.film.merge_at(&tf, t.fx0, t.fy0) {
                 tracing::error!("tile merge failed: {e}");
             }
-            rejected += rej;
+            rejected += d.invalid;
+            outliers += d.outliers;
         }
         let samples = u64::from(fp.x_pixel_count) * u64::from(fp.y_pixel_count) * u64::from(spp);
         self.film.add_sample_count(samples as f64);
-        self.film.add_rejected(rejected);
+        // The film's count (kept in FLM deltas) covers both kinds, as LuxRender's does.
+        self.film.add_rejected(rejected + outliers);
         self.rejected += rejected;
+        self.outliers += outliers;
         self.pass += 1;
         PassStats {
             samples,
             rejected,
+            outliers,
             seconds: start.elapsed().as_secs_f64(),
             complete: true,
         }

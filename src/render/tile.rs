@@ -46,8 +46,16 @@ pub fn tiles(w: u32, h: u32) -> Vec<Tile> {
     v
 }
 
+/// What a tile discarded: contributions that were NaN/Inf/negative, and finite ones that the
+/// film's `outlierrejection_k` test rejected.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Discarded {
+    pub invalid: u64,
+    pub outliers: u64,
+}
+
 /// Renders `spp` samples per pixel of tile `t` for pass `pass`; returns the tile film, the
-/// tile (with its film region) and the number of rejected contributions.
+/// tile (with its film region) and what was discarded.
 pub fn render_tile(
     scene: &Scene,
     t: &Tile,
@@ -55,7 +63,7 @@ pub fn render_tile(
     spp: u32,
     seed: u64,
     stream: u64,
-) -> (Film, Tile, u64) {
+) -> (Film, Tile, Discarded) {
     let fp = &scene.film_params;
     let (bw, bh) = (fp.x_pixel_count, fp.y_pixel_count);
     let r = scene.filter.radius();
@@ -74,7 +82,7 @@ pub fn render_tile(
     let oy = i64::from(fp.y_pixel_start) + i64::from(t.fy0);
     let ngroups = scene.groups.len();
     let mut l = vec![Rgb::BLACK; ngroups];
-    let mut rejected = 0u64;
+    let mut discarded = Discarded::default();
     let mut outliers = outlier_rejector(scene, &t);
     for by in t.y0..t.y1 {
         for bx in t.x0..t.x1 {
@@ -96,12 +104,12 @@ pub fn render_tile(
                 for (g, c) in l.iter().enumerate() {
                     let xyz = rgb_to_xyz(*c * scale);
                     if !xyz.iter().all(|v| v.is_finite()) || xyz[1] < 0.0 {
-                        rejected += 1;
+                        discarded.invalid += 1;
                         continue;
                     }
                     if let Some(o) = outliers.as_mut() {
                         if !o.accept(cs.p_film.x, cs.p_film.y, xyz[1]) {
-                            rejected += 1;
+                            discarded.outliers += 1;
                             continue;
                         }
                     }
@@ -115,7 +123,7 @@ pub fn render_tile(
             }
         }
     }
-    (film, t, rejected)
+    (film, t, discarded)
 }
 
 /// The film's `outlierrejection_k` test over this tile's film region, when enabled. Each tile

@@ -180,10 +180,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let written = write_outputs(session.film(), &fp, &basename)
         .with_context(|| format!("writing {}", basename.display()))?;
     eprintln!(
-        "rendered {:.1} spp ({samples} samples) in {secs:.2} s: {:.0} samples/s; {} samples rejected (NaN/Inf/negative)",
+        "rendered {:.1} spp ({samples} samples) in {secs:.2} s: {:.0} samples/s; {} samples rejected (NaN/Inf/negative), {} as outliers (outlierrejection_k)",
         session.film().spp(),
         samples as f64 / secs.max(1e-9),
         session.rejected_samples(),
+        session.outlier_samples(),
     );
     for p in written {
         println!("{}", p.display());
