@@ -5,6 +5,7 @@
 //! weighted by luminance × sin(θ) (texel lookup is nearest, so the pdf is exact).
 
 use super::distribution::Distribution2D;
+use super::latlong::{self, dir_to_st};
 use super::warp::{uniform_sphere, UNIFORM_SPHERE_PDF};
 use super::{LightColor, LightCommon, LightSample};
 use crate::geometry::{Interaction, SurfaceInteraction};
@@ -64,25 +65,6 @@ impl EnvMap {
 
 fn luminance(c: Rgb) -> f32 {
     0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b
-}
-
-/// Light-space direction to lat-long coordinates (s, t) in [0,1)², and sin θ.
-fn dir_to_st(d: Vec3A) -> (f32, f32, f32) {
-    let theta = d.z.clamp(-1.0, 1.0).acos();
-    let mut phi = d.y.atan2(d.x);
-    if phi < 0.0 {
-        phi += 2.0 * PI;
-    }
-    (phi / (2.0 * PI), theta / PI, theta.sin())
-}
-
-fn st_to_dir(s: f32, t: f32) -> (Vec3A, f32) {
-    let (phi, theta) = (s * 2.0 * PI, t * PI);
-    let sin_t = theta.sin();
-    (
-        Vec3A::new(sin_t * phi.cos(), sin_t * phi.sin(), theta.cos()),
-        sin_t,
-    )
 }
 
 #[derive(Debug)]
@@ -164,13 +146,8 @@ impl InfiniteLight {
         let (wi, pdf) = match &self.map {
             None => (uniform_sphere(u), UNIFORM_SPHERE_PDF),
             Some(m) => {
-                let ([s, t], pdf_st) = m.dist.sample(u.x, u.y);
-                let (d, sin_t) = st_to_dir(s, t);
-                if sin_t <= 0.0 || pdf_st <= 0.0 {
-                    return None;
-                }
-                let wi = self.l2w.transform_vector3a(d).normalize_or_zero();
-                (wi, pdf_st / (2.0 * PI * PI * sin_t))
+                let (wi, _, pdf) = latlong::sample(&m.dist, &self.l2w, u)?;
+                (wi, pdf)
             }
         };
         Some(LightSample {
@@ -190,14 +167,7 @@ impl InfiniteLight {
     pub fn pdf_li(&self, wi: Vec3A) -> f32 {
         match &self.map {
             None => UNIFORM_SPHERE_PDF,
-            Some(m) => {
-                let d = self.w2l.transform_vector3a(wi).normalize_or_zero();
-                let (s, t, sin_t) = dir_to_st(d);
-                if sin_t <= 0.0 {
-                    return 0.0;
-                }
-                m.dist.pdf(s, t) / (2.0 * PI * PI * sin_t)
-            }
+            Some(m) => latlong::pdf(&m.dist, &self.w2l, wi),
         }
     }
 
@@ -246,15 +216,6 @@ mod tests {
         LightCommon {
             group: 0,
             nsamples: 1,
-        }
-    }
-
-    #[test]
-    fn st_round_trip() {
-        for (s, t) in [(0.1, 0.2), (0.7, 0.9), (0.5, 0.5)] {
-            let (d, _) = st_to_dir(s, t);
-            let (s2, t2, _) = dir_to_st(d);
-            assert!((s - s2).abs() < 1e-4 && (t - t2).abs() < 1e-4);
         }
     }
 

@@ -29,6 +29,7 @@ pub mod area;
 pub mod distant;
 pub mod distribution;
 pub mod infinite;
+pub mod latlong;
 pub mod point;
 pub mod sky;
 pub mod spot;

@@ -30,6 +30,7 @@
 //! Parameters: `sundir`, `turbidity` (2), `gain` (1), `aconst`..`econst`, `nsamples` (1).
 
 use super::distribution::Distribution2D;
+use super::latlong::{self, dir_to_st, st_to_dir};
 use super::sun::film_xyz;
 use super::sunsky_data as data;
 use super::{LightCommon, LightSample};
@@ -173,25 +174,6 @@ impl SkyModel {
     }
 }
 
-/// Light-space direction to lat-long (s, t) in [0,1)×[0,1], and sin θ.
-fn dir_to_st(d: Vec3A) -> (f32, f32, f32) {
-    let theta = d.z.clamp(-1.0, 1.0).acos();
-    let mut phi = d.y.atan2(d.x);
-    if phi < 0.0 {
-        phi += 2.0 * PI;
-    }
-    (phi / (2.0 * PI), theta / PI, theta.sin())
-}
-
-fn st_to_dir(s: f32, t: f32) -> (Vec3A, f32) {
-    let (phi, theta) = (s * 2.0 * PI, t * PI);
-    let sin_t = theta.sin();
-    (
-        Vec3A::new(sin_t * phi.cos(), sin_t * phi.sin(), theta.cos()),
-        sin_t,
-    )
-}
-
 #[derive(Debug)]
 pub struct SkyLight {
     pub common: LightCommon,
@@ -321,16 +303,11 @@ impl SkyLight {
     }
 
     pub fn sample_li(&self, r: &Interaction, u: Vec2) -> Option<LightSample> {
-        let ([s, t], pdf_st) = self.dist.sample(u.x, u.y);
-        let (d, sin_t) = st_to_dir(s, t);
-        if sin_t <= 0.0 || pdf_st <= 0.0 {
-            return None;
-        }
-        let wi = self.l2w.transform_vector3a(d).normalize_or_zero();
+        let (wi, [s, t], pdf) = latlong::sample(&self.dist, &self.l2w, u)?;
         Some(LightSample {
             li: self.lookup(s, t),
             wi,
-            pdf: pdf_st / (2.0 * PI * PI * sin_t),
+            pdf,
             p_light: Interaction {
                 p: r.p + wi * (2.0 * self.world_radius),
                 time: r.time,
@@ -342,12 +319,7 @@ impl SkyLight {
     }
 
     pub fn pdf_li(&self, wi: Vec3A) -> f32 {
-        let d = self.w2l.transform_vector3a(wi).normalize_or_zero();
-        let (s, t, sin_t) = dir_to_st(d);
-        if sin_t <= 0.0 {
-            return 0.0;
-        }
-        self.dist.pdf(s, t) / (2.0 * PI * PI * sin_t)
+        latlong::pdf(&self.dist, &self.w2l, wi)
     }
 
     /// Luminous power through a disc of the scene's radius (as the infinite light's).
