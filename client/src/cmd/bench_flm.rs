@@ -41,16 +41,20 @@ fn delta_film(w: u32, h: u32) -> Film {
     f
 }
 
-fn best<T>(runs: u32, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut best = f64::INFINITY;
-    let mut last = None;
-    for _ in 0..runs.max(1) {
+/// Runs `f` `runs` times (at least once): the fastest time in seconds and the last result.
+pub fn best<T>(runs: u32, mut f: impl FnMut() -> T) -> (f64, T) {
+    let time = |f: &mut dyn FnMut() -> T| {
         let t = Instant::now();
         let r = f();
-        best = best.min(t.elapsed().as_secs_f64());
-        last = Some(r);
+        (t.elapsed().as_secs_f64(), r)
+    };
+    let (mut fastest, mut last) = time(&mut f);
+    for _ in 1..runs {
+        let (s, r) = time(&mut f);
+        fastest = fastest.min(s);
+        last = r;
     }
-    (best, last.expect("at least one run"))
+    (fastest, last)
 }
 
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {

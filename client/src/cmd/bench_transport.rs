@@ -5,6 +5,7 @@
 //! time, bytes and exactness of: `lxd1` (raw f64), FLM (f32 + gzip, LuxRender's own; lossy
 //! for f64 sums) and `lxd2` (planes + byte shuffle + lz4 or zstd; lossless).
 
+use super::bench_flm::best;
 use luxfarm::film::{flm, Film, FilmParams};
 use luxfarm::lxs::{self, ParseOptions};
 use luxfarm::render::{Session, SessionOptions};
@@ -86,18 +87,6 @@ fn render_delta(scene: &Path, res: (u32, u32), filter: &str, spp: u32) -> anyhow
         session.render_pass();
     }
     Ok(session.take_film())
-}
-
-fn best<T>(runs: u32, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut best = f64::INFINITY;
-    let mut last = None;
-    for _ in 0..runs.max(1) {
-        let t = Instant::now();
-        let r = f();
-        best = best.min(t.elapsed().as_secs_f64());
-        last = Some(r);
-    }
-    (best, last.expect("at least one run"))
 }
 
 /// Largest relative difference of the sums (0 when bit-identical).
