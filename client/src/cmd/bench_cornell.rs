@@ -11,13 +11,11 @@
 //! `compare-image`), because LuxCore's cameras map film rows one row lower than LuxRender's
 //! (`filmHeight - filmY - 1`); LuxCore's own render is compared over the same pixels.
 
-use super::compare_image::{metrics, row_pairs};
+use super::compare_image::{film_rgb, metrics, row_pairs};
 use anyhow::{bail, Context};
-use luxfarm::film::Film;
 use luxfarm::light::infinite::load_image;
 use luxfarm::lxs::{parse_file, ParseOptions};
 use luxfarm::render::{Session, SessionOptions};
-use luxfarm::spectrum::xyz_to_rgb;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
@@ -74,19 +72,6 @@ fn cpu_seconds(who: libc::c_int) -> f64 {
     tv(u.ru_utime) + tv(u.ru_stime)
 }
 
-fn film_rgb(film: &Film) -> Vec<[f32; 3]> {
-    let mut out = Vec::with_capacity(film.pixel_count());
-    for y in 0..film.height() {
-        for x in 0..film.width() {
-            let v = film.pixel(0, 0, x, y).unwrap_or([0.0; 5]);
-            let s = if v[4] != 0.0 { 1.0 / v[4] } else { 0.0 };
-            let xyz = [(v[0] * s) as f32, (v[1] * s) as f32, (v[2] * s) as f32];
-            out.push(xyz_to_rgb(xyz).to_array());
-        }
-    }
-    out
-}
-
 fn ours(scene: &Path, spp: u32, threads: usize, seed: u64) -> anyhow::Result<Run> {
     let desc = parse_file(scene, &ParseOptions::default())?;
     let base = scene.parent().unwrap_or(Path::new("."));
@@ -112,7 +97,7 @@ fn ours(scene: &Path, spp: u32, threads: usize, seed: u64) -> anyhow::Result<Run
     Ok(Run {
         samples_per_sec: samples as f64 / secs.max(1e-9),
         samples_per_cpu_sec: samples as f64 / cpu.max(1e-9),
-        rgb: film_rgb(s.film()),
+        rgb: film_rgb(s.film()).iter().map(|c| c.to_array()).collect(),
     })
 }
 

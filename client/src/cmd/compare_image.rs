@@ -14,6 +14,7 @@
 
 use anyhow::{bail, Context};
 use luxfarm::film::flm::read_flm;
+use luxfarm::film::Film;
 use luxfarm::light::infinite::load_image;
 use luxfarm::spectrum::{xyz_to_rgb, Rgb};
 use std::io::Write;
@@ -121,23 +122,29 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 fn load_flm(p: &PathBuf) -> anyhow::Result<(usize, usize, Vec<Rgb>)> {
     let file = std::fs::File::open(p)?;
     let (film, _) = read_flm(std::io::BufReader::new(file))?;
+    Ok((
+        film.width() as usize,
+        film.height() as usize,
+        film_rgb(&film),
+    ))
+}
+
+/// Linear RGB of light group 0, buffer 0 of a film: weight-normalised XYZ turned back into the
+/// renderer's RGB, row by row.
+pub fn film_rgb(film: &Film) -> Vec<Rgb> {
     let mut px = Vec::with_capacity(film.pixel_count());
     for y in 0..film.height() {
         for x in 0..film.width() {
             let v = film.pixel(0, 0, x, y).unwrap_or([0.0; 5]);
-            let xyz = if v[4] != 0.0 {
-                [
-                    (v[0] / v[4]) as f32,
-                    (v[1] / v[4]) as f32,
-                    (v[2] / v[4]) as f32,
-                ]
-            } else {
-                [0.0; 3]
-            };
-            px.push(xyz_to_rgb(xyz));
+            let s = if v[4] != 0.0 { 1.0 / v[4] } else { 0.0 };
+            px.push(xyz_to_rgb([
+                (v[0] * s) as f32,
+                (v[1] * s) as f32,
+                (v[2] * s) as f32,
+            ]));
         }
     }
-    Ok((film.width() as usize, film.height() as usize, px))
+    px
 }
 
 #[cfg(test)]
