@@ -35,7 +35,7 @@ pub struct Bvh4 {
 }
 
 /// Traversals whose stack fits this use an array on the thread's stack; deeper trees a Vec.
-const STACK: usize = 128;
+const STACK: usize = 64;
 
 /// Per-ray constants of the slab test.
 struct Slab {
@@ -185,6 +185,8 @@ impl Bvh4 {
             }
             let node = &self.nodes[ni as usize];
             let (t0, mut mask) = slab.test(node, t_max);
+            // Lanes read from an array (a by-index lane read of a vector compiles to a jump).
+            let t0 = t0.to_array();
             // Leaves first (they may shrink t_max), then inner children far to near.
             let mut inner = [(0u32, 0f32); 4];
             let mut n_inner = 0;
@@ -206,9 +208,8 @@ impl Bvh4 {
                     }
                 }
             }
-            let inner = &mut inner[..n_inner];
-            inner.sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
-            for &(c, t) in inner.iter() {
+            far_to_near(&mut inner[..n_inner]);
+            for &(c, t) in &inner[..n_inner] {
                 // In bounds: at most 3 entries per level are left behind (see `stack`).
                 stack[sp] = (c, t);
                 sp += 1;
@@ -264,6 +265,35 @@ impl Bvh4 {
             }
         }
         false
+    }
+}
+
+/// Sorts up to four (node, entry distance) pairs by decreasing distance, so that the nearest
+/// is pushed last and popped first. Ties keep no particular order (the result does not depend
+/// on it: closest-hit keeps the nearest hit whatever the visiting order).
+#[inline(always)]
+fn far_to_near(v: &mut [(u32, f32)]) {
+    #[inline(always)]
+    fn order(v: &mut [(u32, f32)], i: usize, j: usize) {
+        if v[i].1 < v[j].1 {
+            v.swap(i, j);
+        }
+    }
+    match v.len() {
+        2 => order(v, 0, 1),
+        3 => {
+            order(v, 0, 1);
+            order(v, 1, 2);
+            order(v, 0, 1);
+        }
+        4 => {
+            order(v, 0, 1);
+            order(v, 2, 3);
+            order(v, 0, 2);
+            order(v, 1, 3);
+            order(v, 1, 2);
+        }
+        _ => {}
     }
 }
 
