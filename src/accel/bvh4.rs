@@ -175,14 +175,24 @@ impl Bvh4 {
         let slab = Slab::new(o, d);
         let mut best: Option<(usize, f32)> = None;
         let mut t_max = t_max;
-        stack[0] = (0, 0.0);
-        let mut sp = 1;
-        while sp > 0 {
-            sp -= 1;
-            let (ni, t_in) = stack[sp];
-            if t_in > t_max {
-                continue;
-            }
+        let mut sp = 0;
+        // The node to visit next: the nearest inner child of the last node goes here directly,
+        // the others wait on the stack with their entry distances.
+        let mut next = Some(0u32);
+        loop {
+            let ni = match next.take() {
+                Some(ni) => ni,
+                None => loop {
+                    if sp == 0 {
+                        return best;
+                    }
+                    sp -= 1;
+                    let (ni, t_in) = stack[sp];
+                    if t_in <= t_max {
+                        break ni;
+                    }
+                },
+            };
             let node = &self.nodes[ni as usize];
             let (t0, mut mask) = slab.test(node, t_max);
             // Lanes read from an array (a by-index lane read of a vector compiles to a jump).
@@ -208,14 +218,20 @@ impl Bvh4 {
                     }
                 }
             }
+            if n_inner == 0 {
+                continue;
+            }
             far_to_near(&mut inner[..n_inner]);
-            for &(c, t) in &inner[..n_inner] {
+            let (nearest, t_near) = inner[n_inner - 1];
+            for &(c, t) in &inner[..n_inner - 1] {
                 // In bounds: at most 3 entries per level are left behind (see `stack`).
                 stack[sp] = (c, t);
                 sp += 1;
             }
+            if t_near <= t_max {
+                next = Some(nearest);
+            }
         }
-        best
     }
 
     /// Whether `f(slot, t_max) < t_max` for any primitive whose box the ray crosses.
