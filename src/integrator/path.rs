@@ -70,7 +70,9 @@ impl PathIntegrator {
         let mut pass = 0u32;
         let dls = self.direct_light_sampling;
         loop {
-            let Some(si) = scene.intersect(&ray) else {
+            // Matched by reference: moving the hit out of the Option would copy it.
+            let hit = scene.intersect(&ray);
+            let Some(si) = &hit else {
                 if depth == 0 {
                     alpha = 0.0;
                 }
@@ -87,12 +89,12 @@ impl PathIntegrator {
                 break;
             };
             if let Some((i, light)) = scene.area_light(si.prim) {
-                let le = light.l(&si, si.wo);
+                let le = light.l(si, si.wo);
                 if !le.is_black() {
                     let w = if specular || !dls {
                         1.0
                     } else {
-                        let pl = scene.lights()[i].pdf_li(&prev, -si.wo, Some(&si));
+                        let pl = scene.lights()[i].pdf_li(&prev, -si.wo, Some(si));
                         bsdf_hit_weight(scene, &self.direct, i, prev_pdf, pl)
                     };
                     add_group(l, light.common.group, beta * le * w);
@@ -112,9 +114,9 @@ impl PathIntegrator {
                 break;
             }
             let last = depth + 1 >= self.max_depth;
-            let bsdf = material.bsdf(&si, s.next_1d());
+            let bsdf = material.bsdf(si, s.next_1d());
             if dls && bsdf.has_non_specular() {
-                sample_lights(scene, &self.direct, &si, &bsdf, s, beta, last, l);
+                sample_lights(scene, &self.direct, si, &bsdf, s, beta, last, l);
             }
             if last {
                 break;
