@@ -3,6 +3,7 @@
 
 use super::bvh::{padded, Bvh, BvhOptions};
 use crate::geometry::frame::LocalGeometry;
+use crate::geometry::is_unit;
 use crate::shape::{triangle, Shape};
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
@@ -103,11 +104,7 @@ impl Blas {
     /// Closest hit of `o + t d`, 0 < t < t_max (any direction length).
     #[inline]
     pub fn closest(&self, o: Vec3A, d: Vec3A, t_max: f32) -> Option<BlasHit> {
-        let len = d.length();
-        if len.is_nan() || len <= 0.0 || !len.is_finite() {
-            return None;
-        }
-        let dn = d / len;
+        let (dn, len) = unit_direction(d)?;
         let tm = t_max * len;
         // Barycentrics of the last accepted triangle hit: every hit `item_t` reports is
         // below the traversal's current t_max, so the last one reported is the winner.
@@ -154,11 +151,9 @@ impl Blas {
     /// Whether anything is hit with 0 < t < t_max.
     #[inline]
     pub fn any(&self, o: Vec3A, d: Vec3A, t_max: f32) -> bool {
-        let len = d.length();
-        if len.is_nan() || len <= 0.0 || !len.is_finite() {
+        let Some((dn, len)) = unit_direction(d) else {
             return false;
-        }
-        let dn = d / len;
+        };
         self.bvh.any(o, dn, t_max * len, |o, d, tm, slot| {
             self.item_t(slot, o, d, tm)
         })
@@ -173,8 +168,7 @@ impl Blas {
         d: Vec3A,
         t_max: f32,
     ) -> Option<(LocalGeometry, u32)> {
-        let len = d.length();
-        let dn = d / len;
+        let (dn, len) = unit_direction(d)?;
         let tm = t_max * len;
         match self.items.get(hit.slot as usize)? {
             Item::Tri { v, shape, index } => {
@@ -209,4 +203,15 @@ impl Blas {
             .filter(|s| matches!(s, Shape::Quadric(_)))
             .count()
     }
+}
+
+/// The unit direction of `d` and the length of `d` (exactly 1 when `d` is unit already, which
+/// skips a square root and a division for most rays); None when `d` has no usable length.
+#[inline(always)]
+pub(crate) fn unit_direction(d: Vec3A) -> Option<(Vec3A, f32)> {
+    if is_unit(d) {
+        return Some((d, 1.0));
+    }
+    let len = d.length();
+    (len > 0.0 && len.is_finite()).then(|| (d / len, len))
 }

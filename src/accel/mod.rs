@@ -21,7 +21,7 @@ pub mod bvh4;
 
 use crate::geometry::frame::LocalGeometry;
 use crate::geometry::transform::{to_f32, to_f64};
-use crate::geometry::{Distribution1D, Interaction, Ray, SurfaceInteraction, Transform};
+use crate::geometry::{unit_or, Distribution1D, Interaction, Ray, SurfaceInteraction, Transform};
 use crate::lxs::{ObjectDesc, ShapeDesc, Xform};
 use crate::shape::{self, Shape, ShapeCtx, ShapeError};
 use blas::{Blas, BlasHit};
@@ -286,7 +286,7 @@ impl Geometry {
                 (to_world(&inst.to_world, &g), prim)
             }
         };
-        let wo = (-ray.d).normalize_or_zero();
+        let wo = unit_or(-ray.d, Vec3A::ZERO);
         Some(g.into_surface_interaction(wo, t, prim, ray.time))
     }
 

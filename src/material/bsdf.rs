@@ -14,7 +14,7 @@ use super::bxdf::schlick::Coating;
 use super::bxdf::specular::{pass_through, SpecularDielectric, SpecularReflection};
 use super::bxdf::translucent::Translucent;
 use super::bxdf::LocalSample;
-use crate::geometry::SurfaceInteraction;
+use crate::geometry::{unit_or, SurfaceInteraction};
 use crate::spectrum::Rgb;
 use glam::{Vec2, Vec3A};
 
@@ -39,7 +39,7 @@ pub struct Frame {
 impl Frame {
     /// From a normal and a (not necessarily orthogonal) tangent.
     pub fn new(n: Vec3A, dpdu: Vec3A) -> Frame {
-        let n = n.normalize_or(Vec3A::Z);
+        let n = unit_or(n, Vec3A::Z);
         let mut s = (dpdu - n * n.dot(dpdu)).normalize_or_zero();
         if s == Vec3A::ZERO {
             s = n.any_orthonormal_vector();
@@ -109,7 +109,7 @@ impl Bsdf {
         };
         Bsdf {
             frame: Frame::new(n, dpdu),
-            ng: si.it.n.normalize_or(n),
+            ng: unit_or(si.it.n, n),
             lobes,
         }
     }
