@@ -332,9 +332,14 @@ impl Geometry {
         match shape {
             Shape::Mesh(m) => match &a.tris {
                 Some(dist) => {
-                    let (i, _) = dist.sample(u_pick);
-                    let g = m.sample(i, u);
-                    (g.interaction(0.0), (1.0 / a.area) as f32)
+                    let s = m.sample(dist.pick(u_pick), u);
+                    let it = Interaction {
+                        p: s.p,
+                        p_error: s.p_error,
+                        n: s.n,
+                        time: 0.0,
+                    };
+                    (it, (1.0 / a.area) as f32)
                 }
                 None => (Interaction::default(), 0.0),
             },

@@ -54,9 +54,8 @@ impl Distribution1D {
         self.weights.get(i).map_or(0.0, |w| w / self.total)
     }
 
-    /// Picks an item for `u` in [0, 1); returns it and `u` remapped to [0, 1) inside it.
-    /// Zero-weight items are never picked.
-    pub fn sample(&self, u: f32) -> (usize, f32) {
+    /// The item [`Self::sample`] picks for `u`, without the remapped `u` (and its division).
+    pub fn pick(&self, u: f32) -> usize {
         let u = (u as f64).clamp(0.0, 1.0);
         // first index with cdf[i+1] > u
         let mut i = self.cdf.partition_point(|&c| c <= u).saturating_sub(1);
@@ -67,6 +66,14 @@ impl Distribution1D {
         while self.weights[i] == 0.0 && i + 1 < self.weights.len() {
             i += 1;
         }
+        i
+    }
+
+    /// Picks an item for `u` in [0, 1); returns it and `u` remapped to [0, 1) inside it.
+    /// Zero-weight items are never picked.
+    pub fn sample(&self, u: f32) -> (usize, f32) {
+        let i = self.pick(u);
+        let u = (u as f64).clamp(0.0, 1.0);
         let lo = self.cdf[i];
         let width = self.cdf[i + 1] - lo;
         let rem = if width > 0.0 {

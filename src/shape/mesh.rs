@@ -17,6 +17,15 @@ pub struct MeshData {
     pub quads: Vec<[i64; 4]>,
 }
 
+/// A point on a triangle: position, error bound, oriented geometric normal, shading normal.
+#[derive(Clone, Copy, Debug)]
+pub struct Surface {
+    pub p: Vec3A,
+    pub p_error: Vec3A,
+    pub n: Vec3A,
+    pub ns: Option<Vec3A>,
+}
+
 /// A triangle mesh in its target space.
 #[derive(Clone, Debug)]
 pub struct TriangleMesh {
@@ -113,19 +122,15 @@ impl TriangleMesh {
         0.5 * (p1 - p0).cross(p2 - p0).length()
     }
 
-    /// Local geometry at barycentric coordinates `b` of triangle `i`.
-    pub fn geometry(&self, i: usize, b: [f32; 3]) -> LocalGeometry {
+    /// Point, its error bound, oriented geometric normal and shading normal at barycentric
+    /// coordinates `b` of triangle `i` (what light sampling needs of a point).
+    pub fn surface(&self, i: usize, b: [f32; 3]) -> Surface {
         let [p0, p1, p2] = self.vertices(i);
         let idx = self.tris[i];
         let p = b[0] * p0 + b[1] * p1 + b[2] * p2;
         let p_abs_sum = (b[0] * p0).abs() + (b[1] * p1).abs() + (b[2] * p2).abs();
         let p_error = error_floor(p, gamma(7) * p_abs_sum);
-        let uv = match &self.uv {
-            Some(uv) => idx.map(|k| uv[k as usize]),
-            None => DEFAULT_UV,
-        };
-        let (dp02, dp12) = (p0 - p2, p1 - p2);
-        let mut n = dp02.cross(dp12).normalize_or_zero();
+        let mut n = (p0 - p2).cross(p1 - p2).normalize_or_zero();
         if n == Vec3A::ZERO {
             n = (p1 - p0).any_orthonormal_vector();
         }
@@ -144,6 +149,18 @@ impl TriangleMesh {
                 n = -n;
             }
         }
+        Surface { p, p_error, n, ns }
+    }
+
+    /// Local geometry at barycentric coordinates `b` of triangle `i`.
+    pub fn geometry(&self, i: usize, b: [f32; 3]) -> LocalGeometry {
+        let Surface { p, p_error, n, ns } = self.surface(i, b);
+        let [p0, p1, p2] = self.vertices(i);
+        let uv = match &self.uv {
+            Some(uv) => self.tris[i].map(|k| uv[k as usize]),
+            None => DEFAULT_UV,
+        };
+        let (dp02, dp12) = (p0 - p2, p1 - p2);
         let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
         let det = duv02.x * duv12.y - duv02.y * duv12.x;
         let (mut dpdu, mut dpdv) = (Vec3A::ZERO, Vec3A::ZERO);
@@ -167,11 +184,11 @@ impl TriangleMesh {
     }
 
     /// A point of triangle `i`, uniform by area.
-    pub fn sample(&self, i: usize, u: Vec2) -> LocalGeometry {
+    pub fn sample(&self, i: usize, u: Vec2) -> Surface {
         let su0 = u.x.sqrt();
         let b0 = 1.0 - su0;
         let b1 = u.y * su0;
-        self.geometry(i, [b0, b1, (1.0 - b0 - b1).max(0.0)])
+        self.surface(i, [b0, b1, (1.0 - b0 - b1).max(0.0)])
     }
 }
 
