@@ -51,14 +51,17 @@ pub fn refract(wo: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
 /// Cosine-weighted direction on the +z hemisphere (concentric mapping).
 pub fn cosine_hemisphere(u: Vec2) -> Vec3A {
     let o = 2.0 * u - Vec2::ONE;
+    // Shirley and Chiu's concentric map. The wedge is chosen by selects, not branches (it is
+    // a coin flip per sample): the same operations as the two-branch form, one sin/cos.
+    let wide = o.x.abs() > o.y.abs();
+    let (r, other) = if wide { (o.x, o.y) } else { (o.y, o.x) };
+    let q = PI / 4.0 * (other / r);
+    let phi = if wide { q } else { PI / 2.0 - q };
+    let (sin, cos) = phi.sin_cos();
     let d = if o == Vec2::ZERO {
         Vec2::ZERO
-    } else if o.x.abs() > o.y.abs() {
-        let phi = PI / 4.0 * (o.y / o.x);
-        o.x * Vec2::new(phi.cos(), phi.sin())
     } else {
-        let phi = PI / 2.0 - PI / 4.0 * (o.x / o.y);
-        o.y * Vec2::new(phi.cos(), phi.sin())
+        r * Vec2::new(cos, sin)
     };
     let z = (1.0 - d.length_squared()).max(0.0).sqrt();
     Vec3A::new(d.x, d.y, z)
