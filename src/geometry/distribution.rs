@@ -57,8 +57,14 @@ impl Distribution1D {
     /// The item [`Self::sample`] picks for `u`, without the remapped `u` (and its division).
     pub fn pick(&self, u: f32) -> usize {
         let u = (u as f64).clamp(0.0, 1.0);
-        // first index with cdf[i+1] > u
-        let mut i = self.cdf.partition_point(|&c| c <= u).saturating_sub(1);
+        // The first index with cdf[i+1] > u: the number of entries of cdf[1..] that are <= u
+        // (the table is sorted). Short tables (a quad light's two triangles) are counted
+        // without branches, as a binary search there mispredicts every other time.
+        let mut i = if self.cdf.len() <= 17 {
+            self.cdf[1..].iter().map(|&c| usize::from(c <= u)).sum()
+        } else {
+            self.cdf.partition_point(|&c| c <= u).saturating_sub(1)
+        };
         i = i.min(self.weights.len() - 1);
         while self.weights[i] == 0.0 && i > 0 {
             i -= 1;
