@@ -116,7 +116,8 @@ impl GeometryBuilder {
 
     pub fn build(self) -> Geometry {
         let start = std::time::Instant::now();
-        let areas = self.shapes.iter().map(ShapeArea::new).collect();
+        // Area-sampling tables are made on demand, for the shapes that emit light.
+        let areas = vec![None; self.shapes.len()];
         let world = Blas::build(self.shapes, self.prims, self.options);
         let objects: Vec<Blas> = self
             .objects
@@ -215,7 +216,8 @@ impl ShapeArea {
 #[derive(Clone, Debug)]
 pub struct Geometry {
     world: Blas,
-    areas: Vec<ShapeArea>,
+    /// Per world shape: its area-sampling table, once [`Geometry::prepare_sampling`] made it.
+    areas: Vec<Option<ShapeArea>>,
     objects: Vec<Blas>,
     instances: Vec<Instance>,
     tlas: Bvh,
@@ -317,13 +319,28 @@ impl Geometry {
 
     /// World-space area of a world-level shape (0 for an unknown id).
     pub fn area(&self, id: ShapeId) -> f32 {
-        self.areas.get(id.0 as usize).map_or(0.0, |a| a.area as f32)
+        match (self.areas.get(id.0 as usize), self.world.shapes.get(id.0 as usize)) {
+            (Some(Some(a)), _) => a.area as f32,
+            (_, Some(s)) => s.area() as f32,
+            _ => 0.0,
+        }
+    }
+
+    /// Makes world shape `id` ready for [`Self::sample`] (for a mesh, its triangle-picking
+    /// table, 16 bytes per triangle: only emitters pay for it) and returns its area.
+    pub fn prepare_sampling(&mut self, id: ShapeId) -> f32 {
+        let i = id.0 as usize;
+        let (Some(slot), Some(shape)) = (self.areas.get_mut(i), self.world.shapes.get(i)) else {
+            return 0.0;
+        };
+        slot.get_or_insert_with(|| ShapeArea::new(shape)).area as f32
     }
 
     /// A point of the shape, uniform by area (`u_pick` chooses the triangle of a mesh), and its
-    /// density with respect to area. An unknown id gives pdf 0.
+    /// density with respect to area. An unknown id, or one not prepared by
+    /// [`Self::prepare_sampling`], gives pdf 0.
     pub fn sample(&self, id: ShapeId, u: Vec2, u_pick: f32) -> (Interaction, f32) {
-        let (Some(shape), Some(a)) = (
+        let (Some(shape), Some(Some(a))) = (
             self.world.shapes.get(id.0 as usize),
             self.areas.get(id.0 as usize),
         ) else {

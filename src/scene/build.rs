@@ -135,7 +135,7 @@ impl Scene {
             };
             gb.add_instance(oid, &inst.instance_to_world);
         }
-        let geometry = gb.build();
+        let mut geometry = gb.build();
 
         // Materials used by the built shapes.
         let mut used: Vec<usize> = prims.iter().filter_map(|p| p.material).collect();
@@ -175,7 +175,7 @@ impl Scene {
             }
             let color = light_color(&mut textures, p)?;
             let common = LightCommon::from_params(p, group_of(&pa.group));
-            let area = geometry.area(pa.shape);
+            let area = geometry.prepare_sampling(pa.shape);
             let light = AreaLight::new(p, &color, emitters.len() as u32, area, common);
             emitters.push(pa.shape);
             if let Some(pi) = prims.get_mut(pa.prim as usize) {

@@ -57,6 +57,14 @@ impl Shape {
             Shape::Quadric(_) => 0,
         }
     }
+
+    /// Surface area in the shape's space.
+    pub fn area(&self) -> f64 {
+        match self {
+            Shape::Mesh(m) => (0..m.tris.len()).map(|i| m.area(i)).sum(),
+            Shape::Quadric(q) => q.area(),
+        }
+    }
 }
 
 /// Context of one shape being built: its description, transforms and error reporting.

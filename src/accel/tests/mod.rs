@@ -18,7 +18,11 @@ pub(super) fn geo(descs: &[ShapeDesc]) -> Geometry {
         b.add_shape(d, i as u32, &ShapeCtx::default())
             .expect("shape builds");
     }
-    b.build()
+    let mut g = b.build();
+    for i in 0..descs.len() {
+        g.prepare_sampling(ShapeId(i as u32));
+    }
+    g
 }
 
 pub(super) fn close(a: Vec3A, b: Vec3A, tol: f32) -> bool {
