@@ -33,7 +33,9 @@ impl DirectLightingIntegrator {
         let mut depth = 0;
         let mut pass = 0;
         loop {
-            let Some(si) = scene.intersect(&ray) else {
+            // Matched by reference: moving the hit out of the Option would copy it.
+            let hit = scene.intersect(&ray);
+            let Some(si) = &hit else {
                 if depth == 0 {
                     alpha = 0.0;
                 }
@@ -41,7 +43,7 @@ impl DirectLightingIntegrator {
                 break;
             };
             if let Some((_, light)) = scene.area_light(si.prim) {
-                add_group(l, light.common.group, beta * light.l(&si, si.wo));
+                add_group(l, light.common.group, beta * light.l(si, si.wo));
             }
             let material = scene.material(si.prim);
             if material.is_null() {
@@ -53,10 +55,10 @@ impl DirectLightingIntegrator {
                 continue;
             }
             pass = 0;
-            let bsdf = material.bsdf(&si, s.next_1d());
+            let bsdf = material.bsdf(si, s.next_1d());
             if bsdf.has_non_specular() {
-                sample_lights(scene, &self.direct, &si, &bsdf, s, beta, false, l);
-                self.bsdf_sample(scene, &si, &bsdf, s, beta, l);
+                sample_lights(scene, &self.direct, si, &bsdf, s, beta, false, l);
+                self.bsdf_sample(scene, si, &bsdf, s, beta, l);
             }
             if depth >= self.max_depth {
                 break;
@@ -96,12 +98,12 @@ impl DirectLightingIntegrator {
         }
         let tp = beta * bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
         let ray = si.it.spawn_ray(bs.wi);
-        match scene.intersect(&ray) {
+        match &scene.intersect(&ray) {
             Some(hit) => {
                 if let Some((i, light)) = scene.area_light(hit.prim) {
-                    let le = light.l(&hit, hit.wo);
+                    let le = light.l(hit, hit.wo);
                     if !le.is_black() {
-                        let pl = scene.lights()[i].pdf_li(&si.it, bs.wi, Some(&hit));
+                        let pl = scene.lights()[i].pdf_li(&si.it, bs.wi, Some(hit));
                         let w = bsdf_hit_weight(scene, &self.direct, i, bs.pdf, pl);
                         add_group(l, light.common.group, tp * le * w);
                     }
