@@ -205,8 +205,10 @@ impl Blas {
     }
 }
 
-/// The unit direction of `d` and the length of `d` (exactly 1 when `d` is unit already, which
-/// skips a square root and a division for most rays); None when `d` has no usable length.
+/// The unit direction of `d` and the factor between the caller's ray parameter and distance:
+/// the length of `d`, or exactly 1 when `d` is unit to within a few roundings (taken as unit
+/// as it is, which skips a square root and a division for most rays); None when `d` has no
+/// usable length.
 #[inline(always)]
 pub(crate) fn unit_direction(d: Vec3A) -> Option<(Vec3A, f32)> {
     if is_unit(d) {

@@ -30,7 +30,8 @@ struct Node4 {
 #[derive(Clone, Debug, Default)]
 pub struct Bvh4 {
     nodes: Vec<Node4>,
-    /// Stack entries a traversal can need (at most 3 more per level; 4 per level is kept).
+    /// Stack entries a traversal can need: at most 3 wait per level above the node being
+    /// visited, and an any-hit visit pushes up to 4 before popping one.
     stack: usize,
 }
 
@@ -93,7 +94,7 @@ impl Bvh4 {
         } else {
             out.emit(b, 0).1
         };
-        out.stack = 4 * depth + 4;
+        out.stack = 3 * depth + 1;
         out
     }
 
@@ -284,9 +285,10 @@ impl Bvh4 {
     }
 }
 
-/// Sorts up to four (node, entry distance) pairs by decreasing distance, so that the nearest
-/// is pushed last and popped first. Ties keep no particular order (the result does not depend
-/// on it: closest-hit keeps the nearest hit whatever the visiting order).
+/// Sorts up to four (node, entry distance) pairs by decreasing distance, so that the last is
+/// the nearest (visited next) and the others go on the stack nearest-last. Equal distances
+/// come out in a fixed but unstable order; only two hits at exactly the same distance (two
+/// coincident faces) can depend on it, and the choice is the same on every run.
 #[inline(always)]
 fn far_to_near(v: &mut [(u32, f32)]) {
     #[inline(always)]
@@ -389,6 +391,47 @@ mod tests {
                 let any = bvh.any(o, d, t_max, |o, d, tm, s| box_t(prim(s), o, d, tm));
                 assert_eq!(any, brute.is_some(), "n {n}");
             }
+        }
+    }
+
+    /// Boxes in a geometric progression along x give a deep, chain-like tree: deep enough
+    /// that traversal takes its heap stack, which must give the same answers.
+    #[test]
+    fn deep_trees_use_a_heap_stack_with_the_same_results() {
+        let boxes: Vec<Aabb> = (0..400)
+            .map(|i| {
+                let x = 1.08f32.powi(i);
+                padded(Vec3A::new(x, -1.0, -1.0), Vec3A::new(x * 1.1, 1.0, 1.0))
+            })
+            .collect();
+        let opts = BvhOptions {
+            layout: BvhLayout::Bvh4,
+            quality: BuildQuality::Medium,
+            max_prims_per_leaf: 1,
+        };
+        let (bvh, perm) = Bvh::build(&boxes, opts);
+        let Bvh::Wide(wide) = &bvh else {
+            panic!("expected the 4-wide layout");
+        };
+        assert!(
+            wide.stack > super::STACK,
+            "tree too shallow: {}",
+            wide.stack
+        );
+        let prim = |slot: usize| &boxes[perm[slot] as usize];
+        let mut rng = Rng::new(9);
+        for _ in 0..500 {
+            let o = Vec3A::new(-1.0, 0.2 * rng.f32() - 0.1, 0.2 * rng.f32() - 0.1);
+            let d = (Vec3A::X + 0.001 * rng.direction()).normalize();
+            let brute = (0..boxes.len())
+                .map(|s| (s, box_t(prim(s), o, d, f32::INFINITY)))
+                .filter(|h| h.1.is_finite())
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            let got = bvh.closest(o, d, f32::INFINITY, |o, d, tm, s| box_t(prim(s), o, d, tm));
+            assert_eq!(got.map(|h| h.1), brute.map(|h| h.1));
+            let far = 1e30;
+            let any = bvh.any(o, d, far, |o, d, tm, s| box_t(prim(s), o, d, tm));
+            assert_eq!(any, brute.is_some());
         }
     }
 }

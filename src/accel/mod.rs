@@ -319,7 +319,10 @@ impl Geometry {
 
     /// World-space area of a world-level shape (0 for an unknown id).
     pub fn area(&self, id: ShapeId) -> f32 {
-        match (self.areas.get(id.0 as usize), self.world.shapes.get(id.0 as usize)) {
+        match (
+            self.areas.get(id.0 as usize),
+            self.world.shapes.get(id.0 as usize),
+        ) {
             (Some(Some(a)), _) => a.area as f32,
             (_, Some(s)) => s.area() as f32,
             _ => 0.0,

@@ -96,6 +96,28 @@ mod tests {
     use super::*;
 
     #[test]
+    fn short_and_long_tables_pick_alike() {
+        // Up to 16 items are counted, longer tables binary-searched: both must agree with
+        // the definition (the first item whose cdf end exceeds u, zero weights skipped).
+        for n in 1..=40usize {
+            let w: Vec<f64> = (0..n).map(|i| [1.0, 0.0, 2.5, 0.5][i % 4]).collect();
+            let Some(d) = Distribution1D::new(&w) else {
+                continue;
+            };
+            for k in 0..=200 {
+                let u = k as f32 / 200.0;
+                let i = d.pick(u);
+                assert!(w[i] > 0.0, "n {n} u {u}: zero-weight item {i}");
+                let uf = f64::from(u);
+                let expect = (0..n)
+                    .find(|&j| w[j] > 0.0 && d.cdf[j + 1] > uf)
+                    .unwrap_or_else(|| (0..n).rev().find(|&j| w[j] > 0.0).unwrap());
+                assert_eq!(i, expect, "n {n} u {u}");
+            }
+        }
+    }
+
+    #[test]
     fn picks_by_weight_and_skips_zero_weights() {
         let d = Distribution1D::new(&[1.0, 0.0, 3.0]).unwrap();
         assert_eq!(d.sample(0.1).0, 0);

@@ -19,7 +19,7 @@ pub struct MeshData {
 
 /// A point on a triangle: position, error bound, oriented geometric normal, shading normal.
 #[derive(Clone, Copy, Debug)]
-pub struct Surface {
+pub struct MeshPoint {
     pub p: Vec3A,
     pub p_error: Vec3A,
     pub n: Vec3A,
@@ -124,7 +124,7 @@ impl TriangleMesh {
 
     /// Point, its error bound, oriented geometric normal and shading normal at barycentric
     /// coordinates `b` of triangle `i` (what light sampling needs of a point).
-    pub fn surface(&self, i: usize, b: [f32; 3]) -> Surface {
+    pub fn surface(&self, i: usize, b: [f32; 3]) -> MeshPoint {
         let [p0, p1, p2] = self.vertices(i);
         let idx = self.tris[i];
         let p = b[0] * p0 + b[1] * p1 + b[2] * p2;
@@ -149,12 +149,12 @@ impl TriangleMesh {
                 n = -n;
             }
         }
-        Surface { p, p_error, n, ns }
+        MeshPoint { p, p_error, n, ns }
     }
 
     /// Local geometry at barycentric coordinates `b` of triangle `i`.
     pub fn geometry(&self, i: usize, b: [f32; 3]) -> LocalGeometry {
-        let Surface { p, p_error, n, ns } = self.surface(i, b);
+        let MeshPoint { p, p_error, n, ns } = self.surface(i, b);
         let [p0, p1, p2] = self.vertices(i);
         let uv = match &self.uv {
             Some(uv) => self.tris[i].map(|k| uv[k as usize]),
@@ -184,7 +184,7 @@ impl TriangleMesh {
     }
 
     /// A point of triangle `i`, uniform by area.
-    pub fn sample(&self, i: usize, u: Vec2) -> Surface {
+    pub fn sample(&self, i: usize, u: Vec2) -> MeshPoint {
         let su0 = u.x.sqrt();
         let b0 = 1.0 - su0;
         let b1 = u.y * su0;

@@ -113,3 +113,21 @@ fn area_sampling_is_uniform_and_pdf_integrates_to_one() {
         num / den
     );
 }
+
+#[test]
+fn only_shapes_prepared_for_sampling_are_sampled() {
+    // Area-sampling tables are made for emitters only: an unprepared shape has its area but
+    // no samples (pdf 0), and preparing it gives the same area.
+    let mut b = GeometryBuilder::new();
+    let q = quad(DMat4::from_scale(DVec3::new(1.0, 3.0, 1.0)), false);
+    b.add_shape(&q, 0, &ShapeCtx::default())
+        .expect("shape builds");
+    let mut g = b.build();
+    let area = g.area(ShapeId(0));
+    assert!((area - 12.0).abs() < 1e-5);
+    assert_eq!(g.sample(ShapeId(0), Vec2::splat(0.5), 0.5).1, 0.0);
+    assert_eq!(g.prepare_sampling(ShapeId(0)), area);
+    let (_, pdf) = g.sample(ShapeId(0), Vec2::splat(0.5), 0.5);
+    assert!((pdf - 1.0 / 12.0).abs() < 1e-7);
+    assert_eq!(g.prepare_sampling(ShapeId(7)), 0.0);
+}
