@@ -141,12 +141,12 @@ pub struct BenchResult {
 /// The obvhs configurations compared by [`bench`].
 pub fn candidate_options() -> Vec<BvhOptions> {
     let mut v = Vec::new();
-    for layout in [BvhLayout::Cwbvh, BvhLayout::Bvh2, BvhLayout::Bvh4] {
+    for layout in [BvhLayout::Cwbvh, BvhLayout::Bvh2, BvhLayout::Bvh8] {
         for quality in [BuildQuality::Fast, BuildQuality::Medium, BuildQuality::Slow] {
             let leaves: &[u32] = match layout {
                 BvhLayout::Cwbvh => &[1, 3],
                 BvhLayout::Bvh2 => &[1, 4, 8],
-                BvhLayout::Bvh4 => &[1, 2, 4],
+                BvhLayout::Bvh8 => &[1, 2, 4],
             };
             for &max_prims_per_leaf in leaves {
                 v.push(BvhOptions {

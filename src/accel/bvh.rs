@@ -1,12 +1,12 @@
 //! Thin wrapper over obvhs: build a BVH over padded primitive boxes with a chosen layout and
 //! build quality, and traverse it for the closest or any hit (obvhs's traversal for its CWBVH
-//! and BVH2 layouts, ours for the 4-wide one, [`super::bvh4`]).
+//! and BVH2 layouts, ours for the 8-wide one, [`super::bvh8`]).
 //!
 //! Rays handed to obvhs have a unit direction and an exact reciprocal (obvhs's own
 //! `Ray::new` clamps tiny direction components to 1/ε, which shrinks slabs at small scales);
 //! primitive boxes are padded by a relative margin so the f32 slab test stays conservative.
 
-use super::bvh4::Bvh4;
+use super::bvh8::Bvh8;
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::builder::build_bvh2;
@@ -24,8 +24,8 @@ pub enum BvhLayout {
     Cwbvh,
     /// Binary BVH.
     Bvh2,
-    /// Uncompressed 4-wide BVH collapsed from the binary one ([`super::bvh4`]).
-    Bvh4,
+    /// Uncompressed 8-wide BVH collapsed from the binary one ([`super::bvh8`]).
+    Bvh8,
 }
 
 /// obvhs build presets (PLOC search distance, reinsertion, spatial pre-splits).
@@ -50,7 +50,7 @@ impl Default for BvhOptions {
     /// The fastest traversal measured by `luxfarm bench bvh` (see the accel module docs).
     fn default() -> Self {
         BvhOptions {
-            layout: BvhLayout::Bvh4,
+            layout: BvhLayout::Bvh8,
             quality: BuildQuality::Slow,
             max_prims_per_leaf: 2,
         }
@@ -88,7 +88,7 @@ pub enum Bvh {
     /// CWBVH and the power-of-two ray-parameter scale (see [`ray_scale`]).
     Cw(CwBvh, f32),
     Bin(Bvh2, f32),
-    Wide(Bvh4),
+    Wide(Bvh8),
 }
 
 /// obvhs's CWBVH node test clamps the entry distance to an absolute 1e-4, which would cull
@@ -150,10 +150,10 @@ impl Bvh {
                 let perm = bvh.primitive_indices.clone();
                 (Bvh::Bin(bvh, k), perm)
             }
-            BvhLayout::Bvh4 => {
+            BvhLayout::Bvh8 => {
                 let bvh = build_bvh2(boxes, opts.params(), &mut t);
                 let perm = bvh.primitive_indices.clone();
-                (Bvh::Wide(Bvh4::from_bvh2(&bvh)), perm)
+                (Bvh::Wide(Bvh8::from_bvh2(&bvh)), perm)
             }
         }
     }

@@ -6,18 +6,20 @@
 //! object's space (f64 transform, one f32 rounding) and hits back to world space with error
 //! bounds. Layout and build quality were chosen by measurement (`luxfarm bench bvh --all`,
 //! see [`bench`]; the shared 2-core machine was loaded, so rates are per CPU-second
-//! received). On cornell-mesh.lxs, single thread: our uncompressed 4-wide BVH ([`bvh4`],
-//! collapsed from obvhs's BVH2) with 2 primitives per leaf ran 5.7-6.2 M closest-hit and
-//! 10.0-10.9 M any-hit rays per CPU-second, obvhs's CWBVH (leaf 3) 5.6-5.9 M and 8.4-8.5 M,
-//! its BVH2 at most 4.9 M and 6.4 M; rendering the scene took 8% less CPU time than with the
-//! CWBVH. Earlier, between obvhs's medium and slow PLOC builds the difference was within the
+//! received). On cornell-mesh.lxs, single thread: our uncompressed 8-wide BVH ([`bvh8`],
+//! collapsed from obvhs's BVH2) with 2 primitives per leaf ran 6.1-6.4 M closest-hit and
+//! 11.4-11.7 M any-hit rays per CPU-second, obvhs's CWBVH (leaf 3) 4.8-5.1 M and 6.9-7.5 M.
+//! The 8-wide tree replaced a 4-wide one of the same design: 12-15% more closest-hit and
+//! 40% more any-hit rays per CPU-second, 6-11% more on 216 tessellated spheres, and 3% less
+//! CPU time rendering the scene (leaves of 3 or 4 primitives rendered no faster than 2).
+//! Earlier, between obvhs's medium and slow PLOC builds the difference was within the
 //! noise on that scene, and on 500k triangles the slow build traversed ~10% faster (1.50 vs
 //! 1.35 M rays/s) for a 2.4 s instead of 1.4 s build: the slow build is the default.
 
 pub mod bench;
 pub mod blas;
 pub mod bvh;
-pub mod bvh4;
+pub mod bvh8;
 
 use crate::geometry::frame::LocalGeometry;
 use crate::geometry::transform::{to_f32, to_f64};
