@@ -341,33 +341,34 @@ impl Geometry {
         slot.get_or_insert_with(|| ShapeArea::new(shape)).area as f32
     }
 
-    /// A point of the shape, uniform by area (`u_pick` chooses the triangle of a mesh), and its
-    /// density with respect to area. An unknown id, or one not prepared by
+    /// A point of the shape, uniform by area (`u_pick` chooses the triangle of a mesh), its uv
+    /// and its density with respect to area. An unknown id, or one not prepared by
     /// [`Self::prepare_sampling`], gives pdf 0.
-    pub fn sample(&self, id: ShapeId, u: Vec2, u_pick: f32) -> (Interaction, f32) {
+    pub fn sample(&self, id: ShapeId, u: Vec2, u_pick: f32) -> (Interaction, Vec2, f32) {
+        let none = (Interaction::default(), Vec2::ZERO, 0.0);
         let (Some(shape), Some(Some(a))) = (
             self.world.shapes.get(id.0 as usize),
             self.areas.get(id.0 as usize),
         ) else {
-            return (Interaction::default(), 0.0);
+            return none;
         };
         match shape {
             Shape::Mesh(m) => match &a.tris {
                 Some(dist) => {
-                    let s = m.sample(dist.pick(u_pick), u);
+                    let (s, uv) = m.sample(dist.pick(u_pick), u);
                     let it = Interaction {
                         p: s.p,
                         p_error: s.p_error,
                         n: s.n,
                         time: 0.0,
                     };
-                    (it, (1.0 / a.area) as f32)
+                    (it, uv, (1.0 / a.area) as f32)
                 }
-                None => (Interaction::default(), 0.0),
+                None => none,
             },
             Shape::Quadric(q) => {
                 let (g, pdf) = q.sample(u);
-                (g.interaction(0.0), pdf)
+                (g.interaction(0.0), g.uv, pdf)
             }
         }
     }

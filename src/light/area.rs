@@ -60,7 +60,7 @@ impl AreaLight {
         u_pick: f32,
         shapes: &dyn ShapeSampler,
     ) -> Option<LightSample> {
-        let (it, pdf_area) = shapes.sample_shape(self.shape, u, u_pick)?;
+        let (it, uv, pdf_area) = shapes.sample_shape(self.shape, u, u_pick)?;
         let d = it.p - r.p;
         let d2 = d.length_squared();
         if d2 <= 0.0 || pdf_area <= 0.0 {
@@ -74,6 +74,7 @@ impl AreaLight {
         let si = SurfaceInteraction {
             it,
             wo: -wi,
+            uv,
             shading: Shading {
                 n: it.n,
                 ..Default::default()
@@ -115,13 +116,13 @@ mod tests {
     /// A unit square at z = 1 facing down.
     struct Square;
     impl ShapeSampler for Square {
-        fn sample_shape(&self, _: u32, u: Vec2, _: f32) -> Option<(Interaction, f32)> {
+        fn sample_shape(&self, _: u32, u: Vec2, _: f32) -> Option<(Interaction, Vec2, f32)> {
             let it = Interaction {
                 p: Vec3A::new(u.x - 0.5, u.y - 0.5, 1.0),
                 n: -Vec3A::Z,
                 ..Default::default()
             };
-            Some((it, 1.0))
+            Some((it, u, 1.0))
         }
     }
 

@@ -108,9 +108,10 @@ pub struct LightColor {
 }
 
 /// Where area lights find points on their shapes (implemented by the scene over the
-/// geometry): a point uniformly by area on emitter `shape`, with the area pdf.
+/// geometry): a point uniformly by area on emitter `shape`, its uv (textured emission is
+/// looked up there), and the area pdf.
 pub trait ShapeSampler {
-    fn sample_shape(&self, shape: u32, u: Vec2, u_pick: f32) -> Option<(Interaction, f32)>;
+    fn sample_shape(&self, shape: u32, u: Vec2, u_pick: f32) -> Option<(Interaction, Vec2, f32)>;
 }
 
 /// One sampled light direction as seen from a reference point.

@@ -98,9 +98,9 @@ impl Scene {
 }
 
 impl ShapeSampler for Scene {
-    fn sample_shape(&self, shape: u32, u: Vec2, u_pick: f32) -> Option<(Interaction, f32)> {
+    fn sample_shape(&self, shape: u32, u: Vec2, u_pick: f32) -> Option<(Interaction, Vec2, f32)> {
         let id = *self.emitters.get(shape as usize)?;
-        let (it, pdf) = self.geometry.sample(id, u, u_pick);
-        (pdf > 0.0).then_some((it, pdf))
+        let (it, uv, pdf) = self.geometry.sample(id, u, u_pick);
+        (pdf > 0.0).then_some((it, uv, pdf))
     }
 }

@@ -157,10 +157,7 @@ impl TriangleMesh {
     pub fn geometry(&self, i: usize, b: [f32; 3]) -> LocalGeometry {
         let MeshPoint { p, p_error, n, ns } = self.surface(i, b);
         let [p0, p1, p2] = self.vertices(i);
-        let uv = match &self.uv {
-            Some(uv) => self.tris[i].map(|k| uv[k as usize]),
-            None => DEFAULT_UV,
-        };
+        let uv = self.vertex_uv(i);
         let (dp02, dp12) = (p0 - p2, p1 - p2);
         let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
         let det = duv02.x * duv12.y - duv02.y * duv12.x;
@@ -184,12 +181,25 @@ impl TriangleMesh {
         }
     }
 
-    /// A point of triangle `i`, uniform by area.
-    pub fn sample(&self, i: usize, u: Vec2) -> MeshPoint {
+    /// The uv of triangle `i`'s vertices (LuxRender's (0,0), (1,0), (1,1) without "uv").
+    fn vertex_uv(&self, i: usize) -> [Vec2; 3] {
+        match &self.uv {
+            Some(uv) => self.tris[i].map(|k| uv[k as usize]),
+            None => DEFAULT_UV,
+        }
+    }
+
+    /// A point of triangle `i`, uniform by area, and its uv (for textured emission).
+    pub fn sample(&self, i: usize, u: Vec2) -> (MeshPoint, Vec2) {
         let su0 = u.x.sqrt();
         let b0 = 1.0 - su0;
         let b1 = u.y * su0;
-        self.surface(i, [b0, b1, (1.0 - b0 - b1).max(0.0)])
+        let b = [b0, b1, (1.0 - b0 - b1).max(0.0)];
+        let uv = self.vertex_uv(i);
+        (
+            self.surface(i, b),
+            b[0] * uv[0] + b[1] * uv[1] + b[2] * uv[2],
+        )
     }
 }
 
