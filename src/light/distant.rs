@@ -55,18 +55,14 @@ impl DistantLight {
             let wi = s * l.x + t * l.y + self.to_light * l.z;
             (wi, self.radiance(), uniform_cone_pdf(self.cos_theta))
         };
-        Some(LightSample {
-            li,
+        Some(LightSample::from_infinity(
+            r,
             wi,
+            li,
             pdf,
-            p_light: Interaction {
-                p: r.p + wi * (2.0 * self.world_radius),
-                time: r.time,
-                ..Default::default()
-            },
-            delta: self.is_delta(),
-            infinite: true,
-        })
+            self.is_delta(),
+            self.world_radius,
+        ))
     }
 
     pub fn pdf_li(&self, wi: Vec3A) -> f32 {

@@ -150,18 +150,14 @@ impl InfiniteLight {
                 (wi, pdf)
             }
         };
-        Some(LightSample {
-            li: self.le(wi),
+        Some(LightSample::from_infinity(
+            r,
             wi,
+            self.le(wi),
             pdf,
-            p_light: Interaction {
-                p: r.p + wi * (2.0 * self.world_radius),
-                time: r.time,
-                ..Default::default()
-            },
-            delta: false,
-            infinite: true,
-        })
+            false,
+            self.world_radius,
+        ))
     }
 
     pub fn pdf_li(&self, wi: Vec3A) -> f32 {

@@ -130,6 +130,32 @@ pub struct LightSample {
     pub infinite: bool,
 }
 
+impl LightSample {
+    /// A sample of a light at infinity (sun, sky, infinite, distant) seen from `r`: the
+    /// shadow ray runs along `wi` past a point twice the scene's radius away.
+    pub fn from_infinity(
+        r: &Interaction,
+        wi: Vec3A,
+        li: Rgb,
+        pdf: f32,
+        delta: bool,
+        world_radius: f32,
+    ) -> LightSample {
+        LightSample {
+            li,
+            wi,
+            pdf,
+            p_light: Interaction {
+                p: r.p + wi * (2.0 * world_radius),
+                time: r.time,
+                ..Default::default()
+            },
+            delta,
+            infinite: true,
+        }
+    }
+}
+
 /// Parameters every light shares.
 #[derive(Clone, Copy, Debug)]
 pub struct LightCommon {

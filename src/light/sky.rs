@@ -304,18 +304,14 @@ impl SkyLight {
 
     pub fn sample_li(&self, r: &Interaction, u: Vec2) -> Option<LightSample> {
         let (wi, [s, t], pdf) = latlong::sample(&self.dist, &self.l2w, u)?;
-        Some(LightSample {
-            li: self.lookup(s, t),
+        Some(LightSample::from_infinity(
+            r,
             wi,
+            self.lookup(s, t),
             pdf,
-            p_light: Interaction {
-                p: r.p + wi * (2.0 * self.world_radius),
-                time: r.time,
-                ..Default::default()
-            },
-            delta: false,
-            infinite: true,
-        })
+            false,
+            self.world_radius,
+        ))
     }
 
     pub fn pdf_li(&self, wi: Vec3A) -> f32 {

@@ -180,18 +180,14 @@ impl SunLight {
         let (s, t) = self.frame;
         let wi = (s * (sin_t * phi.cos()) + t * (sin_t * phi.sin()) + self.to_light * cos_t)
             .normalize_or(self.to_light);
-        Some(LightSample {
-            li: self.radiance,
+        Some(LightSample::from_infinity(
+            r,
             wi,
-            pdf: self.pdf(),
-            p_light: Interaction {
-                p: r.p + wi * (2.0 * self.world_radius),
-                time: r.time,
-                ..Default::default()
-            },
-            delta: false,
-            infinite: true,
-        })
+            self.radiance,
+            self.pdf(),
+            false,
+            self.world_radius,
+        ))
     }
 
     pub fn pdf_li(&self, wi: Vec3A) -> f32 {
