@@ -1,24 +1,32 @@
 //! One bottom-level structure: the shapes of the world (or of one object), a BVH over their
 //! triangles and quadrics, closest-hit and any-hit queries, and hit geometry.
+//!
+//! With the 8-wide layout each leaf's triangles sit in SIMD packets of four
+//! ([`super::tri4`]): leaves start at multiples of four slots, and slot `s` is lane `s % 4`
+//! of packet `s / 4`. Quadrics in a leaf are tested one by one after its triangles.
 
-use super::bvh::{padded, Bvh, BvhOptions};
+use super::bvh::{padded, Bvh, BvhLayout, BvhOptions};
+use super::bvh8::EMPTY_SLOT;
+use super::tri4::{RayTri, Tri4, LANES};
 use crate::geometry::frame::LocalGeometry;
 use crate::geometry::is_unit;
 use crate::shape::{triangle, Shape};
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
 
-/// A BVH leaf item: a triangle (vertices inline for the hot loop) or a whole quadric.
-#[derive(Clone, Debug)]
+/// A BVH leaf item: a triangle of a mesh, a whole quadric, or padding.
+#[derive(Clone, Copy, Debug)]
 enum Item {
-    Tri {
-        v: [Vec3A; 3],
-        shape: u32,
-        index: u32,
-    },
-    Quadric {
-        shape: u32,
-    },
+    Tri { shape: u32, index: u32 },
+    Quadric { shape: u32 },
+    Empty,
+}
+
+/// Four slots' triangles for the SIMD test and the lanes that hold quadrics.
+#[derive(Clone, Debug)]
+struct Pack {
+    tris: Tri4,
+    quadrics: u32,
 }
 
 /// A hit found by traversal: distance (in the caller's ray parameter), the item slot and,
@@ -37,6 +45,10 @@ pub struct Blas {
     /// Primitive id reported for hits on each shape.
     pub prims: Vec<u32>,
     items: Vec<Item>,
+    /// Triangle vertices per slot (layouts without packets; empty with them).
+    verts: Vec<[Vec3A; 3]>,
+    /// Per four slots (8-wide layout): their triangles as a SIMD packet.
+    packs: Vec<Pack>,
     pub(crate) bvh: Bvh,
     pub lo: Vec3A,
     pub hi: Vec3A,
@@ -45,6 +57,7 @@ pub struct Blas {
 impl Blas {
     pub fn build(shapes: Vec<Shape>, prims: Vec<u32>, opts: BvhOptions) -> Blas {
         let mut items = Vec::new();
+        let mut verts = Vec::new();
         let mut boxes = Vec::new();
         for (si, shape) in shapes.iter().enumerate() {
             match shape {
@@ -54,8 +67,8 @@ impl Blas {
                         let lo = v[0].min(v[1]).min(v[2]);
                         let hi = v[0].max(v[1]).max(v[2]);
                         boxes.push(padded(lo, hi));
+                        verts.push(v);
                         items.push(Item::Tri {
-                            v,
                             shape: si as u32,
                             index: i as u32,
                         });
@@ -64,6 +77,7 @@ impl Blas {
                 Shape::Quadric(q) => {
                     let (lo, hi) = q.bounds();
                     boxes.push(padded(lo, hi));
+                    verts.push([Vec3A::NAN; 3]);
                     items.push(Item::Quadric { shape: si as u32 });
                 }
             }
@@ -72,12 +86,31 @@ impl Blas {
             (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)),
             |(lo, hi), b: &Aabb| (lo.min(b.min), hi.max(b.max)),
         );
-        let (bvh, perm) = Bvh::build(&boxes, opts);
-        let items = perm.iter().map(|&i| items[i as usize].clone()).collect();
+        let packed = opts.layout == BvhLayout::Bvh8;
+        let (bvh, perm) = Bvh::build_aligned(&boxes, opts, if packed { LANES } else { 1 });
+        let at = |i: u32| (i != EMPTY_SLOT).then_some(i as usize);
+        let slot_items = perm
+            .iter()
+            .map(|&i| at(i).map_or(Item::Empty, |i| items[i]))
+            .collect();
+        let (verts, packs) = if packed {
+            let packs = perm
+                .chunks(LANES)
+                .map(|c| Pack::new(c, &items, &verts))
+                .collect();
+            (Vec::new(), packs)
+        } else {
+            (
+                perm.iter().map(|&i| verts[i as usize]).collect(),
+                Vec::new(),
+            )
+        };
         Blas {
             shapes,
             prims,
-            items,
+            items: slot_items,
+            verts,
+            packs,
             bvh,
             lo,
             hi,
@@ -88,16 +121,32 @@ impl Blas {
         self.items.is_empty()
     }
 
+    /// The vertices of the triangle in `slot` (NaN for other items).
+    fn tri_vertices(&self, slot: usize) -> [Vec3A; 3] {
+        match self.packs.get(slot / LANES) {
+            Some(p) => p.tris.vertices(slot % LANES),
+            None => self.verts[slot],
+        }
+    }
+
+    /// The distance of `slot`'s hit with 0 < t < t_max, or infinity (layouts without
+    /// packets).
     #[inline(always)]
     fn item_t(&self, slot: usize, o: Vec3A, d: Vec3A, t_max: f32) -> f32 {
         match &self.items[slot] {
-            Item::Tri { v, .. } => {
-                triangle::intersect(v, o, d, t_max).map_or(f32::INFINITY, |h| h.t)
+            Item::Tri { .. } => {
+                triangle::intersect(&self.verts[slot], o, d, t_max).map_or(f32::INFINITY, |h| h.t)
             }
-            Item::Quadric { shape } => match &self.shapes[*shape as usize] {
-                Shape::Quadric(q) => q.intersect_t(o, d, t_max).unwrap_or(f32::INFINITY),
-                Shape::Mesh(_) => f32::INFINITY,
-            },
+            Item::Quadric { shape } => self.quadric_t(*shape, o, d, t_max),
+            Item::Empty => f32::INFINITY,
+        }
+    }
+
+    #[inline(always)]
+    fn quadric_t(&self, shape: u32, o: Vec3A, d: Vec3A, t_max: f32) -> f32 {
+        match &self.shapes[shape as usize] {
+            Shape::Quadric(q) => q.intersect_t(o, d, t_max).unwrap_or(f32::INFINITY),
+            Shape::Mesh(_) => f32::INFINITY,
         }
     }
 
@@ -106,12 +155,20 @@ impl Blas {
     pub fn closest(&self, o: Vec3A, d: Vec3A, t_max: f32) -> Option<BlasHit> {
         let (dn, len) = unit_direction(d)?;
         let tm = t_max * len;
-        // Barycentrics of the last accepted triangle hit: every hit `item_t` reports is
-        // below the traversal's current t_max, so the last one reported is the winner.
+        // Barycentrics of the last accepted triangle hit: every hit reported is below the
+        // traversal's current t_max, so the last one reported is the winner.
         let mut best = (u32::MAX, [0.0f32; 3]);
-        let found = self.bvh.closest(o, dn, tm, |o, d, tm, slot| {
-            self.item_hit(slot, o, d, tm, &mut best)
-        });
+        let found = match &self.bvh {
+            Bvh::Wide(w) if !self.packs.is_empty() => {
+                let ray = RayTri::new(o, dn);
+                w.closest_leaves(o, dn, tm, |first, count, tm| {
+                    self.leaf_closest(&ray, first, count, tm, &mut best)
+                })
+            }
+            _ => self.bvh.closest(o, dn, tm, |o, d, tm, slot| {
+                self.item_hit(slot, o, d, tm, &mut best)
+            }),
+        };
         found.map(|(slot, t)| BlasHit {
             t: t / len,
             slot: slot as u32,
@@ -134,18 +191,65 @@ impl Blas {
         best: &mut (u32, [f32; 3]),
     ) -> f32 {
         match &self.items[slot] {
-            Item::Tri { v, .. } => match triangle::intersect(v, o, d, t_max) {
+            Item::Tri { .. } => match triangle::intersect(&self.verts[slot], o, d, t_max) {
                 Some(h) => {
                     *best = (slot as u32, h.b);
                     h.t
                 }
                 None => f32::INFINITY,
             },
-            Item::Quadric { shape } => match &self.shapes[*shape as usize] {
-                Shape::Quadric(q) => q.intersect_t(o, d, t_max).unwrap_or(f32::INFINITY),
-                Shape::Mesh(_) => f32::INFINITY,
-            },
+            Item::Quadric { shape } => self.quadric_t(*shape, o, d, t_max),
+            Item::Empty => f32::INFINITY,
         }
+    }
+
+    /// The closest hit in leaf slots `first..first + count` with t < t_max: packets of
+    /// triangles, then the leaf's quadrics.
+    #[inline(always)]
+    fn leaf_closest(
+        &self,
+        ray: &RayTri,
+        first: usize,
+        count: usize,
+        mut t_max: f32,
+        best: &mut (u32, [f32; 3]),
+    ) -> Option<(usize, f32)> {
+        let mut hit = None;
+        for k in first / LANES..(first + count).div_ceil(LANES) {
+            let pack = &self.packs[k];
+            if let Some(h) = pack.tris.closest(ray, t_max) {
+                let slot = k * LANES + h.lane;
+                t_max = h.t;
+                *best = (slot as u32, h.b);
+                hit = Some((slot, h.t));
+            }
+            if pack.quadrics != 0 {
+                for lane in lanes(pack.quadrics) {
+                    let slot = k * LANES + lane;
+                    if let Item::Quadric { shape } = self.items[slot] {
+                        let t = self.quadric_t(shape, ray.o, ray.d, t_max);
+                        if t < t_max {
+                            t_max = t;
+                            hit = Some((slot, t));
+                        }
+                    }
+                }
+            }
+        }
+        hit
+    }
+
+    /// Whether leaf slots `first..first + count` have a hit with t < t_max.
+    #[inline(always)]
+    fn leaf_any(&self, ray: &RayTri, first: usize, count: usize, t_max: f32) -> bool {
+        (first / LANES..(first + count).div_ceil(LANES)).any(|k| {
+            let pack = &self.packs[k];
+            pack.tris.any(ray, t_max)
+                || lanes(pack.quadrics).any(|lane| match self.items[k * LANES + lane] {
+                    Item::Quadric { shape } => self.quadric_t(shape, ray.o, ray.d, t_max) < t_max,
+                    _ => false,
+                })
+        })
     }
 
     /// Whether anything is hit with 0 < t < t_max.
@@ -154,9 +258,17 @@ impl Blas {
         let Some((dn, len)) = unit_direction(d) else {
             return false;
         };
-        self.bvh.any(o, dn, t_max * len, |o, d, tm, slot| {
-            self.item_t(slot, o, d, tm)
-        })
+        match &self.bvh {
+            Bvh::Wide(w) if !self.packs.is_empty() => {
+                let ray = RayTri::new(o, dn);
+                w.any_leaves(o, dn, t_max * len, |first, count, tm| {
+                    self.leaf_any(&ray, first, count, tm)
+                })
+            }
+            _ => self.bvh.any(o, dn, t_max * len, |o, d, tm, slot| {
+                self.item_t(slot, o, d, tm)
+            }),
+        }
     }
 
     /// Geometry of the hit found by [`Self::closest`] for the same ray, and its primitive id
@@ -171,10 +283,11 @@ impl Blas {
         let (dn, len) = unit_direction(d)?;
         let tm = t_max * len;
         match self.items.get(hit.slot as usize)? {
-            Item::Tri { v, shape, index } => {
+            Item::Tri { shape, index } => {
                 // Barycentrics from the traversal; re-intersect only if they were not kept.
                 let b = if hit.b[0].is_nan() {
-                    triangle::intersect(v, o, dn, tm)?.b
+                    let v = self.tri_vertices(hit.slot as usize);
+                    triangle::intersect(&v, o, dn, tm)?.b
                 } else {
                     hit.b
                 };
@@ -183,6 +296,7 @@ impl Blas {
                 };
                 Some((m.geometry(*index as usize, b), self.prims[*shape as usize]))
             }
+            Item::Empty => None,
             Item::Quadric { shape } => {
                 let Shape::Quadric(q) = &self.shapes[*shape as usize] else {
                     return None;
@@ -203,6 +317,31 @@ impl Blas {
             .filter(|s| matches!(s, Shape::Quadric(_)))
             .count()
     }
+}
+
+impl Pack {
+    /// The packet of slots whose items are `perm`'s entries (source indices into `items`
+    /// and `verts`, or [`EMPTY_SLOT`]).
+    fn new(perm: &[u32], items: &[Item], verts: &[[Vec3A; 3]]) -> Pack {
+        let mut tris = [None; LANES];
+        let mut quadrics = 0;
+        for (lane, &i) in perm.iter().enumerate() {
+            match items.get(i as usize) {
+                Some(Item::Tri { .. }) => tris[lane] = Some(verts[i as usize]),
+                Some(Item::Quadric { .. }) => quadrics |= 1 << lane,
+                _ => {}
+            }
+        }
+        Pack {
+            tris: Tri4::new(tris),
+            quadrics,
+        }
+    }
+}
+
+/// The lanes set in `mask`, lowest first.
+fn lanes(mask: u32) -> impl Iterator<Item = usize> {
+    (0..LANES).filter(move |l| mask & (1 << l) != 0)
 }
 
 /// The unit direction of `d` and the factor between the caller's ray parameter and distance:

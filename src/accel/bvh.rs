@@ -52,7 +52,7 @@ impl Default for BvhOptions {
         BvhOptions {
             layout: BvhLayout::Bvh8,
             quality: BuildQuality::Slow,
-            max_prims_per_leaf: 2,
+            max_prims_per_leaf: 4,
         }
     }
 }
@@ -134,6 +134,13 @@ impl Bvh {
     /// Builds over `boxes`; returns the BVH and the permutation: slot `i` of the traversal
     /// callbacks is primitive `perm[i]` of `boxes`.
     pub fn build(boxes: &[Aabb], opts: BvhOptions) -> (Bvh, Vec<u32>) {
+        Bvh::build_aligned(boxes, opts, 1)
+    }
+
+    /// As [`Self::build`], with the 8-wide layout's leaves starting at multiples of `align`
+    /// slots and padded to such a multiple (padding slots are [`super::bvh8::EMPTY_SLOT`] in the
+    /// permutation; see [`Bvh8::from_bvh2`]). Other layouts ignore `align`.
+    pub fn build_aligned(boxes: &[Aabb], opts: BvhOptions, align: usize) -> (Bvh, Vec<u32>) {
         if boxes.is_empty() {
             return (Bvh::Empty, Vec::new());
         }
@@ -152,8 +159,8 @@ impl Bvh {
             }
             BvhLayout::Bvh8 => {
                 let bvh = build_bvh2(boxes, opts.params(), &mut t);
-                let perm = bvh.primitive_indices.clone();
-                (Bvh::Wide(Bvh8::from_bvh2(&bvh)), perm)
+                let (wide, perm) = Bvh8::from_bvh2(&bvh, align);
+                (Bvh::Wide(wide), perm)
             }
         }
     }

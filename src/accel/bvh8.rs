@@ -19,6 +19,9 @@ use obvhs::bvh2::Bvh2;
 /// Child slot of a node: an inner node, a leaf (slot range), or nothing.
 const EMPTY: u32 = u32::MAX;
 
+/// Permutation entry of a padding slot (see [`Bvh8::from_bvh2`]).
+pub const EMPTY_SLOT: u32 = u32::MAX;
+
 /// Children per node.
 const WIDTH: usize = 8;
 
@@ -91,68 +94,31 @@ impl Slab {
 }
 
 impl Bvh8 {
-    /// Collapses `b` (slots keep their meaning).
-    pub fn from_bvh2(b: &Bvh2) -> Bvh8 {
-        let mut out = Bvh8::default();
+    /// Collapses `b`. Leaves get new slots: each starts at a multiple of `align` and takes
+    /// a multiple of `align` slots (so a caller can keep leaf primitives in SIMD packets of
+    /// that width). Returns the tree and its permutation: slot `i` is primitive `perm[i]` of
+    /// the source's boxes, or [`EMPTY_SLOT`] for padding.
+    pub fn from_bvh2(b: &Bvh2, align: usize) -> (Bvh8, Vec<u32>) {
+        let mut c = Collapse {
+            src: b,
+            align: align.max(1),
+            out: Bvh8::default(),
+            perm: Vec::new(),
+        };
         let Some(root) = b.nodes.first() else {
-            return out;
+            return (c.out, c.perm);
         };
         let depth = if root.prim_count > 0 {
             let mut n = Node8::empty();
-            n.set(
-                0,
-                root.aabb.min,
-                root.aabb.max,
-                root.first_index,
-                root.prim_count,
-            );
-            out.nodes.push(n);
+            let first = c.leaf(root.first_index, root.prim_count);
+            n.set(0, root.aabb.min, root.aabb.max, first, root.prim_count);
+            c.out.nodes.push(n);
             1
         } else {
-            out.emit(b, 0).1
+            c.emit(0).1
         };
-        out.stack = (WIDTH - 1) * depth + 1;
-        out
-    }
-
-    /// Emits the 8-wide node for inner node `i` of `b` and its subtree (children expanded
-    /// widest first); returns its index and the subtree's depth in 8-wide nodes.
-    fn emit(&mut self, b: &Bvh2, i: usize) -> (u32, usize) {
-        let first = b.nodes[i].first_index as usize;
-        let mut kids = vec![first, first + 1];
-        while kids.len() < WIDTH {
-            let widest = kids
-                .iter()
-                .enumerate()
-                .filter(|(_, &k)| b.nodes[k].prim_count == 0)
-                .max_by(|a, c| {
-                    let area = |k: usize| b.nodes[k].aabb.half_area();
-                    area(*a.1).total_cmp(&area(*c.1))
-                })
-                .map(|(j, _)| j);
-            let Some(j) = widest else {
-                break;
-            };
-            let k = kids.remove(j);
-            let f = b.nodes[k].first_index as usize;
-            kids.insert(j, f + 1);
-            kids.insert(j, f);
-        }
-        let at = self.nodes.len();
-        self.nodes.push(Node8::empty());
-        let mut depth = 1;
-        for (lane, &k) in kids.iter().enumerate() {
-            let n = &b.nodes[k];
-            let (child, count) = if n.prim_count > 0 {
-                (n.first_index, n.prim_count)
-            } else {
-                let (c, dd) = self.emit(b, k);
-                depth = depth.max(dd + 1);
-                (c, 0)
-            };
-            self.nodes[at].set(lane, n.aabb.min, n.aabb.max, child, count);
-        }
-        (at as u32, depth)
+        c.out.stack = (WIDTH - 1) * depth + 1;
+        (c.out, c.perm)
     }
 
     /// Closest hit along `o + t d`, 0 < t < t_max: `f(slot, t_max)` returns the distance of
@@ -163,15 +129,38 @@ impl Bvh8 {
         o: Vec3A,
         d: Vec3A,
         t_max: f32,
-        f: impl FnMut(usize, f32) -> f32,
+        mut f: impl FnMut(usize, f32) -> f32,
+    ) -> Option<(usize, f32)> {
+        self.closest_leaves(o, d, t_max, |first, count, mut t_max| {
+            let mut best = None;
+            for slot in first..first + count {
+                let t = f(slot, t_max);
+                if t < t_max {
+                    t_max = t;
+                    best = Some((slot, t));
+                }
+            }
+            best
+        })
+    }
+
+    /// As [`Self::closest`], a leaf at a time: `leaf(first, count, t_max)` returns the
+    /// leaf's closest hit with `t < t_max` (slot and distance), if any.
+    #[inline]
+    pub fn closest_leaves(
+        &self,
+        o: Vec3A,
+        d: Vec3A,
+        t_max: f32,
+        leaf: impl FnMut(usize, usize, f32) -> Option<(usize, f32)>,
     ) -> Option<(usize, f32)> {
         if self.nodes.is_empty() {
             return None;
         }
         if self.stack <= STACK {
-            self.closest_in(&mut [(0, 0.0); STACK], o, d, t_max, f)
+            self.closest_in(&mut [(0, 0.0); STACK], o, d, t_max, leaf)
         } else {
-            self.closest_in(&mut vec![(0, 0.0); self.stack], o, d, t_max, f)
+            self.closest_in(&mut vec![(0, 0.0); self.stack], o, d, t_max, leaf)
         }
     }
 
@@ -182,7 +171,7 @@ impl Bvh8 {
         o: Vec3A,
         d: Vec3A,
         t_max: f32,
-        mut f: impl FnMut(usize, f32) -> f32,
+        mut leaf: impl FnMut(usize, usize, f32) -> Option<(usize, f32)>,
     ) -> Option<(usize, f32)> {
         let slab = Slab::new(o, d);
         let mut best: Option<(usize, f32)> = None;
@@ -217,13 +206,9 @@ impl Bvh8 {
                     n_inner += 1;
                     continue;
                 }
-                let first = node.child[lane];
-                for slot in first..first + count {
-                    let t = f(slot as usize, t_max);
-                    if t < t_max {
-                        t_max = t;
-                        best = Some((slot as usize, t));
-                    }
+                if let Some(hit) = leaf(node.child[lane] as usize, count as usize, t_max) {
+                    t_max = hit.1;
+                    best = Some(hit);
                 }
             }
             if n_inner == 0 {
@@ -252,14 +237,35 @@ impl Bvh8 {
 
     /// Whether `f(slot, t_max) < t_max` for any primitive whose box the ray crosses.
     #[inline]
-    pub fn any(&self, o: Vec3A, d: Vec3A, t_max: f32, f: impl FnMut(usize, f32) -> f32) -> bool {
+    pub fn any(
+        &self,
+        o: Vec3A,
+        d: Vec3A,
+        t_max: f32,
+        mut f: impl FnMut(usize, f32) -> f32,
+    ) -> bool {
+        self.any_leaves(o, d, t_max, |first, count, t_max| {
+            (first..first + count).any(|slot| f(slot, t_max) < t_max)
+        })
+    }
+
+    /// As [`Self::any`], a leaf at a time: `leaf(first, count, t_max)` says whether the
+    /// leaf has a hit with `t < t_max`.
+    #[inline]
+    pub fn any_leaves(
+        &self,
+        o: Vec3A,
+        d: Vec3A,
+        t_max: f32,
+        leaf: impl FnMut(usize, usize, f32) -> bool,
+    ) -> bool {
         if self.nodes.is_empty() {
             return false;
         }
         if self.stack <= STACK {
-            self.any_in(&mut [0; STACK], o, d, t_max, f)
+            self.any_in(&mut [0; STACK], o, d, t_max, leaf)
         } else {
-            self.any_in(&mut vec![0; self.stack], o, d, t_max, f)
+            self.any_in(&mut vec![0; self.stack], o, d, t_max, leaf)
         }
     }
 
@@ -270,7 +276,7 @@ impl Bvh8 {
         o: Vec3A,
         d: Vec3A,
         t_max: f32,
-        mut f: impl FnMut(usize, f32) -> f32,
+        mut leaf: impl FnMut(usize, usize, f32) -> bool,
     ) -> bool {
         let slab = Slab::new(o, d);
         stack[0] = 0;
@@ -288,15 +294,74 @@ impl Bvh8 {
                     sp += 1;
                     continue;
                 }
-                let first = node.child[lane];
-                for slot in first..first + count {
-                    if f(slot as usize, t_max) < t_max {
-                        return true;
-                    }
+                if leaf(node.child[lane] as usize, count as usize, t_max) {
+                    return true;
                 }
             }
         }
         false
+    }
+}
+
+/// State of [`Bvh8::from_bvh2`].
+struct Collapse<'a> {
+    src: &'a Bvh2,
+    align: usize,
+    out: Bvh8,
+    perm: Vec<u32>,
+}
+
+impl Collapse<'_> {
+    /// Gives the source leaf `first..first + count` its aligned slots; returns the first.
+    fn leaf(&mut self, first: u32, count: u32) -> u32 {
+        let at = self.perm.len();
+        let (first, count) = (first as usize, count as usize);
+        self.perm
+            .extend_from_slice(&self.src.primitive_indices[first..first + count]);
+        self.perm
+            .resize(at + count.div_ceil(self.align) * self.align, EMPTY_SLOT);
+        at as u32
+    }
+
+    /// Emits the 8-wide node for inner node `i` of the source and its subtree (children expanded
+    /// widest first); returns its index and the subtree's depth in 8-wide nodes.
+    fn emit(&mut self, i: usize) -> (u32, usize) {
+        let b = self.src;
+        let first = b.nodes[i].first_index as usize;
+        let mut kids = vec![first, first + 1];
+        while kids.len() < WIDTH {
+            let widest = kids
+                .iter()
+                .enumerate()
+                .filter(|(_, &k)| b.nodes[k].prim_count == 0)
+                .max_by(|a, c| {
+                    let area = |k: usize| b.nodes[k].aabb.half_area();
+                    area(*a.1).total_cmp(&area(*c.1))
+                })
+                .map(|(j, _)| j);
+            let Some(j) = widest else {
+                break;
+            };
+            let k = kids.remove(j);
+            let f = b.nodes[k].first_index as usize;
+            kids.insert(j, f + 1);
+            kids.insert(j, f);
+        }
+        let at = self.out.nodes.len();
+        self.out.nodes.push(Node8::empty());
+        let mut depth = 1;
+        for (lane, &k) in kids.iter().enumerate() {
+            let n = &b.nodes[k];
+            let (child, count) = if n.prim_count > 0 {
+                (self.leaf(n.first_index, n.prim_count), n.prim_count)
+            } else {
+                let (c, dd) = self.emit(k);
+                depth = depth.max(dd + 1);
+                (c, 0)
+            };
+            self.out.nodes[at].set(lane, n.aabb.min, n.aabb.max, child, count);
+        }
+        (at as u32, depth)
     }
 }
 

@@ -29,17 +29,12 @@ fn cycle<T>(kz: usize, x: T, y: T, z: T) -> (T, T, T) {
     }
 }
 
-/// Intersects the ray `o + t d`, `0 < t < t_max`, with triangle (p0, p1, p2).
-///
-/// The three vertices are processed as columns (lane i of `xs`, `ys`, `zs` is vertex i in
-/// ray space), so the shear and the edge functions are vector operations; every lane does the
-/// same f32 operations in the same order as the scalar formulation, and the inside test is
-/// branch-free (mispredicted sign branches dominated the scalar version's profile).
+/// The axis of the largest component of `d` (the test's z after permutation; ties go to
+/// the later axis).
 #[inline(always)]
-pub fn intersect(p: &[Vec3A; 3], o: Vec3A, d: Vec3A, t_max: f32) -> Option<TriHit> {
-    // Translate to the ray origin, permute so that z is the dominant direction, shear.
+pub fn dominant_axis(d: Vec3A) -> usize {
     let ad = d.abs();
-    let kz = if ad.x > ad.y {
+    if ad.x > ad.y {
         if ad.x > ad.z {
             0
         } else {
@@ -49,7 +44,26 @@ pub fn intersect(p: &[Vec3A; 3], o: Vec3A, d: Vec3A, t_max: f32) -> Option<TriHi
         1
     } else {
         2
-    };
+    }
+}
+
+/// The test's (x, y, z) axes for dominant axis `kz`: the cyclic permutation of [`cycle`].
+#[inline(always)]
+pub fn ray_axes(kz: usize) -> [usize; 3] {
+    let (x, y, z) = cycle(kz, 0, 1, 2);
+    [x, y, z]
+}
+
+/// Intersects the ray `o + t d`, `0 < t < t_max`, with triangle (p0, p1, p2).
+///
+/// The three vertices are processed as columns (lane i of `xs`, `ys`, `zs` is vertex i in
+/// ray space), so the shear and the edge functions are vector operations; every lane does the
+/// same f32 operations in the same order as the scalar formulation, and the inside test is
+/// branch-free (mispredicted sign branches dominated the scalar version's profile).
+#[inline(always)]
+pub fn intersect(p: &[Vec3A; 3], o: Vec3A, d: Vec3A, t_max: f32) -> Option<TriHit> {
+    // Translate to the ray origin, permute so that z is the dominant direction, shear.
+    let kz = dominant_axis(d);
     let cols = Mat3A::from_cols(p[0] - o, p[1] - o, p[2] - o).transpose();
     let (mut xs, mut ys, zs) = cycle(kz, cols.x_axis, cols.y_axis, cols.z_axis);
     let (dx, dy, dz) = cycle(kz, d.x, d.y, d.z);
