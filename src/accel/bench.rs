@@ -146,7 +146,7 @@ pub fn candidate_options() -> Vec<BvhOptions> {
             let leaves: &[u32] = match layout {
                 BvhLayout::Cwbvh => &[1, 3],
                 BvhLayout::Bvh2 => &[1, 4, 8],
-                BvhLayout::Bvh8 => &[1, 2, 4],
+                BvhLayout::Bvh8 => &[1, 2, 4, 8],
             };
             for &max_prims_per_leaf in leaves {
                 v.push(BvhOptions {

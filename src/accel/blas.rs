@@ -3,7 +3,8 @@
 //!
 //! With the 8-wide layout each leaf's triangles sit in SIMD packets of four
 //! ([`super::tri4`]): leaves start at multiples of four slots, and slot `s` is lane `s % 4`
-//! of packet `s / 4`. Quadrics in a leaf are tested one by one after its triangles.
+//! of packet `s / 4`. A packet's quadrics are tested one by one after its triangles (so on an
+//! exactly equal distance a triangle wins over a quadric of the same packet).
 
 use super::bvh::{padded, Bvh, BvhLayout, BvhOptions};
 use super::bvh8::EMPTY_SLOT;
@@ -203,8 +204,8 @@ impl Blas {
         }
     }
 
-    /// The closest hit in leaf slots `first..first + count` with t < t_max: packets of
-    /// triangles, then the leaf's quadrics.
+    /// The closest hit in leaf slots `first..first + count` with t < t_max: packet by
+    /// packet, its triangles and then its quadrics.
     #[inline(always)]
     fn leaf_closest(
         &self,
@@ -305,6 +306,17 @@ impl Blas {
                 Some((g, self.prims[*shape as usize]))
             }
         }
+    }
+
+    /// Packets, and those holding both triangles and quadrics (tests).
+    #[cfg(test)]
+    pub(crate) fn packet_counts(&self) -> (usize, usize) {
+        let mixed = self
+            .packs
+            .iter()
+            .filter(|p| p.quadrics != 0 && p.tris.lanes() != 0)
+            .count();
+        (self.packs.len(), mixed)
     }
 
     pub fn triangle_count(&self) -> usize {

@@ -36,7 +36,7 @@ struct Node8 {
     count: [u32; WIDTH],
 }
 
-/// An 8-wide BVH; slots are positions in the source BVH's `primitive_indices`.
+/// An 8-wide BVH; slots index the permutation [`Bvh8::from_bvh2`] returns.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh8 {
     nodes: Vec<Node8>,
@@ -315,12 +315,13 @@ impl Collapse<'_> {
     /// Gives the source leaf `first..first + count` its aligned slots; returns the first.
     fn leaf(&mut self, first: u32, count: u32) -> u32 {
         let at = self.perm.len();
+        let slot = u32::try_from(at).expect("more than 2^32 BVH slots");
         let (first, count) = (first as usize, count as usize);
         self.perm
             .extend_from_slice(&self.src.primitive_indices[first..first + count]);
         self.perm
             .resize(at + count.div_ceil(self.align) * self.align, EMPTY_SLOT);
-        at as u32
+        slot
     }
 
     /// Emits the 8-wide node for inner node `i` of the source and its subtree (children expanded
@@ -455,6 +456,66 @@ mod tests {
                 assert_eq!(got.map(|h| h.1), brute.map(|h| h.1), "n {n}");
                 let any = bvh.any(o, d, t_max, |o, d, tm, s| box_t(prim(s), o, d, tm));
                 assert_eq!(any, brute.is_some(), "n {n}");
+            }
+        }
+    }
+
+    /// Leaves built for packets of four start at multiples of four slots and are padded
+    /// with [`super::EMPTY_SLOT`]; every primitive has exactly one slot, and queries (which
+    /// see padding as misses) match brute force.
+    #[test]
+    fn aligned_leaves_start_at_multiples_of_the_packet_width() {
+        use super::EMPTY_SLOT;
+        let mut rng = Rng::new(8);
+        let n = 500;
+        let boxes: Vec<Aabb> = (0..n)
+            .map(|_| {
+                let c = rng.in_box(Vec3A::splat(-10.0), Vec3A::splat(10.0));
+                padded(c - 0.3, c + 0.3)
+            })
+            .collect();
+        for leaf in [1, 3, 4, 8] {
+            let opts = BvhOptions {
+                layout: BvhLayout::Bvh8,
+                quality: BuildQuality::Medium,
+                max_prims_per_leaf: leaf,
+            };
+            let (bvh, perm) = Bvh::build_aligned(&boxes, opts, 4);
+            let Bvh::Wide(wide) = &bvh else {
+                panic!("expected the 8-wide layout");
+            };
+            assert_eq!(perm.len() % 4, 0);
+            let mut leaves = 0;
+            for node in &wide.nodes {
+                for lane in (0..8).filter(|&l| node.count[l] > 0) {
+                    let (first, count) = (node.child[lane] as usize, node.count[lane] as usize);
+                    assert_eq!(first % 4, 0, "leaf {leaf}");
+                    assert!(count <= leaf as usize);
+                    let end = (first + count).div_ceil(4) * 4;
+                    assert!(perm[first..first + count].iter().all(|&i| i != EMPTY_SLOT));
+                    assert!(perm[first + count..end].iter().all(|&i| i == EMPTY_SLOT));
+                    leaves += 1;
+                }
+            }
+            assert!(leaves >= n / leaf as usize);
+            let mut seen: Vec<u32> = perm.iter().copied().filter(|&i| i != EMPTY_SLOT).collect();
+            seen.sort_unstable();
+            assert_eq!(seen, (0..n as u32).collect::<Vec<_>>());
+            let prim_t = |slot: usize, o, d, tm| match perm[slot] {
+                EMPTY_SLOT => f32::INFINITY,
+                i => box_t(&boxes[i as usize], o, d, tm),
+            };
+            for _ in 0..1000 {
+                let o = rng.in_box(Vec3A::splat(-12.0), Vec3A::splat(12.0));
+                let d = rng.direction();
+                let brute = (0..n)
+                    .map(|i| box_t(&boxes[i], o, d, 30.0))
+                    .filter(|t| *t < 30.0)
+                    .min_by(f32::total_cmp);
+                let got = bvh.closest(o, d, 30.0, |o, d, tm, s| prim_t(s, o, d, tm));
+                assert_eq!(got.map(|h| h.1), brute, "leaf {leaf}");
+                let any = bvh.any(o, d, 30.0, |o, d, tm, s| prim_t(s, o, d, tm));
+                assert_eq!(any, brute.is_some());
             }
         }
     }

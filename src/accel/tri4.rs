@@ -72,13 +72,18 @@ struct Lanes {
 }
 
 impl Tri4 {
-    /// A packet of `tris[lane]` (None: an empty lane).
+    /// A packet of `tris[lane]` (None: an empty lane). A triangle with two equal vertices
+    /// is kept (for [`Self::vertices`]) but never tested: the scalar test cannot hit it (the
+    /// edge between the equal vertices is exactly zero and the other two cancel), and its
+    /// zero edge function would send every ray through the packet to the f64 fallback.
     pub fn new(tris: [Option<[Vec3A; 3]>; LANES]) -> Tri4 {
         let mut p = [[Vec4::NAN; 3]; 3];
         let mut valid = 0;
         for (lane, v) in tris.iter().enumerate() {
             let Some(v) = v else { continue };
-            valid |= 1 << lane;
+            if v[0] != v[1] && v[1] != v[2] && v[2] != v[0] {
+                valid |= 1 << lane;
+            }
             for (i, vi) in v.iter().enumerate() {
                 for a in 0..3 {
                     p[i][a][lane] = vi[a];
@@ -86,6 +91,11 @@ impl Tri4 {
             }
         }
         Tri4 { p, valid }
+    }
+
+    /// The lanes tested (holding a triangle with three distinct vertices), as a bit mask.
+    pub fn lanes(&self) -> u32 {
+        self.valid
     }
 
     /// The vertices of the triangle in `lane` (NaN for an empty lane).
@@ -294,24 +304,128 @@ mod tests {
         assert!(hits > 1000, "too few hits to mean anything: {hits}");
     }
 
-    /// A ray through the shared vertex or along a shared edge of a fan still hits it
-    /// (watertight: those rays have exactly zero edge functions, settled in f64).
-    #[test]
-    fn rays_through_shared_edges_are_not_lost() {
-        let c = Vec3A::new(0.0, 0.0, 0.0);
-        let ring: Vec<Vec3A> = (0..4)
-            .map(|i| {
-                let a = std::f32::consts::FRAC_PI_2 * i as f32;
-                Vec3A::new(a.cos(), a.sin(), 0.0)
-            })
-            .collect();
-        let tris = [0, 1, 2, 3].map(|i| Some([c, ring[i], ring[(i + 1) % 4]]));
-        let pack = Tri4::new(tris);
-        for o in [Vec3A::new(0.0, 0.0, 1.0), Vec3A::new(0.5, 0.0, 1.0)] {
-            let ray = RayTri::new(o, -Vec3A::Z);
-            let h = pack.closest(&ray, f32::INFINITY).expect("watertight");
-            assert_eq!(h.t, 1.0);
-            assert!(pack.any(&ray, f32::INFINITY));
+    /// Hit as comparable bits (NaN-safe).
+    fn bits(h: Option<Tri4Hit>) -> Option<(usize, u32, [u32; 3])> {
+        h.map(|h| (h.lane, h.t.to_bits(), h.b.map(f32::to_bits)))
+    }
+
+    /// The scalar test over the lanes, closest first-lane-on-ties.
+    fn scalar(tris: &[Option<[Vec3A; 3]>], o: Vec3A, d: Vec3A, t_max: f32) -> Option<Tri4Hit> {
+        let mut want: Option<Tri4Hit> = None;
+        for (lane, v) in tris.iter().enumerate() {
+            let Some(v) = v else { continue };
+            if let Some(h) = triangle::intersect(v, o, d, t_max) {
+                if want.is_none_or(|w| h.t < w.t) {
+                    want = Some(Tri4Hit {
+                        lane,
+                        t: h.t,
+                        b: h.b,
+                    });
+                }
+            }
         }
+        want
+    }
+
+    /// Rays through the shared vertices and along the shared edges of an integer fan have
+    /// exactly zero edge functions: the packet hands them to the f64 path, with the scalar
+    /// test's results bit for bit, and no ray falls between the triangles (watertight).
+    #[test]
+    fn zero_edge_rays_take_the_f64_path_with_the_same_results() {
+        let ring = [
+            (1, 0),
+            (1, 1),
+            (0, 1),
+            (-1, 1),
+            (-1, 0),
+            (-1, -1),
+            (0, -1),
+            (1, -1),
+        ]
+        .map(|(x, y)| Vec3A::new(x as f32, y as f32, 0.0));
+        let fan: Vec<Option<[Vec3A; 3]>> = (0..8)
+            .map(|i| Some([Vec3A::ZERO, ring[i], ring[(i + 1) % 8]]))
+            .collect();
+        // The second packet has an empty lane (and its triangle in the first one).
+        let mut packets = vec![fan[..4].to_vec(), fan[4..7].to_vec()];
+        packets[1].push(None);
+        packets[0][3] = fan[3];
+        let packs: Vec<Tri4> = packets
+            .iter()
+            .map(|p| Tri4::new([p[0], p[1], p[2], p[3]]))
+            .collect();
+        let mut fallbacks = 0;
+        for (x, y) in [
+            (0.0, 0.0),
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (0.5, 0.0),
+            (0.5, 0.5),
+            (0.0, -0.5),
+        ] {
+            let o = Vec3A::new(x, y, 2.0);
+            let ray = RayTri::new(o, -Vec3A::Z);
+            let mut hit = false;
+            for (p, lanes) in packs.iter().zip(&packets) {
+                fallbacks += usize::from(p.test(&ray, f32::INFINITY).is_none());
+                let got = p.closest(&ray, f32::INFINITY);
+                assert_eq!(bits(got), bits(scalar(lanes, o, -Vec3A::Z, f32::INFINITY)));
+                assert_eq!(p.any(&ray, f32::INFINITY), got.is_some());
+                hit |= got.is_some_and(|h| h.t == 2.0);
+            }
+            assert!(hit, "ray at ({x}, {y}) fell through the fan");
+        }
+        assert!(fallbacks >= 6, "only {fallbacks} packets took the f64 path");
+    }
+
+    /// Overflowing, infinite, NaN and degenerate triangles and odd t_max values: a lane
+    /// alone in its packet gives exactly the scalar test's answer (a NaN distance is a miss
+    /// in both).
+    #[test]
+    fn extreme_inputs_match_the_scalar_test() {
+        let big = 3.0e38f32;
+        let v = Vec3A::new;
+        let tris = [
+            [v(-big, -big, 1.0), v(big, -big, 1.0), v(0.0, big, 1.0)],
+            [v(-big, 0.0, -big), v(big, 0.0, big), v(big, 1.0, -big)],
+            [
+                v(-1.0, -1.0, 1.0),
+                v(f32::INFINITY, -1.0, 1.0),
+                v(0.0, 1.0, 1.0),
+            ],
+            [v(-1.0, -1.0, 1.0), v(f32::NAN, -1.0, 1.0), v(0.0, 1.0, 1.0)],
+            [v(-1.0, -1.0, 1.0), v(-1.0, -1.0, 1.0), v(0.0, 1.0, 1.0)],
+            [v(0.2, 0.1, 1.0), v(0.2, 0.1, 1.0), v(0.2, 0.1, 1.0)],
+            [v(-1.0, -1.0, 1.0), v(0.0, 0.0, 1.0), v(1.0, 1.0, 1.0)],
+            [
+                v(-1e-30, -1e-30, 1e-30),
+                v(1e-30, -1e-30, 1e-30),
+                v(0.0, 1e-30, 1e-30),
+            ],
+            [v(-1.0, -1.0, 1.0), v(1.0, -1.0, 1.0), v(0.0, 1.0, 1.0)],
+        ];
+        let rays = [
+            (Vec3A::ZERO, Vec3A::Z),
+            (Vec3A::ZERO, Vec3A::new(0.6, 0.1, 0.8).normalize()),
+            (v(0.2, 0.1, -1.0), Vec3A::Z),
+            (v(0.0, 0.0, 1.0), Vec3A::X),
+            (v(1e-31, 0.0, 0.0), Vec3A::Z),
+        ];
+        let mut hits = 0;
+        for tri in tris {
+            for (o, d) in rays {
+                for t_max in [f32::INFINITY, 1.5, 1.0, 1e-30, 0.0, f32::NAN] {
+                    let lanes = [None, Some(tri), None, None];
+                    let pack = Tri4::new(lanes);
+                    let ray = RayTri::new(o, d);
+                    let want = scalar(&lanes, o, d, t_max);
+                    let got = pack.closest(&ray, t_max);
+                    assert_eq!(bits(got), bits(want), "{tri:?} {o} {d} {t_max}");
+                    assert_eq!(pack.any(&ray, t_max), want.is_some());
+                    hits += usize::from(want.is_some());
+                }
+            }
+        }
+        assert!(hits >= 4, "too few hits to mean anything: {hits}");
     }
 }

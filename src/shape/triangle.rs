@@ -97,7 +97,9 @@ pub fn intersect(p: &[Vec3A; 3], o: Vec3A, d: Vec3A, t_max: f32) -> Option<TriHi
     }
     let inv_det = 1.0 / det;
     let t = t_scaled * inv_det;
-    if t >= t_max {
+    // Written so that a NaN distance (or t_max) is a miss, as in the SIMD packet test.
+    let in_range = t < t_max;
+    if !in_range {
         return None;
     }
 

@@ -218,28 +218,46 @@ fn rays_between_close_surfaces_hit_the_other_one() {
     }
 }
 
+fn build_with(shapes: &[ShapeDesc], opts: bvh::BvhOptions) -> Geometry {
+    let mut b = GeometryBuilder::with_options(opts);
+    for (i, s) in shapes.iter().enumerate() {
+        b.add_shape(s, i as u32, &ShapeCtx::default()).unwrap();
+    }
+    b.build()
+}
+
+/// What a closest hit found: primitive, distance, point and uv.
+fn found(si: SurfaceInteraction) -> (u32, f32, Vec3A, glam::Vec2) {
+    (si.prim, si.t, si.it.p, si.uv)
+}
+
 #[test]
 fn every_bvh_configuration_finds_the_same_hits() {
-    let shapes = bench::cornell_like();
-    let build = |opts| {
-        let mut b = GeometryBuilder::with_options(opts);
-        for (i, s) in shapes.iter().enumerate() {
-            b.add_shape(s, i as u32, &ShapeCtx::default()).unwrap();
-        }
-        b.build()
-    };
+    // The Cornell meshes and 30 small analytic spheres (quadrics share leaves and packets
+    // with triangles).
+    let mut shapes = bench::cornell_like();
+    let mut rng = bench::Rng::new(77);
+    for _ in 0..30 {
+        let c = rng.in_box(Vec3A::new(-0.9, -0.9, 0.1), Vec3A::new(0.9, 0.9, 1.9));
+        let at = DMat4::from_translation(DVec3::new(c.x as f64, c.y as f64, c.z as f64));
+        let r = 0.02 + 0.06 * rng.f32();
+        shapes.push(shape("sphere", vec![("radius", floats(&[r]))], at, false));
+    }
+    let build = |opts| build_with(&shapes, opts);
     let reference = build(bvh::BvhOptions::default());
     let (closest, any) = bench::incoherent_rays(&reference, 3000, 11);
     let expect: Vec<_> = closest
         .iter()
-        .map(|r| reference.intersect(r).map(|s| (s.prim, s.t)))
+        .map(|r| reference.intersect(r).map(found))
         .collect();
     assert!(expect.iter().filter(|h| h.is_some()).count() > 2000);
+    let sphere_hits = expect.iter().flatten().filter(|h| h.0 >= 6).count();
+    assert!(sphere_hits > 20, "{sphere_hits} sphere hits");
     let expect_any: Vec<bool> = any.iter().map(|r| reference.intersect_p(r)).collect();
     for opts in bench::candidate_options() {
         let g = build(opts);
         for (r, e) in closest.iter().zip(&expect) {
-            assert_eq!(g.intersect(r).map(|s| (s.prim, s.t)), *e, "{opts}");
+            assert_eq!(g.intersect(r).map(found), *e, "{opts}");
         }
         for (r, e) in any.iter().zip(&expect_any) {
             assert_eq!(g.intersect_p(r), *e, "{opts}");
@@ -247,7 +265,7 @@ fn every_bvh_configuration_finds_the_same_hits() {
     }
     // closest hits agree with any-hit queries along the same segment
     for (r, e) in closest.iter().zip(&expect) {
-        if let Some((_, t)) = e {
+        if let Some((_, t, _, _)) = e {
             let seg = Ray {
                 t_max: t * 1.01,
                 ..*r
@@ -258,6 +276,62 @@ fn every_bvh_configuration_finds_the_same_hits() {
                 ..*r
             };
             assert!(!reference.intersect_p(&short));
+        }
+    }
+}
+
+/// Clusters of quad, sphere, quad close together share leaves: packets mixing triangles and
+/// a quadric, with the sphere in front of or behind a triangle of its packet. Every 8-wide
+/// configuration finds what the binary BVH with single-primitive leaves finds.
+#[test]
+fn packets_mixing_triangles_and_quadrics_find_the_closest() {
+    let mut shapes = Vec::new();
+    let mut centres = Vec::new();
+    for i in 0..40 {
+        let c = DVec3::new((i % 8) as f64 * 3.0, (i / 8) as f64 * 3.0, 0.0);
+        centres.push(Vec3A::new(c.x as f32, c.y as f32, 0.0));
+        let dz = if i % 2 == 0 { 0.1 } else { -0.35 };
+        let small = DMat4::from_scale(DVec3::splat(0.3));
+        let quad_at = |z: f64| DMat4::from_translation(c + DVec3::new(0.0, 0.0, z)) * small;
+        shapes.push(quad(quad_at(dz), false));
+        let ball = vec![("radius", floats(&[0.3]))];
+        shapes.push(shape("sphere", ball, DMat4::from_translation(c), false));
+        shapes.push(quad(quad_at(-dz), false));
+    }
+    let single = bvh::BvhOptions {
+        layout: bvh::BvhLayout::Bvh2,
+        quality: bvh::BuildQuality::Medium,
+        max_prims_per_leaf: 1,
+    };
+    let reference = build_with(&shapes, single);
+    let mut rng = bench::Rng::new(4);
+    let rays: Vec<Ray> = (0..6000)
+        .map(|k| {
+            let c = centres[k % centres.len()];
+            let side = if k % 3 == 0 { -3.0 } else { 3.0 };
+            let o = c + rng.in_box(Vec3A::splat(-0.4), Vec3A::splat(0.4)) + Vec3A::Z * side;
+            let d = (c + rng.in_box(Vec3A::splat(-0.3), Vec3A::splat(0.3)) - o).normalize();
+            Ray::new(o, d)
+        })
+        .collect();
+    let expect: Vec<_> = rays
+        .iter()
+        .map(|r| reference.intersect(r).map(found))
+        .collect();
+    let sphere_hits = expect.iter().flatten().filter(|h| h.0 % 3 == 1).count();
+    assert!(sphere_hits > 500, "{sphere_hits} sphere hits");
+    for leaf in [3, 4, 8] {
+        let opts = bvh::BvhOptions {
+            layout: bvh::BvhLayout::Bvh8,
+            quality: bvh::BuildQuality::Medium,
+            max_prims_per_leaf: leaf,
+        };
+        let g = build_with(&shapes, opts);
+        let (_, mixed) = g.world.packet_counts();
+        assert!(mixed > 0, "{opts}: no packet mixes triangles and quadrics");
+        for (r, e) in rays.iter().zip(&expect) {
+            assert_eq!(g.intersect(r).map(found), *e, "{opts}");
+            assert_eq!(g.intersect_p(r), e.is_some(), "{opts}");
         }
     }
 }
