@@ -51,7 +51,8 @@ fn sample_one(
     let Some(ls) = light.sample_li(&si.it, u, u_pick, scene) else {
         return Rgb::BLACK;
     };
-    let f = bsdf.f(si.wo, ls.wi) * ls.wi.dot(si.shading.n).abs();
+    let (f, pdf_bsdf) = bsdf.f_pdf(si.wo, ls.wi);
+    let f = f * ls.wi.dot(si.shading.n).abs();
     if f.is_black() || !scene.unoccluded(&si.it, &ls) {
         return Rgb::BLACK;
     }
@@ -59,7 +60,7 @@ fn sample_one(
         1.0
     } else {
         let eff = light_draws(scene, settings, i);
-        power_heuristic(eff * ls.pdf, bsdf.pdf(si.wo, ls.wi))
+        power_heuristic(eff * ls.pdf, pdf_bsdf)
     };
     f * ls.li * (w / ls.pdf)
 }

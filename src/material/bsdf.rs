@@ -143,6 +143,11 @@ impl Bsdf {
         if wo.z == 0.0 || !self.consistent(wo_w, wi_w, wo, wi) {
             return Rgb::BLACK;
         }
+        self.local_f(wo, wi)
+    }
+
+    /// The lobes' value for local directions on consistent sides (black if not finite).
+    fn local_f(&self, wo: Vec3A, wi: Vec3A) -> Rgb {
         let v = match &self.lobes {
             Lobes::Diffuse(d) => d.f(wo, wi),
             Lobes::Translucent(t) => t.f(wo, wi),
@@ -168,6 +173,20 @@ impl Bsdf {
         if wo.z == 0.0 || !self.consistent(wo_w, wi_w, wo, wi) {
             return 0.0;
         }
+        self.local_pdf(wo, wi)
+    }
+
+    /// [`Self::f`] and [`Self::pdf`] together (one change of frame, one side test).
+    pub fn f_pdf(&self, wo_w: Vec3A, wi_w: Vec3A) -> (Rgb, f32) {
+        let (wo, wi) = (self.frame.to_local(wo_w), self.frame.to_local(wi_w));
+        if wo.z == 0.0 || !self.consistent(wo_w, wi_w, wo, wi) {
+            return (Rgb::BLACK, 0.0);
+        }
+        (self.local_f(wo, wi), self.local_pdf(wo, wi))
+    }
+
+    /// The lobes' density for local directions on consistent sides.
+    fn local_pdf(&self, wo: Vec3A, wi: Vec3A) -> f32 {
         match &self.lobes {
             Lobes::Diffuse(d) => d.pdf(wo, wi),
             Lobes::Translucent(t) => t.pdf(wo, wi),
