@@ -1,7 +1,8 @@
 //! The worker protocol against a real master, driven by a protocol client in the test (no
 //! rendering): a replayed (lease, seq) upload is ignored, an upload of the wrong resolution is
 //! refused and leaves the job untouched, halting on haltspp tells the lease to stop, and the
-//! merged film equals the sum of the acknowledged deltas.
+//! merged film equals the sum of the acknowledged deltas; the jobs service's Fetch takes the
+//! PNG size and tonemapping REST's image.png takes.
 
 mod farm_common;
 
@@ -190,5 +191,109 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
             let (film, _) = luxfarm::film::flm::read_flm(&flm.bytes().unwrap()[..]).unwrap();
             assert_eq!(film.total_samples(), 48.0 * 3.0);
         });
+    });
+}
+
+/// PNG width and height from its IHDR chunk.
+fn png_size(png: &[u8]) -> (u32, u32) {
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    let be = |i: usize| u32::from_be_bytes(png[i..i + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+/// gRPC Fetch takes image.png's size and tonemapping: the same bytes as the REST query with
+/// the same parameters, and the same errors for unknown or misplaced parameters.
+#[test]
+fn fetch_takes_the_size_and_tonemapping_of_image_png() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(&dir.path().join("data"), &[]);
+    let scene = std::fs::read(small_scene(dir.path(), "f", (8, 6), "")).unwrap();
+    let (st, job) = post_job(&s, scene, "?filename=f.lxs&haltspp=100");
+    assert_eq!(st, 201, "{job}");
+    let id = job["id"].as_str().unwrap().to_string();
+    let (url, api) = (s.url(), s.api(&format!("/jobs/{id}/image.png")));
+    let rest = |query: &str| -> Vec<u8> {
+        let r = http().get(format!("{api}{query}")).send().expect("GET");
+        assert_eq!(r.status().as_u16(), 200, "{query}");
+        r.bytes().unwrap().to_vec()
+    };
+    rt().block_on(async move {
+        let mut w = connect::worker_client(connect::channel(&url, None, None).unwrap());
+        let reg = w
+            .register(pb::RegisterRequest {
+                name: "t".into(),
+                threads: 1,
+                worker_id: String::new(),
+            })
+            .await
+            .unwrap()
+            .into_inner();
+        let a = w
+            .next_assignment(pb::NextRequest {
+                worker_id: reg.worker_id.clone(),
+            })
+            .await
+            .unwrap()
+            .into_inner()
+            .assignment
+            .expect("an assignment");
+        let d = delta(8, 6, 0.25, 1.0);
+        let ack = upload(&mut w, &reg.worker_id, &a.lease_id, 1, &d)
+            .await
+            .unwrap();
+        assert_eq!(ack.status, "merged");
+
+        let jobs = connect::jobs_client(connect::channel(&url, None, None).unwrap());
+        let fetch = |max_size: u32, format: &str, tm: &[(&str, &str)]| {
+            let req = pb::FetchRequest {
+                id: id.clone(),
+                format: format.into(),
+                max_size,
+                tonemap: tm
+                    .iter()
+                    .map(|(k, v)| (k.to_string(), v.to_string()))
+                    .collect(),
+            };
+            let mut jobs = jobs.clone();
+            async move {
+                let mut s = jobs.fetch(req).await?.into_inner();
+                let mut out = Vec::new();
+                while let Some(c) = tokio_stream::StreamExt::next(&mut s).await {
+                    out.extend_from_slice(&c?.data);
+                }
+                Ok::<_, tonic::Status>(out)
+            }
+        };
+        let plain = fetch(0, "png", &[]).await.unwrap();
+        assert_eq!(png_size(&plain), (8, 6));
+        let q = "?kernel=linear&linear_exposure=8&gamma=1.8";
+        let tm = [
+            ("kernel", "linear"),
+            ("linear_exposure", "8"),
+            ("gamma", "1.8"),
+        ];
+        let toned = fetch(0, "png", &tm).await.unwrap();
+        assert_ne!(toned, plain, "the tonemapping must change the image");
+        let small = fetch(4, "png", &[]).await.unwrap();
+        assert_eq!(png_size(&small), (4, 3));
+        tokio::task::block_in_place(|| {
+            assert_eq!(plain, rest(""));
+            assert_eq!(toned, rest(q));
+            assert_eq!(small, rest("?max_size=4"));
+        });
+        for (size, format, tm) in [
+            (0, "png", vec![("bogus", "1")]),
+            (0, "png", vec![("kernel", "linear"), ("reinhard_burn", "2")]),
+            (0, "png", vec![("linear_exposure", "-1")]),
+            (0, "exr", vec![("kernel", "linear")]),
+            (4, "flm", vec![]),
+        ] {
+            let err = fetch(size, format, &tm).await.unwrap_err();
+            assert_eq!(
+                err.code(),
+                tonic::Code::InvalidArgument,
+                "{format} {tm:?}: {err:?}"
+            );
+        }
     });
 }

@@ -3,6 +3,7 @@
 
 use crate::error::ServerError;
 use crate::farm::{Farm, SubmitOptions};
+use crate::output::tonemap::TonemapOverride;
 use crate::views;
 use luxfarm_proto as pb;
 use std::pin::Pin;
@@ -142,8 +143,11 @@ impl pb::jobs_server::Jobs for JobsService {
         req: Request<pb::FetchRequest>,
     ) -> Result<Response<Self::FetchStream>, Status> {
         let r = req.into_inner();
+        let (size, tm) = fetch_options(&r)?;
         let farm = self.0.clone();
-        let bytes = blocking(move || crate::output::render(&farm, &r.id, &r.format, None)).await?;
+        let bytes =
+            blocking(move || crate::output::render_with(&farm, &r.id, &r.format, size, &tm))
+                .await?;
         Ok(Response::new(chunk_stream(bytes.bytes)))
     }
 
@@ -157,6 +161,24 @@ impl pb::jobs_server::Jobs for JobsService {
             workers: workers.into_iter().map(Into::into).collect(),
         }))
     }
+}
+
+/// A fetch's PNG size and tonemapping, validated as REST's image.png query is (errors name
+/// the parameter); they apply to PNGs only.
+fn fetch_options(r: &pb::FetchRequest) -> Result<(Option<u32>, TonemapOverride), ServerError> {
+    if r.format != "png" && (r.max_size > 0 || !r.tonemap.is_empty()) {
+        return Err(ServerError::BadRequest(format!(
+            "max_size and tonemap apply to png only, not {:?}",
+            r.format
+        )));
+    }
+    let params = r
+        .tonemap
+        .iter()
+        .filter(|(k, _)| k.as_str() != "kernel")
+        .map(|(k, v)| (k.as_str(), Some(v.as_str())));
+    let tm = TonemapOverride::parse(r.tonemap.get("kernel").map(String::as_str), params)?;
+    Ok(((r.max_size > 0).then_some(r.max_size), tm))
 }
 
 /// The worker-facing service.
