@@ -19,10 +19,10 @@ pub struct Args {
     /// png: the longer side at most this many pixels.
     #[arg(long)]
     pub max_size: Option<u32>,
-    /// png: tonemapping over the scene's, as NAME=VALUE (repeatable): kernel=reinhard|linear|
-    /// contrast|maxwhite|autolinear and the kernel's parameters (reinhard_prescale,
-    /// reinhard_postscale, reinhard_burn, linear_sensitivity, linear_exposure, linear_fstop,
-    /// linear_gamma, contrast_ywa, gamma).
+    /// png: tonemapping over the scene's, as NAME=VALUE (repeatable): kernel (reinhard,
+    /// linear, contrast, maxwhite or autolinear) and the kernel's parameters
+    /// (reinhard_prescale, reinhard_postscale, reinhard_burn, linear_sensitivity,
+    /// linear_exposure, linear_fstop, linear_gamma, contrast_ywa, gamma).
     #[arg(long, value_parser = name_value)]
     pub tonemap: Vec<(String, String)>,
     /// Output file (default: JOB.FORMAT).
