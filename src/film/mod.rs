@@ -2,12 +2,14 @@
 //! convergence.
 //!
 //! - [`Film`]: f64 sums per light group and pixel, f64 sample counts ([`buffer`]).
-//! - [`FilmParams`]: the `Film "fleximage"` statement with LuxRender's defaults ([`params`]).
+//! - [`FilmParams`]: the `Film "fleximage"` statement with LuxRender's defaults ([`params`];
+//!   its image outputs' settings in [`image_output`]).
 
 pub mod buffer;
 pub mod compare;
 pub mod convergence;
 pub mod error;
+pub mod image_output;
 pub mod outlier;
 pub mod output;
 pub mod params;
@@ -16,8 +18,9 @@ pub use buffer::{check_size, BufferType, Film, MAX_AXIS, MAX_PIXELS, PIXEL_VALUE
 pub use compare::{compare, Comparison};
 pub use convergence::ConvergenceTest;
 pub use error::FilmError;
+pub use image_output::{Channels, ExrCompression, ImageOutput, ZBufNorm};
 pub use outlier::OutlierRejector;
-pub use params::{Channels, ExrCompression, FilmParams, ImageOutput, ZBufNorm};
+pub use params::FilmParams;
 pub mod flm;
 pub mod flm_header;
 
