@@ -138,7 +138,7 @@ pub struct BenchResult {
     pub rays: usize,
 }
 
-/// The obvhs configurations compared by [`bench`].
+/// The obvhs configurations compared by [`bench()`].
 pub fn candidate_options() -> Vec<BvhOptions> {
     let mut v = Vec::new();
     for layout in [BvhLayout::Cwbvh, BvhLayout::Bvh2, BvhLayout::Bvh8] {

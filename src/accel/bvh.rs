@@ -85,7 +85,7 @@ impl BvhOptions {
 #[derive(Clone)]
 pub enum Bvh {
     Empty,
-    /// CWBVH and the power-of-two ray-parameter scale (see [`ray_scale`]).
+    /// CWBVH and the power-of-two ray-parameter scale (see `ray_scale`).
     Cw(CwBvh, f32),
     Bin(Bvh2, f32),
     Wide(Bvh8),

@@ -1,5 +1,5 @@
 //! The lat-long (equirectangular) parameterisation shared by the environment lights (infinite
-//! with a map, sky): light-space direction ↔ (s, t) ∈ [0,1)×[0,1] with φ = 2π s around +z and
+//! with a map, sky): light-space direction ↔ (s, t) ∈ [0, 1) × [0, 1] with φ = 2π s around +z and
 //! θ = π t from +z, and directions sampled from a piecewise-constant [`Distribution2D`] over
 //! (s, t), whose solid-angle pdf is `pdf(s, t) / (2π² sin θ)`.
 

@@ -1,4 +1,4 @@
-//! Building a renderable [`Scene`] from a [`SceneDescription`]: only what the description
+//! Building a renderable [`Scene`] from a [`crate::lxs::SceneDescription`]: only what the description
 //! references is built — shapes (and the objects that instances use), the materials those
 //! shapes use (with their textures), the lights and their `L` textures. Unused parameters of
 //! what was built are reported as warnings with file:line:column, and the log says what was

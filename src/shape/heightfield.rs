@@ -1,4 +1,4 @@
-//! `heightfield`: a grid of `nu` x `nv` heights `float Pz` over the unit square [0,1]², turned
+//! `heightfield`: a grid of `nu` x `nv` heights `float Pz` over the unit square [0, 1]², turned
 //! into a triangle mesh with uv = (x, y), as LuxRender's heightfield.cpp does.
 
 use super::mesh::{MeshData, TriangleMesh};

@@ -47,7 +47,7 @@ pub fn dominant_axis(d: Vec3A) -> usize {
     }
 }
 
-/// The test's (x, y, z) axes for dominant axis `kz`: the cyclic permutation of [`cycle`].
+/// The test's (x, y, z) axes for dominant axis `kz`: the cyclic permutation the scalar test uses.
 #[inline(always)]
 pub fn ray_axes(kz: usize) -> [usize; 3] {
     let (x, y, z) = cycle(kz, 0, 1, 2);
