@@ -348,6 +348,49 @@ fn autofocus_traces_the_centre_ray() {
     assert_eq!(plain.autofocus(wall), Some(1e30));
 }
 
+/// A fixed camera transforms its rays in f32: they match the f64 transform (which moving
+/// cameras use) within a few ulps of the origin's coordinates and 1e-6 in direction, at
+/// every scene scale, for all three camera kinds.
+#[test]
+fn fixed_camera_rays_in_f32_match_the_f64_transform() {
+    for scale in [1e-4, 1.0, 1e5] {
+        let w2c = look_at(
+            [3.0 * scale, -4.0 * scale, 2.0 * scale],
+            [0.5 * scale, 0.2 * scale, 0.1 * scale],
+            [0.0, 0.0, 1.0],
+        );
+        let lens = [("lensradius", f(0.01)), ("focaldistance", f(2.0))];
+        for (kind, params) in [
+            ("perspective", &lens[..]),
+            ("orthographic", &[][..]),
+            ("environment", &[][..]),
+        ] {
+            let fast = camera(kind, params, w2c, 64, 48);
+            assert!(fast.fixed.is_some());
+            let exact = Camera {
+                fixed: None,
+                ..fast.clone()
+            };
+            for (x, y) in [(0.0, 0.0), (31.5, 20.25), (63.9, 47.9), (10.0, 40.0)] {
+                let (a, b) = (ray_at(&fast, x, y), ray_at(&exact, x, y));
+                let ulp = b.o.abs().max_element().max(f32::MIN_POSITIVE) * f32::EPSILON;
+                assert!(
+                    (a.o - b.o).abs().max_element() <= 4.0 * ulp,
+                    "{kind} {scale}: {a:?} {b:?}"
+                );
+                assert!(
+                    (a.d - b.d).abs().max_element() <= 1e-6,
+                    "{kind} {scale}: {a:?} {b:?}"
+                );
+                assert!(
+                    (a.t_max - b.t_max).abs() <= 1e-5 * b.t_max,
+                    "{kind} {scale}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn animated_camera_moves_with_time() {
     let a = look_at([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
