@@ -46,6 +46,31 @@ async fn upload(
         .map(|r| r.into_inner())
 }
 
+/// Registers a one-thread worker and takes its first assignment.
+async fn register_and_lease(
+    c: &mut pb::worker_client::WorkerClient<connect::AuthChannel>,
+) -> (pb::RegisterReply, pb::Assignment) {
+    let reg = c
+        .register(pb::RegisterRequest {
+            name: "t".into(),
+            threads: 1,
+            worker_id: String::new(),
+        })
+        .await
+        .unwrap()
+        .into_inner();
+    let a = c
+        .next_assignment(pb::NextRequest {
+            worker_id: reg.worker_id.clone(),
+        })
+        .await
+        .unwrap()
+        .into_inner()
+        .assignment
+        .expect("an assignment");
+    (reg, a)
+}
+
 fn delta(w: u32, h: u32, value: f32, spp: f64) -> Film {
     let mut f = Film::new(w, h, vec!["default".into()]);
     for y in 0..h {
@@ -69,24 +94,7 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
     rt().block_on(async move {
         let ch = connect::channel(&url, None, None).unwrap();
         let mut c = connect::worker_client(ch);
-        let reg = c
-            .register(pb::RegisterRequest {
-                name: "t".into(),
-                threads: 1,
-                worker_id: String::new(),
-            })
-            .await
-            .unwrap()
-            .into_inner();
-        let a = c
-            .next_assignment(pb::NextRequest {
-                worker_id: reg.worker_id.clone(),
-            })
-            .await
-            .unwrap()
-            .into_inner()
-            .assignment
-            .expect("an assignment");
+        let (reg, a) = register_and_lease(&mut c).await;
         assert_eq!(a.job_id, id);
         assert_eq!((a.width, a.height), (8, 6));
         let w = &reg.worker_id;
@@ -219,24 +227,7 @@ fn fetch_takes_the_size_and_tonemapping_of_image_png() {
     };
     rt().block_on(async move {
         let mut w = connect::worker_client(connect::channel(&url, None, None).unwrap());
-        let reg = w
-            .register(pb::RegisterRequest {
-                name: "t".into(),
-                threads: 1,
-                worker_id: String::new(),
-            })
-            .await
-            .unwrap()
-            .into_inner();
-        let a = w
-            .next_assignment(pb::NextRequest {
-                worker_id: reg.worker_id.clone(),
-            })
-            .await
-            .unwrap()
-            .into_inner()
-            .assignment
-            .expect("an assignment");
+        let (reg, a) = register_and_lease(&mut w).await;
         let d = delta(8, 6, 0.25, 1.0);
         let ack = upload(&mut w, &reg.worker_id, &a.lease_id, 1, &d)
             .await
