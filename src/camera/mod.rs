@@ -26,7 +26,7 @@ pub use motion::CameraMotion;
 pub use orthographic::Orthographic;
 pub use perspective::Perspective;
 
-use crate::geometry::transform::to_f32;
+use crate::geometry::transform::{to_f32, to_f64};
 use crate::geometry::Ray;
 use crate::lxs::{CameraDesc, Loc, ParamSet};
 use glam::{Affine3A, DMat4, DVec3, Vec2, Vec3A};
@@ -383,8 +383,8 @@ impl Camera {
             }
             None => {
                 let c2w = self.motion.at(time);
-                let ow = c2w.transform_point3(DVec3::new(o.x as f64, o.y as f64, o.z as f64));
-                let dw = c2w.transform_vector3(DVec3::new(d.x as f64, d.y as f64, d.z as f64));
+                let ow = c2w.transform_point3(to_f64(o));
+                let dw = c2w.transform_vector3(to_f64(d));
                 let len = dw.length();
                 (to_f32(ow), to_f32(dw / len), len)
             }
