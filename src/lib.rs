@@ -18,6 +18,7 @@ pub mod integrator;
 pub mod light;
 pub mod lxs;
 pub mod material;
+pub mod plugin;
 pub mod render;
 pub mod sampler;
 pub mod scene;

@@ -39,11 +39,11 @@ fn every_scene_builds_its_camera_sampler_and_filter() {
             continue;
         };
         let geo = film_geometry(&desc);
-        let cam = Camera::build(cam_desc, &geo)
+        let cam = Camera::build(cam_desc, &geo, &mut Vec::new())
             .unwrap_or_else(|e| panic!("{}: camera: {e}", path.display()));
-        let sampler = Sampler::from_entity(desc.sampler.as_ref())
+        let sampler = Sampler::build(desc.sampler.as_ref(), &mut Vec::new())
             .unwrap_or_else(|e| panic!("{}: sampler: {e}", path.display()));
-        let filter = Filter::from_entity(desc.pixel_filter.as_ref())
+        let filter = Filter::build(desc.pixel_filter.as_ref(), &mut Vec::new())
             .unwrap_or_else(|e| panic!("{}: filter: {e}", path.display()));
         assert!(sampler.pixel_samples() >= 1);
         let [x0, x1, y0, y1] = geo.pixel_bounds();
@@ -74,7 +74,8 @@ fn parsed_cornell_camera_sees_red_on_the_left() {
     let desc = lxs::parse_file(&path, &ParseOptions::default()).expect("cornell parses");
     let geo = film_geometry(&desc);
     assert_eq!((geo.xres, geo.yres), (256, 256));
-    let cam = Camera::build(desc.camera.as_ref().expect("camera"), &geo).expect("camera");
+    let cam = Camera::build(desc.camera.as_ref().expect("camera"), &geo, &mut Vec::new())
+        .expect("camera");
     // Where the ray through the middle of a column meets the back wall plane y = 1.
     let wall_x = |x: f32| {
         let s = CameraSample {
@@ -90,8 +91,8 @@ fn parsed_cornell_camera_sees_red_on_the_left() {
     assert!(wall_x(240.0) > 1.0);
     assert!(wall_x(128.0).abs() < 0.01);
     // The cornell scene asks for a box filter and 1 random sample per pixel.
-    let f = Filter::from_entity(desc.pixel_filter.as_ref()).unwrap();
+    let f = Filter::build(desc.pixel_filter.as_ref(), &mut Vec::new()).unwrap();
     assert_eq!(f.radius(), Vec2::splat(0.5));
-    let s = Sampler::from_entity(desc.sampler.as_ref()).unwrap();
+    let s = Sampler::build(desc.sampler.as_ref(), &mut Vec::new()).unwrap();
     assert_eq!(s.pixel_samples(), 1);
 }

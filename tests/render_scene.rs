@@ -3,7 +3,7 @@
 
 mod render_util;
 
-use luxfarm::scene::Scene;
+use luxfarm::render::setup::Renderable;
 use render_util::*;
 use std::path::Path;
 
@@ -25,21 +25,21 @@ fn unused_parameters_are_reported_with_location() {
     let path = Path::new("/tmp/luxfarm-render-scene-test.lxs");
     let desc = parse_text(SCENE, path);
     // The unknown material type is never referenced, so it is never built.
-    let scene = Scene::build(&desc, Path::new("/tmp")).expect("scene builds");
+    let scene = Renderable::build(&desc, Path::new("/tmp")).expect("scene builds");
     let w: Vec<String> = scene.warnings.iter().map(|d| d.to_string()).collect();
     let bogus = w
         .iter()
         .find(|m| m.contains("bogus"))
         .expect("bogus reported");
     assert!(bogus.contains(":10:"), "{bogus}");
-    assert_eq!(scene.lights().len(), 1);
+    assert_eq!(scene.world.lights().len(), 1);
 }
 
 #[test]
 fn unsupported_light_is_a_located_error() {
     let text = SCENE.replace("LightSource \"point\"", "LightSource \"sunsky2\"");
     let desc = parse_text(&text, Path::new("/tmp/luxfarm-render-scene-test.lxs"));
-    let err = match Scene::build(&desc, Path::new("/tmp")) {
+    let err = match Renderable::build(&desc, Path::new("/tmp")) {
         Err(e) => e.to_string(),
         Ok(_) => panic!("sunsky2 must be refused"),
     };

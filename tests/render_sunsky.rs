@@ -56,7 +56,8 @@ fn render_desc(desc: &SceneDescription, path: &std::path::Path) -> Rendered {
     };
     let mut s = Session::new(desc, path.parent().unwrap(), opts).expect("scene builds");
     let lights = s
-        .scene()
+        .renderable()
+        .world
         .lights()
         .iter()
         .map(|l| match l {
@@ -65,7 +66,7 @@ fn render_desc(desc: &SceneDescription, path: &std::path::Path) -> Rendered {
             _ => "other",
         })
         .collect();
-    let warnings = s.scene().warnings.iter().map(|w| w.to_string()).collect();
+    let warnings = s.warnings().iter().map(|w| w.to_string()).collect();
     let stats = s.render_pass();
     assert!(stats.complete);
     Rendered {

@@ -9,7 +9,8 @@ use super::bvh::{BuildQuality, BvhLayout, BvhOptions};
 use super::{Geometry, GeometryBuilder};
 use crate::geometry::Ray;
 use crate::lxs::{Entity, Loc, ParamSet, ParamValue, SceneDescription, ShapeDesc, Xform};
-use crate::shape::{ShapeCtx, ShapeError};
+use crate::plugin::BuildError;
+use crate::shape::ShapeCtx;
 use glam::{DMat4, Vec3A};
 use std::time::Instant;
 
@@ -163,11 +164,11 @@ pub fn candidate_options() -> Vec<BvhOptions> {
 /// Builds the geometry with each option set (`build`) and measures closest-hit and any-hit
 /// throughput on the same `n` incoherent rays with `threads` threads.
 pub fn bench(
-    build: impl Fn(BvhOptions) -> Result<Geometry, ShapeError>,
+    build: impl Fn(BvhOptions) -> Result<Geometry, BuildError>,
     options: &[BvhOptions],
     n: usize,
     threads: usize,
-) -> Result<Vec<BenchResult>, ShapeError> {
+) -> Result<Vec<BenchResult>, BuildError> {
     let mut out = Vec::new();
     let mut rays = None;
     for &opts in options {
@@ -197,7 +198,7 @@ pub fn scene_geometry(
     desc: &SceneDescription,
     ctx: &ShapeCtx,
     opts: BvhOptions,
-) -> Result<Geometry, ShapeError> {
+) -> Result<Geometry, BuildError> {
     let mut b = GeometryBuilder::with_options(opts);
     for (i, s) in desc.shapes.iter().enumerate().filter(|(_, s)| !s.portal) {
         b.add_shape(s, i as u32, ctx)?;
@@ -220,7 +221,7 @@ pub fn shapes_geometry(
     shapes: &[ShapeDesc],
     ctx: &ShapeCtx,
     opts: BvhOptions,
-) -> Result<Geometry, ShapeError> {
+) -> Result<Geometry, BuildError> {
     let mut b = GeometryBuilder::with_options(opts);
     for (i, s) in shapes.iter().enumerate() {
         b.add_shape(s, i as u32, ctx)?;

@@ -31,7 +31,8 @@ use crate::geometry::frame::LocalGeometry;
 use crate::geometry::transform::{to_f32, to_f64};
 use crate::geometry::{unit_or, Distribution1D, Interaction, Ray, SurfaceInteraction, Transform};
 use crate::lxs::{ObjectDesc, ShapeDesc, Xform};
-use crate::shape::{self, Shape, ShapeCtx, ShapeError};
+use crate::plugin::BuildError;
+use crate::shape::{Shape, ShapeCtx};
 use blas::{Blas, BlasHit};
 use bvh::{padded, Bvh, BvhOptions};
 use glam::{DVec3, Vec2, Vec3A};
@@ -73,8 +74,8 @@ impl GeometryBuilder {
         desc: &ShapeDesc,
         prim: u32,
         ctx: &ShapeCtx,
-    ) -> Result<ShapeId, ShapeError> {
-        let s = shape::create(desc, &Transform::IDENTITY, ctx)?;
+    ) -> Result<ShapeId, BuildError> {
+        let s = Shape::build(desc, &Transform::IDENTITY, ctx)?;
         self.shapes.push(s);
         self.prims.push(prim);
         Ok(ShapeId(self.shapes.len() as u32 - 1))
@@ -86,22 +87,22 @@ impl GeometryBuilder {
         obj: &ObjectDesc,
         prims: &[u32],
         ctx: &ShapeCtx,
-    ) -> Result<ObjectId, ShapeError> {
+    ) -> Result<ObjectId, BuildError> {
         if prims.len() != obj.shapes.len() {
-            return Err(ShapeError {
-                loc: obj.loc.clone(),
-                kind: format!("object {}", obj.name),
-                message: format!(
-                    "{} primitive ids for {} shapes",
+            return Err(BuildError::new(
+                &obj.loc,
+                format!(
+                    "object {}: {} primitive ids for {} shapes",
+                    obj.name,
                     prims.len(),
                     obj.shapes.len()
                 ),
-            });
+            ));
         }
         let shapes = obj
             .shapes
             .iter()
-            .map(|d| shape::create(d, &Transform::IDENTITY, ctx))
+            .map(|d| Shape::build(d, &Transform::IDENTITY, ctx))
             .collect::<Result<Vec<_>, _>>()?;
         self.objects.push((shapes, prims.to_vec()));
         Ok(ObjectId(self.objects.len() as u32 - 1))

@@ -7,6 +7,8 @@
 //! backwards (-z), the image centre looks forwards (+z), a quarter of the width looks to
 //! camera -x (left), three quarters to +x (right). Screen window and lens are ignored.
 
+use super::FilmGeometry;
+use crate::plugin::Stmt;
 use glam::{Vec2, Vec3A};
 use std::f32::consts::PI;
 
@@ -17,6 +19,23 @@ pub struct Environment {
 }
 
 impl Environment {
+    /// Reads an `environment` statement: LuxRender reads and ignores the lens and screen
+    /// parameters for this camera.
+    pub(super) fn build(s: &Stmt, film: &FilmGeometry) -> Environment {
+        for name in [
+            "lensradius",
+            "focaldistance",
+            "frameaspectratio",
+            "screenwindow",
+        ] {
+            let _ = s.params().floats(name);
+        }
+        Environment {
+            xres: film.xres as f32,
+            yres: film.yres as f32,
+        }
+    }
+
     /// Unit camera-space direction for raster point `p`.
     pub fn direction(&self, p: Vec2) -> Vec3A {
         let theta = PI * p.y / self.yres;

@@ -5,6 +5,7 @@
 //! Shutter time: uniform between `shutteropen` and `shutterclose`, or LuxRender's "gaussian"
 //! distribution (a normal of 2 standard deviations over the shutter interval).
 
+use crate::plugin::{BuildError, Stmt};
 use glam::Vec2;
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
@@ -71,6 +72,31 @@ pub struct Shutter {
 }
 
 impl Shutter {
+    /// Reads `shutteropen` (0), `shutterclose` (1) and `shutterdistribution` (uniform).
+    pub(super) fn build(s: &mut Stmt) -> Result<Shutter, BuildError> {
+        let p = s.params();
+        let open = p.float_or("shutteropen", 0.0);
+        let close = p.float_or("shutterclose", 1.0);
+        if !(open.is_finite() && close.is_finite()) {
+            return Err(s.err("shutteropen/shutterclose must be finite"));
+        }
+        let distribution = match p.string_or("shutterdistribution", "uniform") {
+            "uniform" => ShutterDistribution::Uniform,
+            "gaussian" => ShutterDistribution::Gaussian,
+            other => {
+                s.warn(format!(
+                    "shutter distribution \"{other}\" unknown, using \"uniform\""
+                ));
+                ShutterDistribution::Uniform
+            }
+        };
+        Ok(Shutter {
+            open,
+            close,
+            distribution,
+        })
+    }
+
     /// The time of a shutter sample `u` in [0, 1).
     pub fn time(&self, u: f32) -> f32 {
         let x = match self.distribution {

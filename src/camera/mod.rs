@@ -1,6 +1,7 @@
 //! Cameras: perspective, orthographic, environment (one file per plugin).
 //!
-//! [`Camera::build`] reads a `Camera` statement with LuxRender's parameter names and defaults:
+//! [`Camera::build`] reads a `Camera` statement with LuxRender's parameter names and defaults
+//! (the shared ones here, each model's in its file; screen window and lens in `projective`):
 //! `hither` (1e-3, at least 1e-4), `yon` (1e30), `shutteropen` (0), `shutterclose` (1),
 //! `shutterdistribution` (uniform|gaussian), `lensradius` (0), `focaldistance` (1e30),
 //! `autofocus` (false), `frameaspectratio` (xres/yres), `screenwindow`, perspective `fov` (90),
@@ -19,6 +20,7 @@ mod lens;
 mod motion;
 mod orthographic;
 mod perspective;
+mod projective;
 
 pub use environment::Environment;
 pub use lens::{concentric_disc, Aperture, Shutter, ShutterDistribution};
@@ -28,15 +30,9 @@ pub use perspective::Perspective;
 
 use crate::geometry::transform::{to_f32, to_f64};
 use crate::geometry::Ray;
-use crate::lxs::{CameraDesc, Loc, ParamSet};
+use crate::lxs::{CameraDesc, Diagnostic};
+use crate::plugin::{BuildError, Stmt};
 use glam::{Affine3A, DMat4, DVec3, Vec2, Vec3A};
-
-#[derive(Debug, thiserror::Error)]
-#[error("{loc}: {message}")]
-pub struct CameraError {
-    pub loc: Loc,
-    pub message: String,
-}
 
 /// The image the camera renders: full resolution and the Film `cropwindow` in NDC
 /// (`[xmin, xmax, ymin, ymax]`, [0, 1] each, y down).
@@ -136,96 +132,50 @@ pub struct Camera {
     fixed: Option<Affine3A>,
 }
 
-/// Common projective parameters.
-struct Projective {
-    screen: RasterToScreen,
-    lens_radius: f32,
-    focal_distance: f32,
-    aperture: Aperture,
-}
-
 impl Camera {
-    /// Builds the camera of a `Camera` statement for a film of this geometry.
-    pub fn build(desc: &CameraDesc, film: &FilmGeometry) -> Result<Camera, CameraError> {
+    /// Builds the camera of a `Camera` statement for a film of this geometry: the parameters
+    /// every camera shares (clipping, shutter, autofocus) are read here, the model's own in
+    /// its file.
+    pub fn build(
+        desc: &CameraDesc,
+        film: &FilmGeometry,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Camera, BuildError> {
         let e = &desc.entity;
-        let err = |message: String| CameraError {
-            loc: e.loc.clone(),
-            message,
-        };
+        let mut s = Stmt::new("camera", e, warnings);
         if film.xres == 0 || film.yres == 0 {
-            return Err(err(format!(
+            return Err(s.err(format!(
                 "film resolution {}x{} is empty",
                 film.xres, film.yres
             )));
         }
-        let p = &e.params;
-        let motion = CameraMotion::from_xform(&desc.world_to_camera).map_err(err)?;
+        let p = s.params();
+        let motion = CameraMotion::from_xform(&desc.world_to_camera).map_err(|m| s.err(m))?;
         if let Some(name) = p.string("endtransform") {
-            tracing::warn!(
-                "{}: camera \"endtransform\" \"{name}\" is not supported here; use a MotionBegin block",
-                e.loc
-            );
+            s.warn(format!(
+                "camera \"endtransform\" \"{name}\" is not supported here; use a MotionBegin block"
+            ));
         }
         let hither = p.float_or("hither", 1e-3).max(1e-4);
         let yon = p.float_or("yon", 1e30).min(1e30).max(hither);
         if !(hither.is_finite() && yon.is_finite()) {
-            return Err(err("hither/yon must be finite".into()));
+            return Err(s.err("hither/yon must be finite"));
         }
-        let shutter = Camera::shutter(p, &e.loc)?;
+        let shutter = Shutter::build(&mut s)?;
         let autofocus = p.bool_or("autofocus", false);
         let model = match e.kind.as_str() {
-            "perspective" => {
-                let fov = p.float_or("fov", 90.0);
-                if !(fov > 0.0 && fov < 180.0) {
-                    return Err(err(format!(
-                        "perspective fov must be in (0, 180) degrees, got {fov}"
-                    )));
-                }
-                let pr = Camera::projective(p, film, &e.loc)?;
-                CameraModel::Perspective(Perspective {
-                    screen: pr.screen,
-                    tan_half_fov: (fov.to_radians() / 2.0).tan(),
-                    lens_radius: pr.lens_radius,
-                    focal_distance: pr.focal_distance,
-                    aperture: pr.aperture,
-                })
-            }
-            "orthographic" => {
-                let pr = Camera::projective(p, film, &e.loc)?;
-                CameraModel::Orthographic(Orthographic {
-                    screen: pr.screen,
-                    lens_radius: pr.lens_radius,
-                    focal_distance: pr.focal_distance,
-                    aperture: pr.aperture,
-                })
-            }
-            "environment" => {
-                // LuxRender reads and ignores these for the environment camera.
-                for name in [
-                    "lensradius",
-                    "focaldistance",
-                    "frameaspectratio",
-                    "screenwindow",
-                ] {
-                    let _ = p.floats(name);
-                }
-                CameraModel::Environment(Environment {
-                    xres: film.xres as f32,
-                    yres: film.yres as f32,
-                })
-            }
-            "realistic" => return Err(err("the \"realistic\" camera is not supported".into())),
+            "perspective" => CameraModel::Perspective(Perspective::build(&mut s, film)?),
+            "orthographic" => CameraModel::Orthographic(Orthographic::build(&mut s, film)?),
+            "environment" => CameraModel::Environment(Environment::build(&s, film)),
+            "realistic" => return Err(s.err("the \"realistic\" camera is not supported")),
             other => {
-                return Err(err(format!(
+                return Err(s.err(format!(
                     "unknown camera \"{other}\" (known: perspective, orthographic, environment)"
                 )))
             }
         };
         if autofocus && matches!(model, CameraModel::Environment(_)) {
-            tracing::warn!(
-                "{}: autofocus has no effect on the environment camera",
-                e.loc
-            );
+            s.warn("autofocus has no effect on the environment camera");
         }
         let fixed = match &motion {
             CameraMotion::Fixed(a) => Some(Affine3A::from_mat4(DMat4::from(*a).as_mat4())),
@@ -240,97 +190,6 @@ impl Camera {
             autofocus,
             film: *film,
             fixed,
-        })
-    }
-
-    fn shutter(p: &ParamSet, loc: &Loc) -> Result<Shutter, CameraError> {
-        let open = p.float_or("shutteropen", 0.0);
-        let close = p.float_or("shutterclose", 1.0);
-        if !(open.is_finite() && close.is_finite()) {
-            return Err(CameraError {
-                loc: loc.clone(),
-                message: "shutteropen/shutterclose must be finite".into(),
-            });
-        }
-        let distribution = match p.string_or("shutterdistribution", "uniform") {
-            "uniform" => ShutterDistribution::Uniform,
-            "gaussian" => ShutterDistribution::Gaussian,
-            other => {
-                tracing::warn!(
-                    "{loc}: shutter distribution \"{other}\" unknown, using \"uniform\""
-                );
-                ShutterDistribution::Uniform
-            }
-        };
-        Ok(Shutter {
-            open,
-            close,
-            distribution,
-        })
-    }
-
-    fn projective(p: &ParamSet, film: &FilmGeometry, loc: &Loc) -> Result<Projective, CameraError> {
-        let err = |message: String| CameraError {
-            loc: loc.clone(),
-            message,
-        };
-        let mut lens_radius = p.float_or("lensradius", 0.0);
-        let mut focal_distance = p.float_or("focaldistance", 1e30);
-        if !(lens_radius.is_finite() && lens_radius >= 0.0) {
-            return Err(err(format!("lensradius must be >= 0, got {lens_radius}")));
-        }
-        // Old exporters write "focaldistance" [0] next to a zero lens radius: only a lens needs
-        // a usable focal distance (autofocus may still provide it).
-        if !(focal_distance.is_finite() && focal_distance > 0.0) {
-            if lens_radius > 0.0 && !p.bool_or("autofocus", false) {
-                tracing::warn!(
-                    "{loc}: focaldistance {focal_distance} is unusable; depth of field disabled"
-                );
-                lens_radius = 0.0;
-            }
-            focal_distance = 1e30;
-        }
-        let frame = p.float_or("frameaspectratio", film.xres as f32 / film.yres as f32);
-        if !(frame.is_finite() && frame > 0.0) {
-            return Err(err(format!("frameaspectratio must be > 0, got {frame}")));
-        }
-        let mut window = if frame > 1.0 {
-            [-frame, frame, -1.0, 1.0]
-        } else {
-            [-1.0, 1.0, -1.0 / frame, 1.0 / frame]
-        };
-        match p.floats("screenwindow") {
-            Some(sw) if sw.len() == 4 && sw.iter().all(|v| v.is_finite()) => {
-                window.copy_from_slice(sw);
-            }
-            Some(sw) => {
-                tracing::warn!("{loc}: screenwindow needs 4 finite values, got {sw:?}; ignored")
-            }
-            None => {}
-        }
-        let blades = p.int_or("blades", 0);
-        let distribution = p.string_or("distribution", "uniform").to_string();
-        let _ = p.int("power");
-        let aperture = if blades >= 3 {
-            if distribution != "uniform" {
-                tracing::warn!("{loc}: lens distribution \"{distribution}\" is not supported, using \"uniform\"");
-            }
-            Aperture::Polygon(blades as u32)
-        } else {
-            Aperture::Disc
-        };
-        if p.floats("clippingplane").is_some() {
-            tracing::warn!("{loc}: camera clipping plane is not supported (LuxRender supports it only in LuxCore)");
-        }
-        Ok(Projective {
-            screen: RasterToScreen {
-                window,
-                xres: film.xres as f32,
-                yres: film.yres as f32,
-            },
-            lens_radius,
-            focal_distance,
-            aperture,
         })
     }
 

@@ -6,7 +6,9 @@
 //! focaldistance and the ray aims at (sx, sy, focaldistance), as LuxRender does.
 
 use super::lens::Aperture;
-use super::RasterToScreen;
+use super::projective::Projective;
+use super::{FilmGeometry, RasterToScreen};
+use crate::plugin::{BuildError, Stmt};
 use glam::{Vec2, Vec3A};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -18,6 +20,17 @@ pub struct Orthographic {
 }
 
 impl Orthographic {
+    /// Reads an `orthographic` statement (the projective parameters).
+    pub(super) fn build(s: &mut Stmt, film: &FilmGeometry) -> Result<Orthographic, BuildError> {
+        let pr = Projective::build(s, film)?;
+        Ok(Orthographic {
+            screen: pr.screen,
+            lens_radius: pr.lens_radius,
+            focal_distance: pr.focal_distance,
+            aperture: pr.aperture,
+        })
+    }
+
     /// Camera-space origin (on z = hither) and direction of the ray through raster point `p`.
     pub fn ray(&self, p: Vec2, lens: Vec2, hither: f32) -> (Vec3A, Vec3A) {
         let s = self.screen.apply(p);

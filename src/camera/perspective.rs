@@ -11,7 +11,9 @@
 //! plane z = `hither` and end on z = `yon`.
 
 use super::lens::Aperture;
-use super::RasterToScreen;
+use super::projective::Projective;
+use super::{FilmGeometry, RasterToScreen};
+use crate::plugin::{BuildError, Stmt};
 use glam::{Vec2, Vec3A};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -25,6 +27,25 @@ pub struct Perspective {
 }
 
 impl Perspective {
+    /// Reads a `perspective` statement: `fov` (degrees, default 90) and the projective
+    /// parameters.
+    pub(super) fn build(s: &mut Stmt, film: &FilmGeometry) -> Result<Perspective, BuildError> {
+        let fov = s.params().float_or("fov", 90.0);
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(s.err(format!(
+                "perspective fov must be in (0, 180) degrees, got {fov}"
+            )));
+        }
+        let pr = Projective::build(s, film)?;
+        Ok(Perspective {
+            screen: pr.screen,
+            tan_half_fov: (fov.to_radians() / 2.0).tan(),
+            lens_radius: pr.lens_radius,
+            focal_distance: pr.focal_distance,
+            aperture: pr.aperture,
+        })
+    }
+
     /// Camera-space origin and (unnormalised) direction of the ray through raster point `p`.
     pub fn ray(&self, p: Vec2, lens: Vec2) -> (Vec3A, Vec3A) {
         let s = self.screen.apply(p) * self.tan_half_fov;

@@ -44,7 +44,12 @@ fn f(v: f32) -> ParamValue {
 }
 
 fn camera(kind: &str, params: &[(&str, ParamValue)], w2c: DMat4, xres: u32, yres: u32) -> Camera {
-    Camera::build(&desc(kind, params, w2c), &FilmGeometry::new(xres, yres)).expect("valid camera")
+    Camera::build(
+        &desc(kind, params, w2c),
+        &FilmGeometry::new(xres, yres),
+        &mut Vec::new(),
+    )
+    .expect("valid camera")
 }
 
 fn ray_at(cam: &Camera, x: f32, y: f32) -> Ray {
@@ -169,8 +174,8 @@ fn cropwindow_selects_pixels_but_not_rays() {
     geo.crop = [0.5, 0.5, 0.0, 1.0];
     assert_eq!(geo.pixel_bounds(), [50, 51, 0, 80]);
     let d = desc("perspective", &[("fov", f(40.0))], DMat4::IDENTITY);
-    let full = Camera::build(&d, &FilmGeometry::new(100, 80)).unwrap();
-    let cropped = Camera::build(&d, &geo).unwrap();
+    let full = Camera::build(&d, &FilmGeometry::new(100, 80), &mut Vec::new()).unwrap();
+    let cropped = Camera::build(&d, &geo, &mut Vec::new()).unwrap();
     assert_eq!(ray_at(&full, 60.0, 30.0), ray_at(&cropped, 60.0, 30.0));
 }
 
@@ -399,7 +404,7 @@ fn animated_camera_moves_with_time() {
     d.world_to_camera = Xform {
         keys: vec![(0.0, a), (1.0, b)],
     };
-    let cam = Camera::build(&d, &FilmGeometry::new(10, 10)).unwrap();
+    let cam = Camera::build(&d, &FilmGeometry::new(10, 10), &mut Vec::new()).unwrap();
     let at = |t: f32| {
         let s = CameraSample {
             p_film: Vec2::new(5.0, 5.0),
@@ -417,39 +422,44 @@ fn animated_camera_moves_with_time() {
 #[test]
 fn bad_cameras_are_errors_with_locations() {
     let g = FilmGeometry::new(10, 10);
-    let e = Camera::build(&desc("fisheye", &[], DMat4::IDENTITY), &g).unwrap_err();
+    let e = Camera::build(&desc("fisheye", &[], DMat4::IDENTITY), &g, &mut Vec::new()).unwrap_err();
     assert!(
         e.to_string().starts_with("cam.lxs:2:1: unknown camera"),
         "{e}"
     );
     assert!(Camera::build(
         &desc("perspective", &[("fov", f(0.0))], DMat4::IDENTITY),
-        &g
+        &g,
+        &mut Vec::new()
     )
     .is_err());
     assert!(Camera::build(
         &desc("perspective", &[("fov", f(180.0))], DMat4::IDENTITY),
-        &g
+        &g,
+        &mut Vec::new()
     )
     .is_err());
-    assert!(Camera::build(&desc("perspective", &[], DMat4::ZERO), &g).is_err());
+    assert!(Camera::build(&desc("perspective", &[], DMat4::ZERO), &g, &mut Vec::new()).is_err());
     assert!(Camera::build(
         &desc(
             "perspective",
             &[],
             DMat4::from_diagonal(DVec4::splat(f64::NAN))
         ),
-        &g
+        &g,
+        &mut Vec::new()
     )
     .is_err());
     assert!(Camera::build(
         &desc("perspective", &[], DMat4::IDENTITY),
-        &FilmGeometry::new(0, 10)
+        &FilmGeometry::new(0, 10),
+        &mut Vec::new()
     )
     .is_err());
     assert!(Camera::build(
         &desc("perspective", &[("lensradius", f(-1.0))], DMat4::IDENTITY),
-        &g
+        &g,
+        &mut Vec::new()
     )
     .is_err());
     // Old exporters' "focaldistance" [0] without a lens is accepted; with a lens, the lens is
@@ -500,7 +510,7 @@ fn parameters_are_consumed() {
         ],
         DMat4::IDENTITY,
     );
-    Camera::build(&d, &FilmGeometry::new(40, 30)).unwrap();
+    Camera::build(&d, &FilmGeometry::new(40, 30), &mut Vec::new()).unwrap();
     let unused: Vec<_> = d.entity.params.unused().map(|p| p.name.clone()).collect();
     assert!(unused.is_empty(), "{unused:?}");
     let _ = Vec3::ZERO;

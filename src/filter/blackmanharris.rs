@@ -4,6 +4,10 @@
 //!
 //! LuxRender defaults: `xwidth` = `ywidth` = 4.
 
+use super::{widths, FilterKind};
+use crate::plugin::{BuildError, Stmt};
+use glam::Vec2;
+
 fn axis(t: f32) -> f32 {
     if !(-1.0..=1.0).contains(&t) {
         return 0.0;
@@ -21,3 +25,8 @@ pub(super) fn eval(dx: f32, dy: f32, xw: f32, yw: f32) -> f32 {
 }
 
 pub(super) const DEFAULT_WIDTH: f32 = 4.0;
+
+/// Reads a `blackmanharris` statement.
+pub(super) fn build(s: &Stmt) -> Result<(FilterKind, Vec2), BuildError> {
+    Ok((FilterKind::BlackmanHarris, widths(s, DEFAULT_WIDTH)?))
+}

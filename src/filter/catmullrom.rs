@@ -5,6 +5,10 @@
 //! LuxRender defaults: `xwidth` = `ywidth` = 4 (the pixels the film visits; the kernel itself
 //! ends at 2 pixels).
 
+use super::{widths, FilterKind};
+use crate::plugin::{BuildError, Stmt};
+use glam::Vec2;
+
 fn axis(x: f32) -> f32 {
     let x = x.abs();
     let x2 = x * x;
@@ -25,3 +29,8 @@ pub(super) fn eval(dx: f32, dy: f32, xw: f32, yw: f32) -> f32 {
 }
 
 pub(super) const DEFAULT_WIDTH: f32 = 4.0;
+
+/// Reads a `catmullrom` statement.
+pub(super) fn build(s: &Stmt) -> Result<(FilterKind, Vec2), BuildError> {
+    Ok((FilterKind::CatmullRom, widths(s, DEFAULT_WIDTH)?))
+}

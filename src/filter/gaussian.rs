@@ -3,6 +3,10 @@
 //!
 //! LuxRender defaults: `xwidth` = `ywidth` = 2, `alpha` = 2.
 
+use super::{widths, FilterKind};
+use crate::plugin::{BuildError, Stmt};
+use glam::Vec2;
+
 /// Precomputed per-axis offsets `exp(-alpha w²)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Gaussian {
@@ -31,3 +35,10 @@ impl Gaussian {
 
 pub(super) const DEFAULT_WIDTH: f32 = 2.0;
 pub(super) const DEFAULT_ALPHA: f32 = 2.0;
+
+/// Reads a `gaussian` statement (`alpha`).
+pub(super) fn build(s: &Stmt) -> Result<(FilterKind, Vec2), BuildError> {
+    let w = widths(s, DEFAULT_WIDTH)?;
+    let alpha = s.finite("alpha", DEFAULT_ALPHA)?;
+    Ok((FilterKind::Gaussian(Gaussian::new(alpha, w.x, w.y)), w))
+}

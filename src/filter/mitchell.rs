@@ -8,6 +8,10 @@
 //!
 //! LuxRender defaults: `xwidth` = `ywidth` = 2, `B` = `C` = 1/3, `supersample` false.
 
+use super::{widths, FilterKind};
+use crate::plugin::{BuildError, Stmt};
+use glam::Vec2;
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Mitchell {
     pub b: f32,
@@ -70,3 +74,12 @@ impl Mitchell {
 pub(super) const DEFAULT_WIDTH: f32 = 2.0;
 pub(super) const DEFAULT_B: f32 = 1.0 / 3.0;
 pub(super) const DEFAULT_C: f32 = 1.0 / 3.0;
+
+/// Reads a `mitchell` statement (`B`, `C`, `supersample`).
+pub(super) fn build(s: &Stmt) -> Result<(FilterKind, Vec2), BuildError> {
+    let w = widths(s, DEFAULT_WIDTH)?;
+    let b = s.finite("B", DEFAULT_B)?;
+    let c = s.finite("C", DEFAULT_C)?;
+    let ss = s.params().bool_or("supersample", false);
+    Ok((FilterKind::Mitchell(Mitchell::new(b, c, ss)), w))
+}

@@ -1,7 +1,8 @@
 //! Pixel filters: box, gaussian, mitchell, triangle, sinc, catmullrom, blackmanharris.
 //!
-//! [`Filter::from_entity`] reads a `PixelFilter` statement with LuxRender's parameter names and
-//! defaults (mitchell when the scene has none, as LuxRender). [`Filter::eval`] is the filter
+//! [`Filter::build`] dispatches a `PixelFilter` statement to the filter's file, which reads its
+//! parameters with LuxRender's names and defaults (mitchell when the scene has none, as
+//! LuxRender). [`Filter::eval`] is the filter
 //! function itself; [`Filter::splat`] gives the pixels a sample contributes to and their
 //! weights exactly as LuxRender's fleximage film computes them: from precomputed tables per
 //! quantised sub-pixel offset, normalised so one sample's weights sum to 1 (see [`lut`]).
@@ -22,18 +23,12 @@ pub use gaussian::Gaussian;
 pub use lut::{FilterLut, FilterLuts};
 pub use mitchell::Mitchell;
 
-use crate::lxs::{Entity, Loc};
+use crate::lxs::{Diagnostic, Entity};
+use crate::plugin::{BuildError, Stmt};
 use glam::Vec2;
 
 /// LuxRender's Film `filterquality` default (tables per axis: 2^4 + 1).
 pub const DEFAULT_FILTER_QUALITY: i32 = 4;
-
-#[derive(Debug, thiserror::Error)]
-#[error("{loc}: {message}")]
-pub struct FilterError {
-    pub loc: Loc,
-    pub message: String,
-}
 
 /// The filter function and its parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,7 +59,8 @@ pub struct Filter {
 
 impl Filter {
     /// Builds the filter of a `PixelFilter` statement (`None`: LuxRender's default, mitchell).
-    pub fn from_entity(e: Option<&Entity>) -> Result<Filter, FilterError> {
+    /// Each filter file reads its own parameters; this only dispatches on the name.
+    pub fn build(e: Option<&Entity>, warnings: &mut Vec<Diagnostic>) -> Result<Filter, BuildError> {
         let Some(e) = e else {
             return Ok(Filter::new(
                 FilterKind::Mitchell(Mitchell::new(
@@ -75,82 +71,34 @@ impl Filter {
                 Vec2::splat(mitchell::DEFAULT_WIDTH),
             ));
         };
-        let p = &e.params;
-        let widths = |default: f32| -> Result<Vec2, FilterError> {
-            let w = Vec2::new(p.float_or("xwidth", default), p.float_or("ywidth", default));
-            if !(w.x > 0.0 && w.y > 0.0 && w.is_finite()) {
-                return Err(FilterError {
-                    loc: e.loc.clone(),
-                    message: format!(
-                        "pixel filter \"{}\": xwidth/ywidth must be positive, got {} {}",
-                        e.kind, w.x, w.y
-                    ),
-                });
-            }
-            Ok(w)
-        };
-        let finite = |name: &str, default: f32| -> Result<f32, FilterError> {
-            let v = p.float_or(name, default);
-            if v.is_finite() {
-                Ok(v)
-            } else {
-                Err(FilterError {
-                    loc: e.loc.clone(),
-                    message: format!(
-                        "pixel filter \"{}\": {name} must be finite, got {v}",
-                        e.kind
-                    ),
-                })
-            }
-        };
+        let mut s = Stmt::new("pixel filter", e, warnings);
         let (kind, width) = match e.kind.as_str() {
-            "box" => (FilterKind::Box, widths(box_filter::DEFAULT_WIDTH)?),
-            "gaussian" => {
-                let w = widths(gaussian::DEFAULT_WIDTH)?;
-                let alpha = finite("alpha", gaussian::DEFAULT_ALPHA)?;
-                (FilterKind::Gaussian(Gaussian::new(alpha, w.x, w.y)), w)
-            }
-            "mitchell" => {
-                let w = widths(mitchell::DEFAULT_WIDTH)?;
-                let b = finite("B", mitchell::DEFAULT_B)?;
-                let c = finite("C", mitchell::DEFAULT_C)?;
-                let ss = p.bool_or("supersample", false);
-                (FilterKind::Mitchell(Mitchell::new(b, c, ss)), w)
-            }
-            "triangle" => (FilterKind::Triangle, widths(triangle::DEFAULT_WIDTH)?),
-            "sinc" => {
-                let w = widths(sinc::DEFAULT_WIDTH)?;
-                let tau = finite("tau", sinc::DEFAULT_TAU)?;
-                (FilterKind::Sinc { tau }, w)
-            }
-            "catmullrom" => (FilterKind::CatmullRom, widths(catmullrom::DEFAULT_WIDTH)?),
-            "blackmanharris" => (FilterKind::BlackmanHarris, widths(blackmanharris::DEFAULT_WIDTH)?),
+            "box" => box_filter::build(&s)?,
+            "gaussian" => gaussian::build(&s)?,
+            "mitchell" => mitchell::build(&s)?,
+            "triangle" => triangle::build(&s)?,
+            "sinc" => sinc::build(&s)?,
+            "catmullrom" => catmullrom::build(&s)?,
+            "blackmanharris" => blackmanharris::build(&s)?,
             other => {
-                return Err(FilterError {
-                    loc: e.loc.clone(),
-                    message: format!(
-                        "unknown pixel filter \"{other}\" (known: box, gaussian, mitchell, triangle, sinc, catmullrom, blackmanharris)"
-                    ),
-                })
+                return Err(s.err(format!(
+                    "unknown pixel filter \"{other}\" (known: box, gaussian, mitchell, triangle, sinc, catmullrom, blackmanharris)"
+                )))
             }
         };
         let f = Filter::new(kind, width);
         if !f.luts.all_finite() || !f.eval(0.0, 0.0).is_finite() {
-            return Err(FilterError {
-                loc: e.loc.clone(),
-                message: format!(
-                    "pixel filter \"{}\": its parameters give non-finite filter values",
-                    e.kind
-                ),
-            });
+            return Err(s.err(format!(
+                "pixel filter \"{}\": its parameters give non-finite filter values",
+                e.kind
+            )));
         }
         if !f.luts.all_normalised() {
-            tracing::warn!(
-                "{}: pixel filter \"{}\" gives no weight to any pixel centre for some sample \
+            s.warn(format!(
+                "pixel filter \"{}\" gives no weight to any pixel centre for some sample \
                  positions; samples there are lost (as in LuxRender)",
-                e.loc,
                 e.kind
-            );
+            ));
         }
         Ok(f)
     }
@@ -257,6 +205,21 @@ impl Filter {
             hi(y_start, y_count, self.radius.y),
         ]
     }
+}
+
+/// `xwidth`/`ywidth` of a filter statement: positive and finite.
+fn widths(s: &Stmt, default: f32) -> Result<Vec2, BuildError> {
+    let p = s.params();
+    let w = Vec2::new(p.float_or("xwidth", default), p.float_or("ywidth", default));
+    if !(w.x > 0.0 && w.y > 0.0 && w.is_finite()) {
+        return Err(s.err(format!(
+            "pixel filter \"{}\": xwidth/ywidth must be positive, got {} {}",
+            s.kind(),
+            w.x,
+            w.y
+        )));
+    }
+    Ok(w)
 }
 
 #[cfg(test)]

@@ -20,7 +20,7 @@ fn entity(kind: &str, params: &[(&str, ParamValue)]) -> Entity {
 }
 
 fn filter(kind: &str, params: &[(&str, ParamValue)]) -> Filter {
-    Filter::from_entity(Some(&entity(kind, params))).expect("valid filter")
+    Filter::build(Some(&entity(kind, params)), &mut Vec::new()).expect("valid filter")
 }
 
 const ALL: [&str; 7] = [
@@ -59,7 +59,7 @@ fn integrate_1d(f: &Filter, n: usize) -> f64 {
 
 #[test]
 fn defaults_match_luxrender() {
-    let none = Filter::from_entity(None).unwrap();
+    let none = Filter::build(None, &mut Vec::new()).unwrap();
     assert!(matches!(none.kind(), FilterKind::Mitchell(m) if !m.supersample));
     assert_eq!(none.radius(), Vec2::splat(2.0));
     let expected = [
@@ -88,23 +88,26 @@ fn parameters_are_consumed_and_errors_name_the_statement() {
             ("alpha", ParamValue::Float(vec![1.0])),
         ],
     );
-    let f = Filter::from_entity(Some(&e)).unwrap();
+    let f = Filter::build(Some(&e), &mut Vec::new()).unwrap();
     assert_eq!(f.radius(), Vec2::new(1.5, 2.5));
     assert_eq!(e.params.unused().count(), 0);
     for (k, name) in [("sinc", "tau"), ("gaussian", "alpha"), ("mitchell", "B")] {
         let nan = entity(k, &[(name, ParamValue::Float(vec![f32::NAN]))]);
-        assert!(Filter::from_entity(Some(&nan)).is_err(), "{k} {name}");
+        assert!(
+            Filter::build(Some(&nan), &mut Vec::new()).is_err(),
+            "{k} {name}"
+        );
     }
-    let err = Filter::from_entity(Some(&entity("lanczos", &[]))).unwrap_err();
+    let err = Filter::build(Some(&entity("lanczos", &[])), &mut Vec::new()).unwrap_err();
     assert!(
         err.to_string()
             .starts_with("test.lxs:3:1: unknown pixel filter"),
         "{err}"
     );
-    let err = Filter::from_entity(Some(&entity(
-        "box",
-        &[("xwidth", ParamValue::Float(vec![-1.0]))],
-    )));
+    let err = Filter::build(
+        Some(&entity("box", &[("xwidth", ParamValue::Float(vec![-1.0]))])),
+        &mut Vec::new(),
+    );
     assert!(err.is_err());
 }
 
@@ -339,10 +342,13 @@ fn film_weights_match_luxrender_reference_statistics() {
         ],
     );
     let spp = 64u32;
-    let s = Sampler::from_entity(Some(&entity(
-        "lowdiscrepancy",
-        &[("pixelsamples", ParamValue::Integer(vec![spp as i32]))],
-    )))
+    let s = Sampler::build(
+        Some(&entity(
+            "lowdiscrepancy",
+            &[("pixelsamples", ParamValue::Integer(vec![spp as i32]))],
+        )),
+        &mut Vec::new(),
+    )
     .unwrap();
     let (w, h) = (24i32, 20i32);
     let [x0, x1, y0, y1] = f.sample_extent(0, w as u32, 0, h as u32);

@@ -7,11 +7,11 @@ use crate::light::warp::power_heuristic;
 use crate::light::LightSelector;
 use crate::material::Bsdf;
 use crate::sampler::SampleStream;
-use crate::scene::Scene;
+use crate::scene::World;
 use crate::spectrum::Rgb;
 
 /// Expected number of shadow-ray draws on light `i` per estimate (n_i in the module docs).
-pub fn light_draws(scene: &Scene, settings: &DirectSettings, i: usize) -> f32 {
+pub fn light_draws(scene: &World, settings: &DirectSettings, i: usize) -> f32 {
     let n = settings.shadow_rays as f32;
     match scene.selector() {
         LightSelector::All => scene.lights().get(i).map_or(0.0, |l| l.nsamples() as f32) * n,
@@ -22,7 +22,7 @@ pub fn light_draws(scene: &Scene, settings: &DirectSettings, i: usize) -> f32 {
 /// MIS weight of a BSDF-sampled direction (density `pdf_bsdf`) that reached light `i`, whose
 /// own sampling density for that direction is `pdf_light`.
 pub fn bsdf_hit_weight(
-    scene: &Scene,
+    scene: &World,
     settings: &DirectSettings,
     i: usize,
     pdf_bsdf: f32,
@@ -35,7 +35,7 @@ pub fn bsdf_hit_weight(
 /// `full_weight` gives light samples the whole weight (no BSDF sample will follow).
 #[allow(clippy::too_many_arguments)]
 fn sample_one(
-    scene: &Scene,
+    scene: &World,
     settings: &DirectSettings,
     i: usize,
     si: &SurfaceInteraction,
@@ -68,7 +68,7 @@ fn sample_one(
 /// Adds `beta ×` the light-sampled direct lighting at `si` to the light groups in `l`.
 #[allow(clippy::too_many_arguments)]
 pub fn sample_lights(
-    scene: &Scene,
+    scene: &World,
     settings: &DirectSettings,
     si: &SurfaceInteraction,
     bsdf: &Bsdf,
@@ -104,7 +104,7 @@ pub fn sample_lights(
 }
 
 /// Radiance from the infinite lights along an escaped ray, each weighted by `weight(i)`.
-pub fn escaped(scene: &Scene, ray: &Ray, beta: Rgb, l: &mut [Rgb], weight: impl Fn(usize) -> f32) {
+pub fn escaped(scene: &World, ray: &Ray, beta: Rgb, l: &mut [Rgb], weight: impl Fn(usize) -> f32) {
     let dir = ray.d.normalize_or_zero();
     for &i in scene.infinite_lights() {
         let light = &scene.lights()[i];

@@ -5,10 +5,10 @@
 use super::direct::{bsdf_hit_weight, escaped, sample_lights};
 use super::{add_group, DirectSettings};
 use crate::geometry::{Ray, SurfaceInteraction};
-use crate::lxs::{Diagnostic, Entity};
 use crate::material::Bsdf;
+use crate::plugin::Stmt;
 use crate::sampler::SampleStream;
-use crate::scene::Scene;
+use crate::scene::World;
 use crate::spectrum::Rgb;
 
 const MAX_PASS_THROUGH: u32 = 64;
@@ -20,14 +20,15 @@ pub struct DirectLightingIntegrator {
 }
 
 impl DirectLightingIntegrator {
-    pub fn from_entity(e: &Entity, w: &mut Vec<Diagnostic>) -> Self {
+    /// Reads a `directlighting` statement.
+    pub fn build(s: &mut Stmt) -> Self {
         DirectLightingIntegrator {
-            max_depth: e.params.int_or("maxdepth", 5).max(0) as u32,
-            direct: DirectSettings::from_entity(e, w),
+            max_depth: s.params().int_or("maxdepth", 5).max(0) as u32,
+            direct: DirectSettings::build(s),
         }
     }
 
-    pub fn li(&self, scene: &Scene, mut ray: Ray, s: &mut SampleStream, l: &mut [Rgb]) -> f32 {
+    pub fn li(&self, scene: &World, mut ray: Ray, s: &mut SampleStream, l: &mut [Rgb]) -> f32 {
         let mut beta = Rgb::WHITE;
         let mut alpha = 1.0;
         let mut depth = 0;
@@ -82,7 +83,7 @@ impl DirectLightingIntegrator {
     /// The BSDF-sampling half of the direct-lighting MIS estimate.
     fn bsdf_sample(
         &self,
-        scene: &Scene,
+        scene: &World,
         si: &SurfaceInteraction,
         bsdf: &Bsdf,
         s: &mut SampleStream,

@@ -22,6 +22,7 @@ pub mod directlighting;
 pub mod path;
 
 use crate::lxs::{Diagnostic, Entity};
+use crate::plugin::{BuildError, Stmt};
 use crate::spectrum::Rgb;
 
 pub use directlighting::DirectLightingIntegrator;
@@ -30,14 +31,7 @@ pub use path::PathIntegrator;
 use crate::geometry::Ray;
 use crate::light::LightStrategy;
 use crate::sampler::SampleStream;
-use crate::scene::Scene;
-
-#[derive(Debug, thiserror::Error)]
-#[error("{loc}: {message}")]
-pub struct IntegratorError {
-    pub loc: crate::lxs::Loc,
-    pub message: String,
-}
+use crate::scene::World;
 
 /// Settings shared by both integrators.
 #[derive(Clone, Copy, Debug)]
@@ -47,14 +41,11 @@ pub struct DirectSettings {
 }
 
 impl DirectSettings {
-    fn from_entity(e: &Entity, warnings: &mut Vec<Diagnostic>) -> DirectSettings {
-        let p = &e.params;
+    fn build(s: &mut Stmt) -> DirectSettings {
+        let p = s.params();
         let name = p.string_or("lightstrategy", "auto");
         let strategy = LightStrategy::parse(name).unwrap_or_else(|| {
-            warnings.push(Diagnostic {
-                loc: e.loc.clone(),
-                message: format!("unknown lightstrategy \"{name}\", using \"auto\""),
-            });
+            s.warn(format!("unknown lightstrategy \"{name}\", using \"auto\""));
             LightStrategy::Auto
         });
         DirectSettings {
@@ -71,36 +62,33 @@ pub enum Integrator {
 }
 
 impl Integrator {
-    /// Builds the scene's SurfaceIntegrator. LuxRender's default (no statement) is
-    /// bidirectional, which luxfarm does not implement: it and the other unsupported
-    /// integrators fall back to `path` with a warning.
-    pub fn from_entity(
+    /// Builds the scene's SurfaceIntegrator; each integrator file reads its own parameters.
+    /// LuxRender's default (no statement) is bidirectional, which luxfarm does not implement:
+    /// it and the other unsupported integrators fall back to `path` with a warning.
+    pub fn build(
         e: Option<&Entity>,
         warnings: &mut Vec<Diagnostic>,
-    ) -> Result<Integrator, IntegratorError> {
+    ) -> Result<Integrator, BuildError> {
         let default = Entity {
             kind: "path".into(),
             ..Default::default()
         };
         let e = e.unwrap_or(&default);
+        let mut s = Stmt::new("SurfaceIntegrator", e, warnings);
         Ok(match e.kind.as_str() {
-            "path" => Integrator::Path(PathIntegrator::from_entity(e, warnings)?),
-            "directlighting" => {
-                Integrator::DirectLighting(DirectLightingIntegrator::from_entity(e, warnings))
-            }
+            "path" => Integrator::Path(PathIntegrator::build(&mut s)?),
+            "directlighting" => Integrator::DirectLighting(DirectLightingIntegrator::build(&mut s)),
             other => {
-                warnings.push(Diagnostic {
-                    loc: e.loc.clone(),
-                    message: format!(
-                        "SurfaceIntegrator \"{other}\" is not supported; rendering with \"path\""
-                    ),
-                });
+                s.warn(format!(
+                    "SurfaceIntegrator \"{other}\" is not supported; rendering with \"path\""
+                ));
                 let fallback = Entity {
                     kind: "path".into(),
                     loc: e.loc.clone(),
                     ..Default::default()
                 };
-                Integrator::Path(PathIntegrator::from_entity(&fallback, warnings)?)
+                let mut fs = Stmt::new("SurfaceIntegrator", &fallback, s.warnings());
+                Integrator::Path(PathIntegrator::build(&mut fs)?)
             }
         })
     }
@@ -114,7 +102,7 @@ impl Integrator {
 
     /// Radiance along a camera ray, added per light group into `l` (cleared by the caller);
     /// returns the sample's alpha (1 when the camera ray hit something).
-    pub fn li(&self, scene: &Scene, ray: Ray, s: &mut SampleStream, l: &mut [Rgb]) -> f32 {
+    pub fn li(&self, scene: &World, ray: Ray, s: &mut SampleStream, l: &mut [Rgb]) -> f32 {
         match self {
             Integrator::Path(p) => p.li(scene, ray, s, l),
             Integrator::DirectLighting(d) => d.li(scene, ray, s, l),

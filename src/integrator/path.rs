@@ -2,11 +2,11 @@
 //! between light and BSDF sampling, and Russian roulette (none / probability / efficiency).
 
 use super::direct::{bsdf_hit_weight, escaped, sample_lights};
-use super::{add_group, DirectSettings, IntegratorError};
+use super::{add_group, DirectSettings};
 use crate::geometry::{Interaction, Ray};
-use crate::lxs::{Diagnostic, Entity};
+use crate::plugin::{BuildError, Stmt};
 use crate::sampler::SampleStream;
-use crate::scene::Scene;
+use crate::scene::World;
 use crate::spectrum::Rgb;
 
 /// Russian roulette after this many vertices (LuxRender starts at path length 3).
@@ -33,8 +33,9 @@ pub struct PathIntegrator {
 }
 
 impl PathIntegrator {
-    pub fn from_entity(e: &Entity, w: &mut Vec<Diagnostic>) -> Result<Self, IntegratorError> {
-        let p = &e.params;
+    /// Reads a `path` statement.
+    pub fn build(s: &mut Stmt) -> Result<Self, BuildError> {
+        let p = s.params();
         let max_depth = p.int_or("maxdepth", 16).max(0) as u32;
         let prob = p.float_or("rrcontinueprob", 0.65).clamp(0.0, 1.0);
         let roulette = match p.string_or("rrstrategy", "efficiency") {
@@ -42,12 +43,9 @@ impl PathIntegrator {
             "probability" => Roulette::Probability(prob),
             "efficiency" => Roulette::Efficiency,
             other => {
-                return Err(IntegratorError {
-                    loc: e.loc.clone(),
-                    message: format!(
-                        "unknown rrstrategy \"{other}\" (none, probability, efficiency)"
-                    ),
-                })
+                return Err(s.err(format!(
+                    "unknown rrstrategy \"{other}\" (none, probability, efficiency)"
+                )))
             }
         };
         Ok(PathIntegrator {
@@ -55,11 +53,11 @@ impl PathIntegrator {
             roulette,
             include_environment: p.bool_or("includeenvironment", true),
             direct_light_sampling: p.bool_or("directlightsampling", true),
-            direct: DirectSettings::from_entity(e, w),
+            direct: DirectSettings::build(s),
         })
     }
 
-    pub fn li(&self, scene: &Scene, mut ray: Ray, s: &mut SampleStream, l: &mut [Rgb]) -> f32 {
+    pub fn li(&self, scene: &World, mut ray: Ray, s: &mut SampleStream, l: &mut [Rgb]) -> f32 {
         let mut beta = Rgb::WHITE;
         let mut alpha = 1.0;
         // Whether the last bounce was specular (or the camera ray): emission counts fully.

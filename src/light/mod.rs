@@ -26,6 +26,7 @@
 //! pixel value is the weighted mean (no pixel-count or spp factor for eye-path integrators).
 
 pub mod area;
+mod build;
 pub mod distant;
 pub mod distribution;
 pub mod infinite;
@@ -40,12 +41,13 @@ pub mod sunsky_data;
 pub mod warp;
 
 use crate::geometry::{Interaction, SurfaceInteraction};
-use crate::lxs::{Loc, ParamSet};
+use crate::lxs::ParamSet;
 use crate::spectrum::Rgb;
 use glam::{DMat4, Mat4, Vec2, Vec3A};
 use std::sync::Arc;
 
 pub use area::AreaLight;
+pub use build::KINDS;
 pub use distant::DistantLight;
 pub use infinite::InfiniteLight;
 pub use point::PointLight;
@@ -53,23 +55,6 @@ pub use sky::SkyLight;
 pub use spot::SpotLight;
 pub use strategy::{LightSelector, LightStrategy};
 pub use sun::SunLight;
-
-/// A light that failed to build, with the place it was declared.
-#[derive(Debug, thiserror::Error)]
-#[error("{loc}: {message}")]
-pub struct LightError {
-    pub loc: Loc,
-    pub message: String,
-}
-
-impl LightError {
-    pub fn new(loc: &Loc, message: impl Into<String>) -> LightError {
-        LightError {
-            loc: loc.clone(),
-            message: message.into(),
-        }
-    }
-}
 
 /// A colour evaluated on a surface (an area light's `L` texture).
 pub type EmitFn = Arc<dyn Fn(&SurfaceInteraction) -> Rgb + Send + Sync>;

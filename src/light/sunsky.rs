@@ -7,8 +7,9 @@
 //!
 //! Hosek–Wilkie's `sky2`/`sunsky2` are different plugins, not supported here.
 
-use super::{Light, LightCommon, LightError, SkyLight, SunLight};
+use super::{Light, LightCommon, SkyLight, SunLight};
 use crate::lxs::{Loc, ParamSet};
+use crate::plugin::BuildError;
 use glam::Mat4;
 
 /// The plugin names handled here.
@@ -21,8 +22,8 @@ pub fn build(
     l2w: Mat4,
     common: LightCommon,
     loc: &Loc,
-) -> Option<Result<Vec<Light>, LightError>> {
-    let err = |m: String| LightError::new(loc, m);
+) -> Option<Result<Vec<Light>, BuildError>> {
+    let err = |m: String| BuildError::new(loc, m);
     let sun = || SunLight::new(params, l2w, common).map(Light::Sun);
     let sky = || SkyLight::new(params, l2w, common).map(|s| Light::Sky(Box::new(s)));
     let built = match kind {

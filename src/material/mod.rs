@@ -27,6 +27,7 @@ pub use bsdf::{Bsdf, BsdfSample, Lobes};
 
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::{Diagnostic, Entity, Loc, SceneDescription};
+use crate::plugin::BuildError;
 use crate::texture::{FloatTex, TextureCtx, TextureError, TextureSet};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -44,6 +45,29 @@ pub enum MaterialError {
     Cycle { loc: Loc, name: String },
     #[error("{loc}: {message}")]
     BadParam { loc: Loc, message: String },
+}
+
+impl From<MaterialError> for BuildError {
+    /// The one build error type: the location, and the message without it.
+    fn from(e: MaterialError) -> BuildError {
+        let e = match e {
+            MaterialError::Texture(t) => return t.into(),
+            other => other,
+        };
+        let loc = match &e {
+            MaterialError::Texture(_) => Loc::default(),
+            MaterialError::Missing { loc, .. }
+            | MaterialError::BadIndex { loc, .. }
+            | MaterialError::Cycle { loc, .. }
+            | MaterialError::BadParam { loc, .. } => loc.clone(),
+        };
+        let full = e.to_string();
+        let message = full
+            .strip_prefix(&format!("{loc}: "))
+            .unwrap_or(&full)
+            .to_string();
+        BuildError { loc, message }
+    }
 }
 
 /// Where material files (nk data, images) are found.

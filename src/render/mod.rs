@@ -6,11 +6,12 @@
 //! Samples whose XYZ is NaN/Inf or whose Y is negative are discarded and counted, never
 //! splatted (LuxRender's rule).
 
+pub mod setup;
 mod tile;
 
 use crate::film::{Film, FilmParams};
 use crate::lxs::SceneDescription;
-use crate::scene::{Scene, SceneError};
+use setup::{Renderable, SetupError};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -21,7 +22,7 @@ pub use tile::{tiles, Tile, TILE_SIZE};
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
     #[error(transparent)]
-    Scene(#[from] SceneError),
+    Setup(#[from] SetupError),
     #[error("cannot start the render threads: {0}")]
     Threads(String),
     #[error("{0}")]
@@ -52,7 +53,7 @@ pub struct PassStats {
 }
 
 pub struct Session {
-    scene: Arc<Scene>,
+    scene: Arc<Renderable>,
     film: Film,
     opts: SessionOptions,
     pass: u64,
@@ -68,13 +69,20 @@ impl Session {
         base_dir: &Path,
         opts: SessionOptions,
     ) -> Result<Session, RenderError> {
-        let scene = Scene::build(desc, base_dir)?;
-        Session::from_scene(scene, opts)
+        let scene = Renderable::build(desc, base_dir)?;
+        Session::from_renderable(scene, opts)
     }
 
-    pub fn from_scene(scene: Scene, opts: SessionOptions) -> Result<Session, RenderError> {
-        let fp = &scene.film_params;
-        let film = Film::new(fp.x_pixel_count, fp.y_pixel_count, scene.groups.clone());
+    pub fn from_renderable(
+        scene: Renderable,
+        opts: SessionOptions,
+    ) -> Result<Session, RenderError> {
+        let fp = &scene.setup.film_params;
+        let film = Film::new(
+            fp.x_pixel_count,
+            fp.y_pixel_count,
+            scene.world.groups().to_vec(),
+        );
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(opts.threads)
             .build()
@@ -91,12 +99,18 @@ impl Session {
         })
     }
 
-    pub fn scene(&self) -> &Scene {
+    /// The world and render setup this session renders.
+    pub fn renderable(&self) -> &Renderable {
         &self.scene
     }
 
+    /// Located problems found while building the scene (unused parameters, fallbacks).
+    pub fn warnings(&self) -> &[crate::lxs::Diagnostic] {
+        &self.scene.warnings
+    }
+
     pub fn film_params(&self) -> &FilmParams {
-        &self.scene.film_params
+        &self.scene.setup.film_params
     }
 
     pub fn film(&self) -> &Film {
@@ -110,7 +124,7 @@ impl Session {
 
     /// Camera samples per pixel per pass.
     pub fn pixel_samples(&self) -> u32 {
-        self.scene.sampler.pixel_samples()
+        self.scene.setup.sampler.pixel_samples()
     }
 
     /// The accumulated film since the last take; the session film is cleared.
@@ -118,7 +132,7 @@ impl Session {
         let fresh = Film::new(
             self.film.width(),
             self.film.height(),
-            self.scene.groups.clone(),
+            self.scene.world.groups().to_vec(),
         );
         std::mem::replace(&mut self.film, fresh)
     }
@@ -143,9 +157,9 @@ impl Session {
         use rayon::prelude::*;
         let start = Instant::now();
         let scene = &*self.scene;
-        let fp = &scene.film_params;
+        let fp = &scene.setup.film_params;
         let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
-        let spp = scene.sampler.pixel_samples().max(1);
+        let spp = scene.setup.sampler.pixel_samples().max(1);
         let pass = self.pass;
         let (seed, stream) = (self.opts.seed, self.opts.stream);
         let cancel = &self.cancel;

@@ -1,8 +1,8 @@
 //! Tiles of the film buffer and the rendering of one tile into its own small film (the tile
 //! plus the filter's reach, clipped to the buffer).
 
+use super::setup::{RenderSetup, Renderable};
 use crate::film::{Film, OutlierRejector};
-use crate::scene::Scene;
 use crate::spectrum::{rgb_to_xyz, Rgb};
 
 pub const TILE_SIZE: u32 = 32;
@@ -57,16 +57,17 @@ pub struct Discarded {
 /// Renders `spp` samples per pixel of tile `t` for pass `pass`; returns the tile film, the
 /// tile (with its film region) and what was discarded.
 pub fn render_tile(
-    scene: &Scene,
+    scene: &Renderable,
     t: &Tile,
     pass: u64,
     spp: u32,
     seed: u64,
     stream: u64,
 ) -> (Film, Tile, Discarded) {
-    let fp = &scene.film_params;
+    let (setup, world) = (&scene.setup, &scene.world);
+    let fp = &setup.film_params;
     let (bw, bh) = (fp.x_pixel_count, fp.y_pixel_count);
-    let r = scene.filter.radius();
+    let r = setup.filter.radius();
     let (rx, ry) = (
         r.x.ceil().max(0.0) as u32 + 1,
         r.y.ceil().max(0.0) as u32 + 1,
@@ -76,29 +77,29 @@ pub fn render_tile(
     t.fy0 = t.y0.saturating_sub(ry);
     t.fx1 = (t.x1 + rx).min(bw);
     t.fy1 = (t.y1 + ry).min(bh);
-    let mut film = Film::new(t.fx1 - t.fx0, t.fy1 - t.fy0, scene.groups.clone());
+    let mut film = Film::new(t.fx1 - t.fx0, t.fy1 - t.fy0, world.groups().to_vec());
     // Offset from full-image raster coordinates to this tile film's coordinates.
     let ox = i64::from(fp.x_pixel_start) + i64::from(t.fx0);
     let oy = i64::from(fp.y_pixel_start) + i64::from(t.fy0);
-    let ngroups = scene.groups.len();
+    let ngroups = world.groups().len();
     let mut l = vec![Rgb::BLACK; ngroups];
     let mut discarded = Discarded::default();
-    let mut outliers = outlier_rejector(scene, &t);
+    let mut outliers = outlier_rejector(setup, &t);
     for by in t.y0..t.y1 {
         for bx in t.x0..t.x1 {
             let (px, py) = (bx + fp.x_pixel_start, by + fp.y_pixel_start);
             for k in 0..spp {
                 let index = pass * u64::from(spp) + u64::from(k);
-                let mut st = scene.sampler.start(seed, stream, px, py, index);
+                let mut st = setup.sampler.start(seed, stream, px, py, index);
                 let cs = st.camera_sample();
-                let Some((ray, w)) = scene.camera.generate_ray(&cs) else {
+                let Some((ray, w)) = setup.camera.generate_ray(&cs) else {
                     continue;
                 };
                 if w.is_nan() || w <= 0.0 {
                     continue;
                 }
                 l.iter_mut().for_each(|c| *c = Rgb::BLACK);
-                let alpha = scene.integrator.li(scene, ray, &mut st, &mut l);
+                let alpha = setup.integrator.li(world, ray, &mut st, &mut l);
                 // With premultiplyalpha the film holds colours already multiplied by alpha.
                 let scale = if fp.premultiply_alpha { w * alpha } else { w };
                 for (g, c) in l.iter().enumerate() {
@@ -113,7 +114,7 @@ pub fn render_tile(
                             continue;
                         }
                     }
-                    scene.filter.splat(cs.p_film, |x, y, fw| {
+                    setup.filter.splat(cs.p_film, |x, y, fw| {
                         let (lx, ly) = (i64::from(x) - ox, i64::from(y) - oy);
                         if lx >= 0 && ly >= 0 {
                             film.add_splat(g, lx as u32, ly as u32, xyz, alpha, fw);
@@ -128,9 +129,9 @@ pub fn render_tile(
 
 /// The film's `outlierrejection_k` test over this tile's film region, when enabled. Each tile
 /// keeps its own record of outliers, so the result does not depend on the thread count.
-fn outlier_rejector(scene: &Scene, t: &Tile) -> Option<OutlierRejector> {
-    let fp = &scene.film_params;
-    let r = scene.filter.radius();
+fn outlier_rejector(setup: &RenderSetup, t: &Tile) -> Option<OutlierRejector> {
+    let fp = &setup.film_params;
+    let r = setup.filter.radius();
     OutlierRejector::new(
         fp.outlier_rejection_k,
         t.fx1 - t.fx0,

@@ -73,7 +73,7 @@ pub fn camera_and_filter(n: u64) -> Vec<BenchResult> {
         exterior: None,
     };
     let mut out = Vec::new();
-    let Ok(cam) = Camera::build(&desc, &FilmGeometry::new(256, 256)) else {
+    let Ok(cam) = Camera::build(&desc, &FilmGeometry::new(256, 256), &mut Vec::new()) else {
         return out;
     };
     let Ok(sampler) = Sampler::new(SamplerKind::Sobol, 16) else {
@@ -89,7 +89,7 @@ pub fn camera_and_filter(n: u64) -> Vec<BenchResult> {
         }
         acc
     }));
-    if let Ok(f) = Filter::from_entity(None) {
+    if let Ok(f) = Filter::build(None, &mut Vec::new()) {
         out.push(timed("filter mitchell (splats)".into(), n, || {
             let mut acc = 0.0f64;
             for i in 0..n {

@@ -12,6 +12,9 @@
 //! LuxRender parameters: `pixelsamples` (default 4, rounded up to a power of two);
 //! `pixelsampler` (pixel visiting order, irrelevant here) is accepted.
 
+use super::{pixel_samples, xy_samples, SamplerKind};
+use crate::plugin::{BuildError, Stmt};
+
 use super::hash::{combine, mix64, permute_pow2, unit_from_u32};
 use glam::Vec2;
 
@@ -65,4 +68,26 @@ pub(super) fn value_2d(block_key: u64, index: u64, log2_n: u32, dim: u32) -> Vec
         unit_from_u32(van_der_corput(p) ^ sx),
         unit_from_u32(sobol2(p) ^ sy),
     )
+}
+
+/// Reads a `lowdiscrepancy` statement.
+pub(super) fn build(s: &Stmt) -> Result<(SamplerKind, u32), BuildError> {
+    Ok((SamplerKind::LowDiscrepancy, pixel_samples(s)?))
+}
+
+/// LuxRender's older stratified samplers (`stratified` with `xsamples` × `ysamples` and
+/// `jitter`; `bestcandidate` and `halton` with `pixelsamples`): rendered by this sampler,
+/// which stratifies as well, with a located warning naming it.
+pub(super) fn build_legacy(s: &mut Stmt) -> Result<(SamplerKind, u32), BuildError> {
+    let n = if s.kind() == "stratified" {
+        let _ = s.params().bool("jitter");
+        xy_samples(s, s.params().int("xsamples"), s.params().int("ysamples"))?
+    } else {
+        pixel_samples(s)?
+    };
+    s.warn(format!(
+        "sampler \"{}\" is not implemented; using \"lowdiscrepancy\" (unbiased, same samples per pixel)",
+        s.kind()
+    ));
+    Ok((SamplerKind::LowDiscrepancy, n))
 }

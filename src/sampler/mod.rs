@@ -1,8 +1,9 @@
 //! Samplers: random, lowdiscrepancy, sobol; every value derived from (seed, stream, pixel,
 //! sample index, dimension).
 //!
-//! [`Sampler::from_entity`] reads a `Sampler` statement with LuxRender's names and defaults
-//! (random with 4 samples per pixel when the scene has none, as LuxRender). LuxRender's other
+//! [`Sampler::build`] dispatches a `Sampler` statement to the sampler's file, which reads its
+//! parameters with LuxRender's names and defaults (random with 4 samples per pixel when the
+//! scene has none, as LuxRender). LuxRender's other
 //! samplers fall back with a warning: `bestcandidate`, `stratified` and `halton` to
 //! lowdiscrepancy, `metropolis` and `erpt` to random.
 //!
@@ -32,15 +33,9 @@ mod sobol;
 pub use hash::{mix64, pixel_key};
 
 use crate::camera::CameraSample;
-use crate::lxs::{Entity, Loc};
+use crate::lxs::{Diagnostic, Entity, Loc};
+use crate::plugin::{BuildError, Stmt};
 use glam::Vec2;
-
-#[derive(Debug, thiserror::Error)]
-#[error("{loc}: {message}")]
-pub struct SamplerError {
-    pub loc: Loc,
-    pub message: String,
-}
 
 /// The sequence family.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,102 +54,78 @@ pub struct Sampler {
     log2_n: u32,
 }
 
+/// `pixelsamples` of a sampler statement: at least 1.
+fn pixel_samples(s: &Stmt) -> Result<u32, BuildError> {
+    let n = s
+        .params()
+        .int_or("pixelsamples", DEFAULT_PIXEL_SAMPLES as i32);
+    u32::try_from(n).ok().filter(|&n| n >= 1).ok_or_else(|| {
+        s.err(format!(
+            "sampler \"{}\": pixelsamples must be at least 1, got {n}",
+            s.kind()
+        ))
+    })
+}
+
+/// `xsamples × ysamples` of the old stratified-style statements (2 × 2 by default).
+fn xy_samples(s: &Stmt, xs: Option<i32>, ys: Option<i32>) -> Result<u32, BuildError> {
+    let prod = i64::from(xs.unwrap_or(2)) * i64::from(ys.unwrap_or(2));
+    u32::try_from(prod).ok().filter(|&n| n >= 1).ok_or_else(|| {
+        s.err(format!(
+            "xsamples * ysamples must be at least 1, got {prod}"
+        ))
+    })
+}
+
 /// LuxRender's default `pixelsamples`.
 pub const DEFAULT_PIXEL_SAMPLES: u32 = 4;
 
 impl Sampler {
     /// Builds the sampler of a `Sampler` statement (`None`: LuxRender's default, random with
-    /// 4 samples per pixel).
-    pub fn from_entity(e: Option<&Entity>) -> Result<Sampler, SamplerError> {
+    /// 4 samples per pixel). Each sampler file reads its own parameters; this reads the ones
+    /// every sampler shares and dispatches on the name.
+    pub fn build(
+        e: Option<&Entity>,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Sampler, BuildError> {
         let Some(e) = e else {
             return Sampler::new(SamplerKind::Random, DEFAULT_PIXEL_SAMPLES);
         };
-        let err = |message: String| SamplerError {
-            loc: e.loc.clone(),
-            message,
-        };
-        let p = &e.params;
-        let pixelsamples = || -> Result<u32, SamplerError> {
-            let n = p.int_or("pixelsamples", DEFAULT_PIXEL_SAMPLES as i32);
-            u32::try_from(n).ok().filter(|&n| n >= 1).ok_or_else(|| {
-                err(format!(
-                    "sampler \"{}\": pixelsamples must be at least 1, got {n}",
-                    e.kind
-                ))
-            })
-        };
+        let mut s = Stmt::new("sampler", e, warnings);
+        let p = s.params();
         // LuxRender's pixel visiting order: irrelevant to a deterministic per-pixel sampler.
         let _ = p.string("pixelsampler");
         if p.bool("noiseaware") == Some(true) {
-            tracing::warn!(
-                "{}: noise-aware sampling is not supported; sampling uniformly",
-                e.loc
-            );
+            s.warn("noise-aware sampling is not supported; sampling uniformly");
         }
         let (kind, n) = match e.kind.as_str() {
-            "random" => {
-                let mut n = pixelsamples()?;
-                let (xs, ys) = (p.int("xsamples"), p.int("ysamples"));
-                if xs.is_some() || ys.is_some() {
-                    tracing::warn!("{}: 'xsamples'/'ysamples' are deprecated, use 'pixelsamples'", e.loc);
-                    let prod = i64::from(xs.unwrap_or(2)) * i64::from(ys.unwrap_or(2));
-                    n = u32::try_from(prod)
-                        .ok()
-                        .filter(|&n| n >= 1)
-                        .ok_or_else(|| err(format!("xsamples * ysamples must be at least 1, got {prod}")))?;
-                }
-                (SamplerKind::Random, n)
-            }
-            "lowdiscrepancy" => (SamplerKind::LowDiscrepancy, pixelsamples()?),
-            "sobol" => (SamplerKind::Sobol, pixelsamples()?),
-            "stratified" => {
-                let xs = p.int_or("xsamples", 2);
-                let ys = p.int_or("ysamples", 2);
-                let _ = p.bool("jitter");
-                let prod = i64::from(xs) * i64::from(ys);
-                let n = u32::try_from(prod)
-                    .ok()
-                    .filter(|&n| n >= 1)
-                    .ok_or_else(|| err(format!("xsamples * ysamples must be at least 1, got {prod}")))?;
-                Sampler::warn_fallback(e, "lowdiscrepancy");
-                (SamplerKind::LowDiscrepancy, n)
-            }
-            "bestcandidate" | "halton" => {
-                Sampler::warn_fallback(e, "lowdiscrepancy");
-                (SamplerKind::LowDiscrepancy, pixelsamples()?)
-            }
+            "random" => random::build(&mut s)?,
+            "lowdiscrepancy" => lowdiscrepancy::build(&s)?,
+            "sobol" => sobol::build(&s)?,
+            "stratified" | "bestcandidate" | "halton" => lowdiscrepancy::build_legacy(&mut s)?,
             "metropolis" | "erpt" => {
-                Sampler::warn_fallback(e, "random");
-                (SamplerKind::Random, pixelsamples()?)
+                s.warn(format!(
+                    "sampler \"{}\" is not implemented; using \"random\" (unbiased, same samples per pixel)",
+                    e.kind
+                ));
+                (SamplerKind::Random, pixel_samples(&s)?)
             }
             other => {
-                return Err(err(format!(
+                return Err(s.err(format!(
                     "unknown sampler \"{other}\" (known: random, lowdiscrepancy, sobol; bestcandidate, stratified, halton, metropolis, erpt fall back)"
                 )))
             }
         };
-        Sampler::new(kind, n).map_err(|mut x| {
-            x.loc = e.loc.clone();
-            x
-        })
-    }
-
-    fn warn_fallback(e: &Entity, to: &str) {
-        tracing::warn!(
-            "{}: sampler \"{}\" is not implemented; using \"{to}\" (unbiased, same samples per pixel)",
-            e.loc,
-            e.kind
-        );
+        Sampler::new(kind, n).map_err(|x| BuildError::new(&e.loc, x.message))
     }
 
     /// A sampler of this kind; lowdiscrepancy rounds `pixel_samples` up to a power of two
     /// (with a warning), as LuxRender does.
-    pub fn new(kind: SamplerKind, pixel_samples: u32) -> Result<Sampler, SamplerError> {
+    pub fn new(kind: SamplerKind, pixel_samples: u32) -> Result<Sampler, BuildError> {
         let mut n = pixel_samples.max(1);
         if kind == SamplerKind::LowDiscrepancy && !n.is_power_of_two() {
-            let up = n.checked_next_power_of_two().ok_or_else(|| SamplerError {
-                loc: Loc::default(),
-                message: format!("pixelsamples {n} too large"),
+            let up = n.checked_next_power_of_two().ok_or_else(|| {
+                BuildError::new(&Loc::default(), format!("pixelsamples {n} too large"))
             })?;
             tracing::warn!("lowdiscrepancy sampler: pixelsamples {n} rounded up to {up}");
             n = up;

@@ -12,6 +12,9 @@
 //! `pixelsamples`; ours samples pixel by pixel, so `pixelsamples` (default 4) sets the
 //! samples per pixel and pass. `noiseaware` is accepted (not supported: uniform sampling).
 
+use super::{pixel_samples, SamplerKind};
+use crate::plugin::{BuildError, Stmt};
+
 use super::hash::{combine, mix64};
 use glam::Vec2;
 use sobol_burley::parts::{owen_scramble_rev, sobol_rev, u32_to_f32_norm};
@@ -62,4 +65,9 @@ pub(super) fn value_2d(run_key: u64, index: u64, dim: u32) -> Vec2 {
         coordinate(rev, 0, (key >> 32) as u32),
         coordinate(rev, 1, mix64(key) as u32),
     )
+}
+
+/// Reads a `sobol` statement.
+pub(super) fn build(s: &Stmt) -> Result<(SamplerKind, u32), BuildError> {
+    Ok((SamplerKind::Sobol, pixel_samples(s)?))
 }

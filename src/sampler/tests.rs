@@ -13,7 +13,7 @@ fn sampler(kind: &str, params: &[(&str, ParamValue)]) -> Sampler {
         params: ps,
         loc: Loc::default(),
     };
-    Sampler::from_entity(Some(&e)).expect("valid sampler")
+    Sampler::build(Some(&e), &mut Vec::new()).expect("valid sampler")
 }
 
 fn all(n: i32) -> Vec<Sampler> {
@@ -45,7 +45,7 @@ fn draw(
 
 #[test]
 fn defaults_and_fallbacks() {
-    let none = Sampler::from_entity(None).unwrap();
+    let none = Sampler::build(None, &mut Vec::new()).unwrap();
     assert_eq!(
         (none.kind(), none.pixel_samples()),
         (SamplerKind::Random, 4)
@@ -74,7 +74,7 @@ fn defaults_and_fallbacks() {
         params: ParamSet::new(),
         loc: Loc::default(),
     };
-    assert!(Sampler::from_entity(Some(&e)).is_err());
+    assert!(Sampler::build(Some(&e), &mut Vec::new()).is_err());
     let e = Entity {
         kind: "random".into(),
         params: {
@@ -84,7 +84,7 @@ fn defaults_and_fallbacks() {
         },
         loc: Loc::default(),
     };
-    assert!(Sampler::from_entity(Some(&e)).is_err());
+    assert!(Sampler::build(Some(&e), &mut Vec::new()).is_err());
 }
 
 #[test]

@@ -1,24 +1,30 @@
-//! Building a renderable [`Scene`] from a [`crate::lxs::SceneDescription`]: only what the description
-//! references is built — shapes (and the objects that instances use), the materials those
-//! shapes use (with their textures), the lights and their `L` textures. Unused parameters of
-//! what was built are reported as warnings with file:line:column, and the log says what was
-//! built.
+//! The world: what is in the scene — geometry (with its BVH), materials, textures, lights and
+//! the light selection — built from a [`crate::lxs::SceneDescription`]. Only what the
+//! description references is built: shapes (and the objects that instances use), the
+//! materials those shapes use (with their textures), the lights and their `L` textures.
+//! Unused parameters of what was built are reported as warnings with file:line:column, and
+//! the log says what was built.
+//!
+//! How the world is looked at (camera, sampler, filter, integrator, film) is the render
+//! setup's business ([`crate::render::setup`]): the world imports no integrator; integrators
+//! receive a `&World`.
+//!
+//! ```text
+//! SceneDescription --geometry::build--> Geometry + primitive table + pending area lights
+//!                  --MaterialSet::build--> materials (with their textures)
+//!                  --Light::build / Light::build_area--> lights --> LightSelector
+//! ```
 
 mod build;
+mod geometry;
 
 use crate::accel::{Geometry, ShapeId};
-use crate::camera::Camera;
-use crate::film::FilmParams;
-use crate::filter::Filter;
 use crate::geometry::{Interaction, Ray, SurfaceInteraction};
-use crate::integrator::Integrator;
 use crate::light::{AreaLight, Light, LightSample, LightSelector, ShapeSampler};
-use crate::lxs::Diagnostic;
 use crate::material::{Material, MaterialSet};
-use crate::sampler::Sampler;
 use glam::Vec2;
 
-pub use build::SceneError;
+pub use build::WorldOptions;
 
 /// What the renderer knows about a primitive id (`SurfaceInteraction::prim`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -29,17 +35,10 @@ pub struct PrimInfo {
     pub light: Option<usize>,
 }
 
-/// Everything a render needs, immutable once built (shared by the render threads).
-pub struct Scene {
-    pub camera: Camera,
-    pub film_params: FilmParams,
-    pub filter: Filter,
-    pub sampler: Sampler,
-    pub integrator: Integrator,
+/// What the scene contains, immutable once built (shared by the render threads).
+pub struct World {
     /// Light group names, in film group order.
-    pub groups: Vec<String>,
-    /// Problems that did not stop the build (unused parameters, fallbacks).
-    pub warnings: Vec<Diagnostic>,
+    groups: Vec<String>,
     geometry: Geometry,
     materials: MaterialSet,
     prims: Vec<PrimInfo>,
@@ -50,7 +49,12 @@ pub struct Scene {
     selector: LightSelector,
 }
 
-impl Scene {
+impl World {
+    /// Light group names, in film group order (at least "default").
+    pub fn groups(&self) -> &[String] {
+        &self.groups
+    }
+
     pub fn geometry(&self) -> &Geometry {
         &self.geometry
     }
@@ -97,7 +101,7 @@ impl Scene {
     }
 }
 
-impl ShapeSampler for Scene {
+impl ShapeSampler for World {
     fn sample_shape(&self, shape: u32, u: Vec2, u_pick: f32) -> Option<(Interaction, Vec2, f32)> {
         let id = *self.emitters.get(shape as usize)?;
         let (it, uv, pdf) = self.geometry.sample(id, u, u_pick);

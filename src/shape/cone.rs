@@ -2,9 +2,9 @@
 //! cone.cpp.
 
 use super::quadric::{Quadric, Surface};
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 
-pub(crate) fn create(b: &Build) -> Result<Quadric, ShapeError> {
+pub(crate) fn build(b: &Build) -> Result<Quadric, BuildError> {
     let r = b.float("radius", 1.0)?.abs();
     let h = b.float("height", 1.0)?;
     if r == 0.0 || h <= 0.0 {

@@ -2,9 +2,9 @@
 //! cylinder.cpp; open at both ends.
 
 use super::quadric::{z_range, Quadric, Surface};
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 
-pub(crate) fn create(b: &Build) -> Result<Quadric, ShapeError> {
+pub(crate) fn build(b: &Build) -> Result<Quadric, BuildError> {
     let r = b.float("radius", 1.0)?.abs();
     let (zmin, zmax) = z_range(b, -1.0, 1.0)?;
     if r == 0.0 || zmin == zmax {

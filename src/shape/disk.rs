@@ -2,9 +2,9 @@
 //! LuxRender's disk.cpp; its normal is +z (before ReverseOrientation).
 
 use super::quadric::{Quadric, Surface};
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 
-pub(crate) fn create(b: &Build) -> Result<Quadric, ShapeError> {
+pub(crate) fn build(b: &Build) -> Result<Quadric, BuildError> {
     let h = b.float("height", 0.0)?;
     let r = b.float("radius", 1.0)?.abs();
     let ri = b.float("innerradius", 0.0)?.abs();

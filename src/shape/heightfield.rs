@@ -2,9 +2,9 @@
 //! into a triangle mesh with uv = (x, y), as LuxRender's heightfield.cpp does.
 
 use super::mesh::{MeshData, TriangleMesh};
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 
-pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
+pub(crate) fn build(b: &Build) -> Result<TriangleMesh, BuildError> {
     let ps = b.params();
     let nu = ps.int_or("nu", -1);
     let nv = ps.int_or("nv", -1);

@@ -3,10 +3,10 @@
 //! annulus, which is rejected (use a disk).
 
 use super::quadric::{Quadric, Surface};
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 use glam::DVec3;
 
-pub(crate) fn create(b: &Build) -> Result<Quadric, ShapeError> {
+pub(crate) fn build(b: &Build) -> Result<Quadric, BuildError> {
     let p = |name: &str, default: [f32; 3]| {
         let v = b.params().point(name).unwrap_or(default);
         let v = DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64);

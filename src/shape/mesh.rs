@@ -2,7 +2,7 @@
 //! stlmesh, heightfield): vertices transformed into the target space at build time, optional
 //! per-vertex normals and uv, quads split along their shorter diagonal as LuxRender does.
 
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 use crate::geometry::frame::{coordinate_system, LocalGeometry};
 use crate::geometry::transform::{error_floor, gamma, to_f32, to_f64};
 use glam::{Vec2, Vec3A};
@@ -51,7 +51,7 @@ const DEFAULT_UV: [Vec2; 3] = [
 
 impl TriangleMesh {
     /// Validates `data` and transforms it into the target space of `b`.
-    pub(crate) fn build(b: &Build, data: MeshData) -> Result<TriangleMesh, ShapeError> {
+    pub(crate) fn build(b: &Build, data: MeshData) -> Result<TriangleMesh, BuildError> {
         let nv = data.p.len();
         if nv == 0 {
             return Err(b.err("the mesh has no vertices (\"P\")"));
@@ -59,7 +59,7 @@ impl TriangleMesh {
         if let Some(bad) = data.p.iter().find(|p| !p.iter().all(|c| c.is_finite())) {
             return Err(b.err(format!("vertex {bad:?} is not finite")));
         }
-        let check = |i: i64| -> Result<u32, ShapeError> {
+        let check = |i: i64| -> Result<u32, BuildError> {
             if i < 0 || i as usize >= nv {
                 Err(b.err(format!(
                     "vertex index {i} out of range ({nv} \"P\" values were given)"

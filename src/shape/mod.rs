@@ -21,7 +21,8 @@ pub mod triangle;
 pub mod trianglemesh;
 
 use crate::geometry::Transform;
-use crate::lxs::{Loc, ShapeDesc};
+use crate::lxs::ShapeDesc;
+pub use crate::plugin::BuildError;
 use std::path::PathBuf;
 
 pub use mesh::TriangleMesh;
@@ -32,15 +33,6 @@ pub use quadric::Quadric;
 pub struct ShapeCtx {
     /// Directory that relative file names (plymesh/stlmesh `filename`) resolve against.
     pub base_dir: PathBuf,
-}
-
-/// A shape that could not be built; Display is `file:line:col: shape "kind": message`.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{loc}: shape \"{kind}\": {message}")]
-pub struct ShapeError {
-    pub loc: Loc,
-    pub kind: String,
-    pub message: String,
 }
 
 /// A built shape.
@@ -76,12 +68,12 @@ pub(crate) struct Build<'a> {
 }
 
 impl Build<'_> {
-    pub fn err(&self, message: impl Into<String>) -> ShapeError {
-        ShapeError {
-            loc: self.desc.entity.loc.clone(),
-            kind: self.desc.entity.kind.clone(),
-            message: message.into(),
-        }
+    /// An error naming the shape: `file:line:col: shape "kind": message`.
+    pub fn err(&self, message: impl Into<String>) -> BuildError {
+        BuildError::new(
+            &self.desc.entity.loc,
+            format!("shape \"{}\": {}", self.desc.entity.kind, message.into()),
+        )
     }
 
     pub fn params(&self) -> &crate::lxs::ParamSet {
@@ -103,7 +95,7 @@ impl Build<'_> {
     }
 
     /// A finite float parameter (non-finite values are errors).
-    pub fn float(&self, name: &str, default: f32) -> Result<f64, ShapeError> {
+    pub fn float(&self, name: &str, default: f32) -> Result<f64, BuildError> {
         let v = self.params().float_or(name, default);
         if v.is_finite() {
             Ok(v as f64)
@@ -113,43 +105,48 @@ impl Build<'_> {
     }
 
     /// `phimax` in radians, clamped to [0, 2π] as LuxRender does.
-    pub fn phimax(&self) -> Result<f64, ShapeError> {
+    pub fn phimax(&self) -> Result<f64, BuildError> {
         Ok(self.float("phimax", 360.0)?.clamp(0.0, 360.0).to_radians())
     }
 }
 
-/// Builds the shape of `desc`, placing it with `space_from_world` applied after the shape's own
-/// transform (identity for world shapes).
-pub fn create(
-    desc: &ShapeDesc,
-    space_from_world: &Transform,
-    ctx: &ShapeCtx,
-) -> Result<Shape, ShapeError> {
-    let mut b = Build {
-        desc,
-        ctx,
-        to_space: Transform::IDENTITY,
-    };
-    if desc.object_to_world.is_animated() {
-        b.warn("motion-blurred transform: using its first key (motion blur is not implemented)");
-    }
-    let o2w = Transform::new(desc.object_to_world.start())
-        .ok_or_else(|| b.err("the shape's transform is singular or not finite"))?;
-    b.to_space = space_from_world.compose(&o2w);
-    match desc.entity.kind.as_str() {
-        "trianglemesh" | "mesh" | "waldtrianglemesh" | "barytrianglemesh" | "loopsubdiv" => {
-            trianglemesh::create(&b).map(Shape::Mesh)
+impl Shape {
+    /// Builds the shape of `desc`, placing it with `space_from_world` applied after the shape's own
+    /// transform (identity for world shapes). Each shape file reads its own parameters; this
+    /// only dispatches on the name.
+    pub fn build(
+        desc: &ShapeDesc,
+        space_from_world: &Transform,
+        ctx: &ShapeCtx,
+    ) -> Result<Shape, BuildError> {
+        let mut b = Build {
+            desc,
+            ctx,
+            to_space: Transform::IDENTITY,
+        };
+        if desc.object_to_world.is_animated() {
+            b.warn(
+                "motion-blurred transform: using its first key (motion blur is not implemented)",
+            );
         }
-        "plymesh" => plymesh::create(&b).map(Shape::Mesh),
-        "stlmesh" => stlmesh::create(&b).map(Shape::Mesh),
-        "heightfield" => heightfield::create(&b).map(Shape::Mesh),
-        "sphere" => sphere::create(&b).map(quadric),
-        "disk" => disk::create(&b).map(quadric),
-        "cylinder" => cylinder::create(&b).map(quadric),
-        "cone" => cone::create(&b).map(quadric),
-        "paraboloid" => paraboloid::create(&b).map(quadric),
-        "hyperboloid" => hyperboloid::create(&b).map(quadric),
-        other => Err(b.err(format!("unsupported shape type \"{other}\""))),
+        let o2w = Transform::new(desc.object_to_world.start())
+            .ok_or_else(|| b.err("the shape's transform is singular or not finite"))?;
+        b.to_space = space_from_world.compose(&o2w);
+        match desc.entity.kind.as_str() {
+            "trianglemesh" | "mesh" | "waldtrianglemesh" | "barytrianglemesh" | "loopsubdiv" => {
+                trianglemesh::build(&b).map(Shape::Mesh)
+            }
+            "plymesh" => plymesh::build(&b).map(Shape::Mesh),
+            "stlmesh" => stlmesh::build(&b).map(Shape::Mesh),
+            "heightfield" => heightfield::build(&b).map(Shape::Mesh),
+            "sphere" => sphere::build(&b).map(quadric),
+            "disk" => disk::build(&b).map(quadric),
+            "cylinder" => cylinder::build(&b).map(quadric),
+            "cone" => cone::build(&b).map(quadric),
+            "paraboloid" => paraboloid::build(&b).map(quadric),
+            "hyperboloid" => hyperboloid::build(&b).map(quadric),
+            other => Err(b.err(format!("unsupported shape type \"{other}\""))),
+        }
     }
 }
 

@@ -2,9 +2,9 @@
 //! `phimax` (360), as LuxRender's paraboloid.cpp.
 
 use super::quadric::{z_range, Quadric, Surface};
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 
-pub(crate) fn create(b: &Build) -> Result<Quadric, ShapeError> {
+pub(crate) fn build(b: &Build) -> Result<Quadric, BuildError> {
     let r = b.float("radius", 1.0)?.abs();
     let (zmin, zmax) = z_range(b, 0.0, 1.0)?;
     if r == 0.0 || zmax <= 0.0 || zmin < 0.0 {

@@ -7,10 +7,10 @@
 
 use super::mesh::{MeshData, TriangleMesh};
 use super::trianglemesh::check_unsupported;
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 use glam::Vec3;
 
-pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
+pub(crate) fn build(b: &Build) -> Result<TriangleMesh, BuildError> {
     let name = b
         .params()
         .string("filename")

@@ -10,7 +10,7 @@
 //! The (u, v) parametrisation and the normal orientation follow pbrt/LuxRender: u = φ/φmax,
 //! n = dp/du × dp/dv (outward for the standard shapes), turned by ReverseOrientation.
 
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 use crate::geometry::distribution::Distribution1D;
 use crate::geometry::frame::LocalGeometry;
 use crate::geometry::transform::to_f64;
@@ -81,7 +81,7 @@ pub struct Quadric {
 }
 
 impl Quadric {
-    pub(crate) fn new(b: &Build, surface: Surface, phimax: f64) -> Result<Quadric, ShapeError> {
+    pub(crate) fn new(b: &Build, surface: Surface, phimax: f64) -> Result<Quadric, BuildError> {
         let (coef, zmin, zmax) = surface_coefficients(&surface);
         if zmax.is_nan() || zmin.is_nan() || zmax < zmin || !coef.iter().all(|c| c.is_finite()) {
             return Err(b.err("degenerate parameters (empty z range or non-finite values)"));
@@ -588,7 +588,7 @@ pub(crate) fn z_range(
     b: &Build,
     zmin_default: f32,
     zmax_default: f32,
-) -> Result<(f64, f64), ShapeError> {
+) -> Result<(f64, f64), BuildError> {
     let z0 = b.float("zmin", zmin_default)?;
     let z1 = b.float("zmax", zmax_default)?;
     Ok((z0.min(z1), z0.max(z1)))

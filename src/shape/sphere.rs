@@ -2,9 +2,9 @@
 //! as LuxRender's sphere.cpp. Intersected analytically (see [`super::quadric`]).
 
 use super::quadric::{z_range, Quadric, Surface};
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 
-pub(crate) fn create(b: &Build) -> Result<Quadric, ShapeError> {
+pub(crate) fn build(b: &Build) -> Result<Quadric, BuildError> {
     let r = b.float("radius", 1.0)?.abs();
     if r == 0.0 {
         return Err(b.err("radius must not be 0"));

@@ -5,12 +5,12 @@
 
 use super::mesh::{MeshData, TriangleMesh};
 use super::trianglemesh::check_unsupported;
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 
 /// LuxRender's limit on binary STL faces.
 const MAX_FACES: usize = 16 * 1024 * 1024;
 
-pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
+pub(crate) fn build(b: &Build) -> Result<TriangleMesh, BuildError> {
     let name = b
         .params()
         .string("filename")

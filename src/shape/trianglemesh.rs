@@ -5,9 +5,9 @@
 //! `displacementmap` (subdivision and displacement are not implemented: an error).
 
 use super::mesh::{MeshData, TriangleMesh};
-use super::{Build, ShapeError};
+use super::{Build, BuildError};
 
-pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
+pub(crate) fn build(b: &Build) -> Result<TriangleMesh, BuildError> {
     let ps = b.params();
     let p = ps
         .points("P")
@@ -70,7 +70,7 @@ pub(crate) fn create(b: &Build) -> Result<TriangleMesh, ShapeError> {
 
 /// Reads the LuxRender-internal mesh options (accepted, no effect here) and rejects the
 /// features that are not implemented.
-pub(crate) fn check_unsupported(b: &Build) -> Result<(), ShapeError> {
+pub(crate) fn check_unsupported(b: &Build) -> Result<(), BuildError> {
     let ps = b.params();
     for name in ["tritype", "quadtype", "acceltype", "subdivscheme", "name"] {
         let _ = ps.string(name);

@@ -21,6 +21,7 @@ pub mod uv;
 
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::{Diagnostic, Loc, ParamSet, SceneDescription, TextureDesc, TextureType};
+use crate::plugin::BuildError;
 use crate::spectrum::Rgb;
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -44,6 +45,25 @@ pub enum TextureError {
     },
     #[error("{loc}: {message}")]
     BadParam { loc: Loc, message: String },
+}
+
+impl From<TextureError> for BuildError {
+    /// The one build error type: the location, and the message without it.
+    fn from(e: TextureError) -> BuildError {
+        let loc = match &e {
+            TextureError::UnknownClass { loc, .. }
+            | TextureError::Missing { loc, .. }
+            | TextureError::Cycle { loc, .. }
+            | TextureError::Image { loc, .. }
+            | TextureError::BadParam { loc, .. } => loc.clone(),
+        };
+        let full = e.to_string();
+        let message = full
+            .strip_prefix(&format!("{loc}: "))
+            .unwrap_or(&full)
+            .to_string();
+        BuildError { loc, message }
+    }
 }
 
 /// Where texture files are found.

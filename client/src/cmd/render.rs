@@ -117,7 +117,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         stream: 0,
     };
     let mut session = Session::new(&desc, &base_dir, opts)?;
-    for w in &session.scene().warnings {
+    for w in session.warnings() {
         eprintln!("warning: {w}");
     }
     let fp = session.film_params().clone();

@@ -1,0 +1,102 @@
+//! Building lights from their statements: [`Light::build`] for a `LightSource` (point, spot,
+//! distant, infinite, and the daylight plugins of [`super::sunsky`]) and
+//! [`Light::build_area`] for an `AreaLightSource` once its shape is in the geometry. Both read
+//! the `L` colour or texture through the scene's [`TextureSet`], the parameters every light
+//! shares ([`LightCommon`]), and hand the rest to the light's own file.
+//!
+//! ```text
+//! LightDesc (kind, params, light-to-world) --Light::build--> Vec<Light>   (sunsky gives two)
+//! AreaLightSource entity + its shape's area --Light::build_area--> Light::Area
+//! ```
+
+use super::{
+    sunsky, AreaLight, DistantLight, Emission, InfiniteLight, Light, LightColor, LightCommon,
+    PointLight, SpotLight,
+};
+use crate::lxs::{Entity, LightDesc, ParamSet};
+use crate::plugin::BuildError;
+use crate::spectrum::{illuminant_y, Rgb};
+use crate::texture::TextureSet;
+use std::path::Path;
+use std::sync::Arc;
+
+/// The `LightSource` plugin names luxfarm builds.
+pub const KINDS: &str = "point, spot, distant, infinite, sun, sky, sunsky, area";
+
+impl Light {
+    /// Builds the light(s) of a `LightSource` statement; `group` is its film light group.
+    pub fn build(
+        ld: &LightDesc,
+        group: usize,
+        textures: &mut TextureSet,
+        base_dir: &Path,
+    ) -> Result<Vec<Light>, BuildError> {
+        let e = &ld.entity;
+        let p = &e.params;
+        let common = LightCommon::from_params(p, group);
+        let l2w = ld.light_to_world.start().as_mat4();
+        if let Some(built) = sunsky::build(&e.kind, p, l2w, common, &e.loc) {
+            return built;
+        }
+        let color = light_color(textures, p)?;
+        Ok(vec![match e.kind.as_str() {
+            "point" => Light::Point(PointLight::new(p, l2w, &color, common)),
+            "spot" => Light::Spot(SpotLight::new(p, l2w, &color, common)),
+            "distant" => Light::Distant(DistantLight::new(p, l2w, &color, common)),
+            "infinite" | "infinitesample" => {
+                let map = p.string("mapname").filter(|s| !s.is_empty());
+                let path = map.map(|m| base_dir.join(m));
+                let l = InfiniteLight::new(p, l2w, &color, path.as_deref(), common)
+                    .map_err(|m| BuildError::new(&e.loc, m))?;
+                Light::Infinite(Box::new(l))
+            }
+            other => {
+                return Err(BuildError::new(
+                    &e.loc,
+                    format!("LightSource \"{other}\" is not supported by luxfarm yet ({KINDS})"),
+                ))
+            }
+        }])
+    }
+
+    /// Builds an `AreaLightSource` on emitter `emitter` (its index among the scene's emitting
+    /// shapes), whose surface area is `area`.
+    pub fn build_area(
+        entity: &Entity,
+        group: usize,
+        textures: &mut TextureSet,
+        emitter: u32,
+        area: f32,
+    ) -> Result<Light, BuildError> {
+        if entity.kind != "area" {
+            return Err(BuildError::new(
+                &entity.loc,
+                format!("unknown AreaLightSource \"{}\"", entity.kind),
+            ));
+        }
+        let p = &entity.params;
+        let color = light_color(textures, p)?;
+        let common = LightCommon::from_params(p, group);
+        Ok(Light::Area(AreaLight::new(
+            p, &color, emitter, area, common,
+        )))
+    }
+}
+
+/// The `L` parameter (colour or texture; white by default) with its luminance.
+fn light_color(textures: &mut TextureSet, p: &ParamSet) -> Result<LightColor, BuildError> {
+    let tex = textures.color_param(p, "L", Rgb::WHITE)?;
+    Ok(match tex.as_const() {
+        Some(c) => LightColor {
+            emission: Emission::Const(c),
+            y: illuminant_y(c),
+        },
+        None => {
+            let y = illuminant_y(tex.eval(&Default::default()));
+            LightColor {
+                emission: Emission::Tex(Arc::new(move |si| tex.eval(si))),
+                y,
+            }
+        }
+    })
+}

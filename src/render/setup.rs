@@ -1,0 +1,110 @@
+//! The render setup: how the world is looked at and sampled — camera, film parameters, pixel
+//! filter, sampler and surface integrator, from the statements before `WorldBegin` — and
+//! [`Renderable`], a [`World`] with its setup: everything a render session needs.
+//!
+//! ```text
+//! SceneDescription --FilmParams / Camera / Filter / Sampler / Integrator::build--> RenderSetup
+//!                  --World::build (told the integrator's light strategy)----------> World
+//! ```
+//!
+//! The world never sees the setup's types: it is told what it needs ([`WorldOptions`]).
+
+use crate::camera::{Camera, FilmGeometry};
+use crate::film::{FilmError, FilmParams};
+use crate::filter::Filter;
+use crate::integrator::Integrator;
+use crate::lxs::{Diagnostic, Loc, SceneDescription};
+use crate::plugin::{report_unused, BuildError};
+use crate::sampler::Sampler;
+use crate::scene::{World, WorldOptions};
+use std::path::Path;
+
+/// Why a scene could not be set up for rendering; every variant names the place in the scene
+/// files.
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    #[error("{0}")]
+    Film(#[from] FilmError),
+    #[error("{0}")]
+    Build(#[from] BuildError),
+}
+
+/// How the world is rendered: immutable once built, shared by the render threads.
+pub struct RenderSetup {
+    pub camera: Camera,
+    pub film_params: FilmParams,
+    pub filter: Filter,
+    pub sampler: Sampler,
+    pub integrator: Integrator,
+}
+
+/// A world with its render setup, and the problems that did not stop the build (unused
+/// parameters, fallbacks), each located.
+pub struct Renderable {
+    pub world: World,
+    pub setup: RenderSetup,
+    pub warnings: Vec<Diagnostic>,
+}
+
+impl Renderable {
+    /// Builds the setup, then the world; `base_dir` is the directory relative file names
+    /// resolve against.
+    pub fn build(desc: &SceneDescription, base_dir: &Path) -> Result<Renderable, SetupError> {
+        let mut warnings = Vec::new();
+        let film_params = FilmParams::from_entity(desc.film.as_ref())?;
+        let cam_desc = desc.camera.as_ref().ok_or_else(|| {
+            BuildError::new(
+                &Loc {
+                    file: desc.root_file.as_str().into(),
+                    line: 1,
+                    col: 1,
+                },
+                "the scene has no Camera statement",
+            )
+        })?;
+        let fg = FilmGeometry {
+            xres: film_params.xres,
+            yres: film_params.yres,
+            crop: film_params.crop,
+        };
+        let mut camera = Camera::build(cam_desc, &fg, &mut warnings)?;
+        let filter = Filter::build(desc.pixel_filter.as_ref(), &mut warnings)?;
+        let sampler = Sampler::build(desc.sampler.as_ref(), &mut warnings)?;
+        let integrator = Integrator::build(desc.surface_integrator.as_ref(), &mut warnings)?;
+        let opts = WorldOptions {
+            light_strategy: integrator.direct_settings().strategy,
+        };
+        let world = World::build(desc, base_dir, opts, &mut warnings)?;
+        if camera.needs_autofocus() {
+            camera.autofocus(|r| world.intersect(r).map(|si| si.t));
+        }
+        report_setup_unused(desc, &mut warnings);
+        Ok(Renderable {
+            world,
+            setup: RenderSetup {
+                camera,
+                film_params,
+                filter,
+                sampler,
+                integrator,
+            },
+            warnings,
+        })
+    }
+}
+
+/// Warns about parameters of the setup statements that no plugin read.
+fn report_setup_unused(desc: &SceneDescription, w: &mut Vec<Diagnostic>) {
+    let singles = [
+        ("Camera", desc.camera.as_ref().map(|c| &c.entity)),
+        ("Film", desc.film.as_ref()),
+        ("PixelFilter", desc.pixel_filter.as_ref()),
+        ("Sampler", desc.sampler.as_ref()),
+        ("SurfaceIntegrator", desc.surface_integrator.as_ref()),
+    ];
+    for (label, e) in singles {
+        if let Some(e) = e {
+            report_unused(label, e, w);
+        }
+    }
+}
