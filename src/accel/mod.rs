@@ -29,9 +29,10 @@ pub mod tri4;
 
 use crate::geometry::frame::LocalGeometry;
 use crate::geometry::transform::{to_f32, to_f64};
-use crate::geometry::{unit_or, Distribution1D, Interaction, Ray, SurfaceInteraction, Transform};
+use crate::geometry::{unit_or, Interaction, Ray, SurfaceInteraction, Transform};
 use crate::lxs::{ObjectDesc, ShapeDesc, Xform};
 use crate::plugin::BuildError;
+use crate::sampling::DiscreteDistribution;
 use crate::shape::{Shape, ShapeCtx};
 use blas::{Blas, BlasHit};
 use bvh::{padded, Bvh, BvhOptions};
@@ -200,7 +201,7 @@ struct Instance {
 #[derive(Clone, Debug)]
 struct ShapeArea {
     area: f64,
-    tris: Option<Distribution1D>,
+    tris: Option<DiscreteDistribution>,
 }
 
 impl ShapeArea {
@@ -210,7 +211,7 @@ impl ShapeArea {
                 let w: Vec<f64> = (0..m.tris.len()).map(|i| m.area(i)).collect();
                 ShapeArea {
                     area: w.iter().sum(),
-                    tris: Distribution1D::new(&w),
+                    tris: DiscreteDistribution::new(&w),
                 }
             }
             Shape::Quadric(q) => ShapeArea {

@@ -6,8 +6,9 @@
 //! distribution (a normal of 2 standard deviations over the shutter interval).
 
 use crate::plugin::{BuildError, Stmt};
+use crate::sampling::concentric_disc;
 use glam::Vec2;
-use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+use std::f32::consts::PI;
 
 /// The aperture shape.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,20 +26,6 @@ impl Aperture {
             Aperture::Polygon(blades) => polygon(u, blades),
         }
     }
-}
-
-/// Shirley-Chiu concentric mapping of [0, 1)² onto the unit disc.
-pub fn concentric_disc(u: Vec2) -> Vec2 {
-    let o = 2.0 * u - Vec2::ONE;
-    if o.x == 0.0 && o.y == 0.0 {
-        return Vec2::ZERO;
-    }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, FRAC_PI_4 * (o.y / o.x))
-    } else {
-        (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
-    };
-    r * Vec2::new(theta.cos(), theta.sin())
 }
 
 /// LuxRender's polygonal aperture: angle from `u.y`, radius `sqrt(u.x)` scaled to the polygon

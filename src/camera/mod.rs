@@ -23,7 +23,7 @@ mod perspective;
 mod projective;
 
 pub use environment::Environment;
-pub use lens::{concentric_disc, Aperture, Shutter, ShutterDistribution};
+pub use lens::{Aperture, Shutter, ShutterDistribution};
 pub use motion::CameraMotion;
 pub use orthographic::Orthographic;
 pub use perspective::Perspective;

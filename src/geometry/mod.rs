@@ -5,13 +5,11 @@
 //! [`interaction::offset_ray_origin`]), so self-intersection avoidance does not depend on the
 //! scene's scale.
 
-pub mod distribution;
 pub mod frame;
 pub mod interaction;
 pub mod ray;
 pub mod transform;
 
-pub use distribution::Distribution1D;
 pub use glam::{Vec2, Vec3A};
 pub use interaction::{Interaction, Shading, SurfaceInteraction};
 pub use ray::Ray;

@@ -3,10 +3,10 @@
 
 use super::{add_group, DirectSettings};
 use crate::geometry::{Ray, SurfaceInteraction};
-use crate::light::warp::power_heuristic;
 use crate::light::LightSelector;
 use crate::material::Bsdf;
 use crate::sampler::SampleStream;
+use crate::sampling::power_heuristic;
 use crate::scene::World;
 use crate::spectrum::Rgb;
 

@@ -2,10 +2,11 @@
 //! `from − to`; with `theta` > 0 (degrees) the directions fill a cone of that half-angle,
 //! with the same total irradiance (radiance = irradiance / cone solid angle).
 
-use super::warp::{coordinate_system, uniform_cone, uniform_cone_pdf};
 use super::{point3, LightColor, LightCommon, LightSample};
+use crate::geometry::frame::coordinate_system;
 use crate::geometry::{Interaction, SurfaceInteraction};
 use crate::lxs::ParamSet;
+use crate::sampling::{uniform_cone, uniform_cone_pdf};
 use crate::spectrum::Rgb;
 use glam::{Mat4, Vec2, Vec3A};
 use std::f32::consts::PI;

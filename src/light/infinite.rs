@@ -4,13 +4,14 @@
 //! maps are importance sampled with a 2D piecewise-constant distribution over texels
 //! weighted by luminance × sin(θ) (texel lookup is nearest, so the pdf is exact).
 
-use super::distribution::Distribution2D;
 use super::latlong::{self, dir_to_st};
-use super::warp::{uniform_sphere, UNIFORM_SPHERE_PDF};
 use super::{LightColor, LightCommon, LightSample};
 use crate::geometry::{Interaction, SurfaceInteraction};
 use crate::lxs::ParamSet;
+use crate::sampling::PiecewiseConstant2D;
+use crate::sampling::{uniform_sphere, UNIFORM_SPHERE_PDF};
 use crate::spectrum::Rgb;
+use crate::texture::image_io;
 use glam::{Mat4, Vec2, Vec3A};
 use std::f32::consts::PI;
 use std::path::Path;
@@ -21,7 +22,7 @@ pub struct EnvMap {
     pub width: usize,
     pub height: usize,
     texels: Vec<Rgb>,
-    dist: Distribution2D,
+    dist: PiecewiseConstant2D,
     mean: f32,
 }
 
@@ -42,7 +43,7 @@ impl EnvMap {
             sum += f64::from(lum);
             weights.push(lum * sin_t);
         }
-        let dist = Distribution2D::new(&weights, width, height);
+        let dist = PiecewiseConstant2D::new(&weights, width, height);
         let mean = (sum / texels.len() as f64) as f32;
         Ok(EnvMap {
             width,
@@ -97,7 +98,7 @@ impl InfiniteLight {
         }
         let map = match map_path {
             Some(p) => {
-                let (w, h, mut texels) = load_image(p)?;
+                let (w, h, mut texels) = image_io::load_rgb(p)?;
                 if gamma != 1.0 {
                     for t in texels.iter_mut() {
                         *t = t.map(|v| v.max(0.0).powf(gamma));
@@ -170,37 +171,6 @@ impl InfiniteLight {
     pub fn power(&self) -> f32 {
         let mean = self.map.as_ref().map_or(1.0, |m| m.mean);
         self.y * mean * PI * 4.0 * PI * self.world_radius * self.world_radius
-    }
-}
-
-/// Reads an image as linear RGB texels, row 0 at the top.
-pub fn load_image(path: &Path) -> Result<(usize, usize, Vec<Rgb>), String> {
-    let is_exr = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if is_exr {
-        use exr::prelude::*;
-        let img = read_first_rgba_layer_from_file(
-            path,
-            |res, _| (res.width(), vec![Rgb::BLACK; res.width() * res.height()]),
-            |(w, px): &mut (usize, Vec<Rgb>), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-                if let Some(t) = px.get_mut(pos.y() * *w + pos.x()) {
-                    *t = Rgb::new(r, g, b);
-                }
-            },
-        )
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-        let (w, px) = img.layer_data.channel_data.pixels;
-        let h = px.len().checked_div(w).unwrap_or(0);
-        Ok((w, h, px))
-    } else {
-        let img = image::open(path)
-            .map_err(|e| format!("{}: {e}", path.display()))?
-            .into_rgb32f();
-        let (w, h) = (img.width() as usize, img.height() as usize);
-        let px = img.pixels().map(|p| Rgb::new(p[0], p[1], p[2])).collect();
-        Ok((w, h, px))
     }
 }
 

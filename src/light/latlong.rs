@@ -1,9 +1,9 @@
 //! The lat-long (equirectangular) parameterisation shared by the environment lights (infinite
 //! with a map, sky): light-space direction ↔ (s, t) ∈ [0, 1) × [0, 1] with φ = 2π s around +z and
-//! θ = π t from +z, and directions sampled from a piecewise-constant [`Distribution2D`] over
+//! θ = π t from +z, and directions sampled from a piecewise-constant [`PiecewiseConstant2D`] over
 //! (s, t), whose solid-angle pdf is `pdf(s, t) / (2π² sin θ)`.
 
-use super::distribution::Distribution2D;
+use crate::sampling::PiecewiseConstant2D;
 use glam::{Mat4, Vec2, Vec3A};
 use std::f32::consts::PI;
 
@@ -29,7 +29,7 @@ pub fn st_to_dir(s: f32, t: f32) -> (Vec3A, f32) {
 
 /// Samples a world direction from `dist`: (direction, [s, t], solid-angle pdf), or None at a
 /// pole or a zero-probability cell.
-pub fn sample(dist: &Distribution2D, l2w: &Mat4, u: Vec2) -> Option<(Vec3A, [f32; 2], f32)> {
+pub fn sample(dist: &PiecewiseConstant2D, l2w: &Mat4, u: Vec2) -> Option<(Vec3A, [f32; 2], f32)> {
     let ([s, t], pdf_st) = dist.sample(u.x, u.y);
     let (d, sin_t) = st_to_dir(s, t);
     if sin_t <= 0.0 || pdf_st <= 0.0 {
@@ -40,7 +40,7 @@ pub fn sample(dist: &Distribution2D, l2w: &Mat4, u: Vec2) -> Option<(Vec3A, [f32
 }
 
 /// Solid-angle pdf of [`sample`] returning the world direction `wi`.
-pub fn pdf(dist: &Distribution2D, w2l: &Mat4, wi: Vec3A) -> f32 {
+pub fn pdf(dist: &PiecewiseConstant2D, w2l: &Mat4, wi: Vec3A) -> f32 {
     let d = w2l.transform_vector3a(wi).normalize_or_zero();
     let (s, t, sin_t) = dir_to_st(d);
     if sin_t <= 0.0 {

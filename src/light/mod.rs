@@ -28,7 +28,6 @@
 pub mod area;
 mod build;
 pub mod distant;
-pub mod distribution;
 pub mod infinite;
 pub mod latlong;
 pub mod point;
@@ -38,7 +37,6 @@ pub mod strategy;
 pub mod sun;
 pub mod sunsky;
 pub mod sunsky_data;
-pub mod warp;
 
 use crate::geometry::{Interaction, SurfaceInteraction};
 use crate::lxs::ParamSet;

@@ -29,13 +29,13 @@
 //!
 //! Parameters: `sundir`, `turbidity` (2), `gain` (1), `aconst`..`econst`, `nsamples` (1).
 
-use super::distribution::Distribution2D;
 use super::latlong::{self, dir_to_st, st_to_dir};
 use super::sun::film_xyz;
 use super::sunsky_data as data;
 use super::{LightCommon, LightSample};
 use crate::geometry::Interaction;
 use crate::lxs::ParamSet;
+use crate::sampling::PiecewiseConstant2D;
 use crate::spectrum::cie::cmf;
 use crate::spectrum::xyz::LUMENS_PER_WATT;
 use crate::spectrum::{xyz_to_rgb, Rgb};
@@ -183,7 +183,7 @@ pub struct SkyLight {
     w2l: Mat4,
     /// RGB radiance at the grid vertices: `GRID_HEIGHT + 1` rows of `GRID_WIDTH`.
     vertices: Vec<Rgb>,
-    dist: Distribution2D,
+    dist: PiecewiseConstant2D,
     /// Solid-angle mean of the luminance over the sphere.
     mean_y: f32,
     pub world_radius: f32,
@@ -259,7 +259,7 @@ impl SkyLight {
             l2w,
             w2l: l2w.inverse(),
             vertices,
-            dist: Distribution2D::new(&weights, w, h),
+            dist: PiecewiseConstant2D::new(&weights, w, h),
             mean_y,
             world_radius: 1.0,
         }

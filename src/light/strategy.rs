@@ -4,8 +4,8 @@
 //! stays bounded), `importance`/`powerimp` (one light picked with probability proportional
 //! to its power). Unknown names fall back to `auto` with a warning by the caller.
 
-use super::distribution::Distribution1D;
 use super::Light;
+use crate::sampling::PiecewiseConstant1D;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LightStrategy {
@@ -33,7 +33,7 @@ pub enum LightSelector {
     /// Every light each time.
     All,
     /// One light, picked by this distribution (uniform or by power).
-    One(Distribution1D),
+    One(PiecewiseConstant1D),
 }
 
 impl LightSelector {
@@ -43,11 +43,11 @@ impl LightSelector {
             LightStrategy::All => LightSelector::All,
             LightStrategy::Auto if n <= 5 => LightSelector::All,
             LightStrategy::One | LightStrategy::Auto => {
-                LightSelector::One(Distribution1D::new(&vec![1.0; n]))
+                LightSelector::One(PiecewiseConstant1D::new(&vec![1.0; n]))
             }
             LightStrategy::Power => {
                 let p: Vec<f32> = lights.iter().map(Light::power).collect();
-                LightSelector::One(Distribution1D::new(&p))
+                LightSelector::One(PiecewiseConstant1D::new(&p))
             }
         }
     }

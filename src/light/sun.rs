@@ -28,8 +28,8 @@
 //! Parameters: `sundir`, `turbidity` (2), `gain` (1), `relsize` (1), `nsamples` (1).
 
 use super::sunsky_data as data;
-use super::warp::coordinate_system;
 use super::{LightCommon, LightSample};
+use crate::geometry::frame::coordinate_system;
 use crate::geometry::Interaction;
 use crate::lxs::ParamSet;
 use crate::spectrum::cie::cmf;

@@ -25,7 +25,7 @@ pub enum RenderError {
     Setup(#[from] SetupError),
     #[error("cannot start the render threads: {0}")]
     Threads(String),
-    #[error("{0}")]
+    #[error(transparent)]
     Film(#[from] crate::film::FilmError),
 }
 

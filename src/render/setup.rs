@@ -14,7 +14,7 @@ use crate::film::{FilmError, FilmParams};
 use crate::filter::Filter;
 use crate::integrator::Integrator;
 use crate::lxs::{Diagnostic, Loc, SceneDescription};
-use crate::plugin::{report_unused, BuildError};
+use crate::plugin::{report_unused, warn, BuildError};
 use crate::sampler::Sampler;
 use crate::scene::{World, WorldOptions};
 use std::path::Path;
@@ -23,9 +23,9 @@ use std::path::Path;
 /// files.
 #[derive(Debug, thiserror::Error)]
 pub enum SetupError {
-    #[error("{0}")]
+    #[error(transparent)]
     Film(#[from] FilmError),
-    #[error("{0}")]
+    #[error(transparent)]
     Build(#[from] BuildError),
 }
 
@@ -78,6 +78,7 @@ impl Renderable {
         if camera.needs_autofocus() {
             camera.autofocus(|r| world.intersect(r).map(|si| si.t));
         }
+        warn_ignored(desc, &mut warnings);
         report_setup_unused(desc, &mut warnings);
         Ok(Renderable {
             world,
@@ -90,6 +91,88 @@ impl Renderable {
             },
             warnings,
         })
+    }
+}
+
+/// Statements luxfarm parses but does not render yet (participating media) or has no use for
+/// (its own BVH and renderer): one located warning each, saying what is ignored, and their
+/// parameters go through the unused-parameter report like every other statement's.
+fn warn_ignored(desc: &SceneDescription, w: &mut Vec<Diagnostic>) {
+    let options = [
+        (
+            "VolumeIntegrator",
+            desc.volume_integrator.as_ref(),
+            "participating media are not rendered yet",
+        ),
+        (
+            "Accelerator",
+            desc.accelerator.as_ref(),
+            "luxfarm always builds its own BVH",
+        ),
+        (
+            "Renderer",
+            desc.renderer.as_ref(),
+            "luxfarm always renders with its own CPU renderer",
+        ),
+    ];
+    for (label, e, why) in options {
+        if let Some(e) = e {
+            warn(
+                w,
+                &e.loc,
+                format!("{label} \"{}\" is ignored: {why}", e.kind),
+            );
+            report_unused(label, e, w);
+        }
+    }
+    for v in &desc.volumes {
+        let what = match &v.name {
+            Some(n) => format!("MakeNamedVolume \"{n}\" ({})", v.entity.kind),
+            None => format!("Volume \"{}\"", v.entity.kind),
+        };
+        warn(
+            w,
+            &v.entity.loc,
+            format!("{what} is ignored: participating media are not rendered yet"),
+        );
+        report_unused(
+            if v.name.is_some() {
+                "MakeNamedVolume"
+            } else {
+                "Volume"
+            },
+            &v.entity,
+            w,
+        );
+    }
+    // One warning per medium name (LuxBlend gives every shape an Exterior), at its first use.
+    let mut uses: std::collections::BTreeMap<&str, (&Loc, usize)> = Default::default();
+    let shapes = desc
+        .shapes
+        .iter()
+        .chain(desc.objects.iter().flat_map(|o| o.shapes.iter()));
+    for s in shapes {
+        for name in [&s.interior, &s.exterior].into_iter().flatten() {
+            uses.entry(name).or_insert((&s.entity.loc, 0)).1 += 1;
+        }
+    }
+    for (name, (loc, n)) in uses {
+        warn(
+            w,
+            loc,
+            format!(
+                "Interior/Exterior \"{name}\" ({n} shape(s), first here) is ignored: participating media are not rendered yet"
+            ),
+        );
+    }
+    if let Some(name) = desc.camera.as_ref().and_then(|c| c.exterior.as_ref()) {
+        if let Some(c) = &desc.camera {
+            warn(
+                w,
+                &c.entity.loc,
+                format!("the camera's Exterior \"{name}\" is ignored: participating media are not rendered yet"),
+            );
+        }
     }
 }
 

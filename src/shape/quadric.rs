@@ -11,10 +11,10 @@
 //! n = dp/du × dp/dv (outward for the standard shapes), turned by ReverseOrientation.
 
 use super::{Build, BuildError};
-use crate::geometry::distribution::Distribution1D;
 use crate::geometry::frame::LocalGeometry;
 use crate::geometry::transform::to_f64;
 use crate::geometry::Transform;
+use crate::sampling::DiscreteDistribution;
 use glam::{DMat3, DVec3, Vec2, Vec3A};
 use std::f64::consts::TAU;
 
@@ -73,7 +73,7 @@ pub struct Quadric {
     /// Object-space area.
     area_obj: f64,
     /// Area table over z bands (paraboloid, hyperboloid).
-    bands: Option<Distribution1D>,
+    bands: Option<DiscreteDistribution>,
     /// Squared scale of a similarity transform (area factor), `None` for other transforms.
     similarity: Option<f64>,
     /// Target-space area.
@@ -420,7 +420,7 @@ impl Quadric {
                     })
                     .collect();
                 let total = w.iter().sum();
-                self.bands = Distribution1D::new(&w);
+                self.bands = DiscreteDistribution::new(&w);
                 total
             }
         }

@@ -66,6 +66,18 @@ impl ImageCache {
     }
 }
 
+/// Decodes an image file as linear RGB texels (alpha dropped), row 0 at the top: what lights,
+/// image comparison and benchmarks read. Errors name the file.
+pub fn load_rgb(path: &Path) -> Result<(usize, usize, Vec<crate::spectrum::Rgb>), String> {
+    let img = load(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let px = img
+        .texels
+        .iter()
+        .map(|&[r, g, b, _]| crate::spectrum::Rgb::new(r, g, b))
+        .collect();
+    Ok((img.width, img.height, px))
+}
+
 /// Decodes an image file by its extension.
 pub fn load(path: &Path) -> Result<ImageData, String> {
     let ext = path

@@ -13,9 +13,9 @@
 
 use super::compare_image::{film_rgb, metrics, row_pairs};
 use anyhow::{bail, Context};
-use luxfarm::light::infinite::load_image;
 use luxfarm::lxs::{parse_file, ParseOptions};
 use luxfarm::render::{Session, SessionOptions};
+use luxfarm::texture::image_io::load_rgb as load_image;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::Instant;

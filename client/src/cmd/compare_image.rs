@@ -15,8 +15,8 @@
 use anyhow::{bail, Context};
 use luxfarm::film::flm::read_flm;
 use luxfarm::film::Film;
-use luxfarm::light::infinite::load_image;
 use luxfarm::spectrum::{xyz_to_rgb, Rgb};
+use luxfarm::texture::image_io::load_rgb as load_image;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -51,8 +51,10 @@ pub fn referenced_files(scene: &Path) -> anyhow::Result<Vec<PathBuf>> {
         .canonicalize()
         .with_context(|| format!("resolving {}", root.display()))?;
     let mut set = BTreeSet::new();
-    let mut add = |p: &Path, required: bool| -> anyhow::Result<()> {
-        let full = if p.is_absolute() {
+    // `from_cwd`: the path is as the parser opened it (relative to the working directory),
+    // not a scene parameter (relative to the scene's directory).
+    let mut add = |p: &Path, required: bool, from_cwd: bool| -> anyhow::Result<()> {
+        let full = if p.is_absolute() || from_cwd {
             p.to_path_buf()
         } else {
             root.join(p)
@@ -79,9 +81,9 @@ pub fn referenced_files(scene: &Path) -> anyhow::Result<Vec<PathBuf>> {
             Err(_) => Ok(()),
         }
     };
-    add(Path::new(scene.file_name().unwrap_or_default()), true)?;
+    add(scene, true, true)?;
     for f in &desc.files {
-        add(Path::new(f), true)?;
+        add(Path::new(f), true, true)?;
     }
     for (label, entity) in desc.entities() {
         if label == "Film" {
@@ -96,7 +98,7 @@ pub fn referenced_files(scene: &Path) -> anyhow::Result<Vec<PathBuf>> {
             for n in names {
                 if !n.is_empty() && n.len() < 4096 {
                     let file_param = matches!(p.name.as_str(), "filename" | "mapname" | "iesname");
-                    add(Path::new(n), file_param && root.join(n).exists())?;
+                    add(Path::new(n), file_param && root.join(n).exists(), false)?;
                 }
             }
         }

@@ -2,14 +2,15 @@
 //! (camera, film, counts, warnings with their locations) or the whole SceneDescription as
 //! JSON. Exit status 0 when it parses, 2 with the error on stderr when it does not.
 
-use luxfarm::lxs::{self, Entity, ParseOptions, SceneDescription};
+use luxfarm::formats;
+use luxfarm::lxs::{Entity, ParseOptions, SceneDescription};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The .lxs scene file.
+    /// The scene file (.lxs).
     pub scene: PathBuf,
     /// Print the whole SceneDescription as JSON instead of a summary.
     #[arg(long)]
@@ -24,7 +25,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         confine_to_root: args.confine,
         ..ParseOptions::default()
     };
-    let desc = match lxs::parse_file(&args.scene, &opts) {
+    let desc = match formats::load(&args.scene, &opts) {
         Ok(d) => d,
         Err(e) => {
             eprintln!("error: {e}");

@@ -13,7 +13,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use luxfarm::film::convergence::{ConvergenceTest, YeeParams};
 use luxfarm::film::output::write_outputs;
 use luxfarm::film::Film;
-use luxfarm::lxs::{parse_file, ParseOptions};
+use luxfarm::lxs::ParseOptions;
 use luxfarm::render::{Session, SessionOptions};
 use luxfarm::tonemap::{tonemap_display, TonemapParams};
 use std::path::{Path, PathBuf};
@@ -105,7 +105,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             upload_interval: 2.0,
         });
     }
-    let desc = parse_file(&args.scene, &ParseOptions::default())?;
+    let desc = luxfarm::formats::load(&args.scene, &ParseOptions::default())?;
     let base_dir = args
         .scene
         .parent()

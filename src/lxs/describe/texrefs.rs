@@ -64,13 +64,27 @@ pub fn resolve(
                     Some(TextureType::Color) => "color texture",
                     None => "texture",
                 };
-                let mut known: Vec<&str> = gs.float_textures.keys().map(String::as_str).collect();
-                known.extend(gs.color_textures.keys().map(String::as_str));
-                let err = suggest(what, tex, known);
+                // The same name in the other namespace: say so rather than suggest it.
+                let other = match ns {
+                    Some(TextureType::Float) => lookup(TextureType::Color).map(|_| "color"),
+                    Some(TextureType::Color) => lookup(TextureType::Float).map(|_| "float"),
+                    None => None,
+                };
+                let message = match other {
+                    Some(o) => {
+                        format!("{what} \"{tex}\" is not defined here (\"{tex}\" is a {o} texture)")
+                    }
+                    None => {
+                        let mut known: Vec<&str> =
+                            gs.float_textures.keys().map(String::as_str).collect();
+                        known.extend(gs.color_textures.keys().map(String::as_str));
+                        suggest(what, tex, known).message
+                    }
+                };
                 return Err(LxsError::new(
                     LxsErrorKind::Undefined,
                     p.loc.clone(),
-                    format!("parameter '{}': {}", p.name, err.message),
+                    format!("parameter '{}': {message}", p.name),
                 ));
             }
         }

@@ -15,8 +15,7 @@ pub mod specular;
 pub mod translucent;
 
 use crate::spectrum::Rgb;
-use glam::{Vec2, Vec3A};
-use std::f32::consts::PI;
+use glam::Vec3A;
 
 /// A sampled direction in the local frame.
 #[derive(Clone, Copy, Debug)]
@@ -48,24 +47,7 @@ pub fn refract(wo: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
     Some(-wo * eta + n * (eta * cos_i - cos_t))
 }
 
-/// Cosine-weighted direction on the +z hemisphere (concentric mapping).
-pub fn cosine_hemisphere(u: Vec2) -> Vec3A {
-    let o = 2.0 * u - Vec2::ONE;
-    // Shirley and Chiu's concentric map. The wedge is chosen by selects, not branches (it is
-    // a coin flip per sample): the same operations as the two-branch form, one sin/cos.
-    let wide = o.x.abs() > o.y.abs();
-    let (r, other) = if wide { (o.x, o.y) } else { (o.y, o.x) };
-    let q = PI / 4.0 * (other / r);
-    let phi = if wide { q } else { PI / 2.0 - q };
-    let (sin, cos) = phi.sin_cos();
-    let d = if o == Vec2::ZERO {
-        Vec2::ZERO
-    } else {
-        r * Vec2::new(cos, sin)
-    };
-    let z = (1.0 - d.length_squared()).max(0.0).sqrt();
-    Vec3A::new(d.x, d.y, z)
-}
+pub use crate::sampling::cosine_hemisphere;
 
 /// Average of the three channels (lobe selection weights).
 pub fn avg(c: Rgb) -> f32 {

@@ -1,18 +1,18 @@
-//! Piecewise-constant 1D distribution: picks an index proportionally to non-negative weights
-//! (triangles by area, quadric bands by area) through a cumulative table.
+//! A discrete distribution: picks an item proportionally to non-negative weights (triangles
+//! by area, quadric bands by area) through an f64 cumulative table.
 
 /// Discrete distribution over `weights.len()` items.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Distribution1D {
+pub struct DiscreteDistribution {
     /// cdf[i] = sum of weights[..i] / total; cdf.len() == n + 1, last entry 1.
     cdf: Vec<f64>,
     weights: Vec<f64>,
     total: f64,
 }
 
-impl Distribution1D {
+impl DiscreteDistribution {
     /// `None` when there is no item or the weights do not sum to a positive finite value.
-    pub fn new(weights: &[f64]) -> Option<Distribution1D> {
+    pub fn new(weights: &[f64]) -> Option<DiscreteDistribution> {
         let mut cdf = Vec::with_capacity(weights.len() + 1);
         let mut sum = 0.0;
         cdf.push(0.0);
@@ -30,7 +30,7 @@ impl Distribution1D {
             .iter()
             .map(|&w| if w.is_finite() && w > 0.0 { w } else { 0.0 })
             .collect();
-        Some(Distribution1D {
+        Some(DiscreteDistribution {
             cdf,
             weights,
             total: sum,
@@ -101,7 +101,7 @@ mod tests {
         // the definition (the first item whose cdf end exceeds u, zero weights skipped).
         for n in 1..=40usize {
             let w: Vec<f64> = (0..n).map(|i| [1.0, 0.0, 2.5, 0.5][i % 4]).collect();
-            let Some(d) = Distribution1D::new(&w) else {
+            let Some(d) = DiscreteDistribution::new(&w) else {
                 continue;
             };
             for k in 0..=200 {
@@ -119,14 +119,14 @@ mod tests {
 
     #[test]
     fn picks_by_weight_and_skips_zero_weights() {
-        let d = Distribution1D::new(&[1.0, 0.0, 3.0]).unwrap();
+        let d = DiscreteDistribution::new(&[1.0, 0.0, 3.0]).unwrap();
         assert_eq!(d.sample(0.1).0, 0);
         assert_eq!(d.sample(0.25).0, 2);
         assert_eq!(d.sample(0.999).0, 2);
         assert!((d.pmf(2) - 0.75).abs() < 1e-12);
         let (_, r) = d.sample(0.625);
         assert!((r - 0.5).abs() < 1e-6);
-        assert!(Distribution1D::new(&[0.0]).is_none());
-        assert!(Distribution1D::new(&[]).is_none());
+        assert!(DiscreteDistribution::new(&[0.0]).is_none());
+        assert!(DiscreteDistribution::new(&[]).is_none());
     }
 }

@@ -1,20 +1,20 @@
-//! Piecewise-constant 1D and 2D distributions for importance sampling: the light-selection
-//! distribution (power strategy) and the environment map (lat-long texels weighted by
-//! luminance and sin(theta)).
+//! Piecewise-constant 1D and 2D densities on [0, 1) and [0, 1)² for importance sampling
+//! (f32): the light-selection distribution (power strategy) and the environment and sky maps
+//! (lat-long texels weighted by luminance and sin(theta)).
 
 /// A piecewise-constant density on [0, 1) with `func.len()` equal buckets.
 #[derive(Clone, Debug)]
-pub struct Distribution1D {
+pub struct PiecewiseConstant1D {
     func: Vec<f32>,
     /// Cumulative distribution, `func.len() + 1` entries from 0 to 1.
     cdf: Vec<f32>,
     integral: f32,
 }
 
-impl Distribution1D {
+impl PiecewiseConstant1D {
     /// Builds from non-negative weights (negative or non-finite entries count as 0). When every
     /// weight is zero the distribution is uniform, and `integral()` is 0.
-    pub fn new(weights: &[f32]) -> Distribution1D {
+    pub fn new(weights: &[f32]) -> PiecewiseConstant1D {
         let n = weights.len().max(1);
         let func: Vec<f32> = (0..n)
             .map(|i| {
@@ -45,7 +45,7 @@ impl Distribution1D {
         if let Some(last) = cdf.last_mut() {
             *last = 1.0;
         }
-        Distribution1D {
+        PiecewiseConstant1D {
             func,
             cdf,
             integral,
@@ -120,23 +120,24 @@ impl Distribution1D {
 /// A piecewise-constant density on [0,1)² given row by row (`nv` rows of `nu` values):
 /// a marginal over rows and a conditional per row.
 #[derive(Clone, Debug)]
-pub struct Distribution2D {
-    rows: Vec<Distribution1D>,
-    marginal: Distribution1D,
+pub struct PiecewiseConstant2D {
+    rows: Vec<PiecewiseConstant1D>,
+    marginal: PiecewiseConstant1D,
 }
 
-impl Distribution2D {
-    pub fn new(values: &[f32], nu: usize, nv: usize) -> Distribution2D {
+impl PiecewiseConstant2D {
+    pub fn new(values: &[f32], nu: usize, nv: usize) -> PiecewiseConstant2D {
         let nu = nu.max(1);
-        let rows: Vec<Distribution1D> = (0..nv.max(1))
+        let rows: Vec<PiecewiseConstant1D> = (0..nv.max(1))
             .map(|v| {
                 let start = (v * nu).min(values.len());
                 let end = ((v + 1) * nu).min(values.len());
-                Distribution1D::new(&values[start..end])
+                PiecewiseConstant1D::new(&values[start..end])
             })
             .collect();
-        let marginal = Distribution1D::new(&rows.iter().map(|r| r.integral()).collect::<Vec<_>>());
-        Distribution2D { rows, marginal }
+        let marginal =
+            PiecewiseConstant1D::new(&rows.iter().map(|r| r.integral()).collect::<Vec<_>>());
+        PiecewiseConstant2D { rows, marginal }
     }
 
     /// Samples (u, v) in [0,1)² with its density.
@@ -160,7 +161,7 @@ mod tests {
 
     #[test]
     fn discrete_probabilities_follow_weights() {
-        let d = Distribution1D::new(&[1.0, 0.0, 3.0]);
+        let d = PiecewiseConstant1D::new(&[1.0, 0.0, 3.0]);
         assert!((d.discrete_pdf(0) - 0.25).abs() < 1e-6);
         assert_eq!(d.discrete_pdf(1), 0.0);
         assert!((d.discrete_pdf(2) - 0.75).abs() < 1e-6);
@@ -171,14 +172,14 @@ mod tests {
 
     #[test]
     fn all_zero_is_uniform() {
-        let d = Distribution1D::new(&[0.0, 0.0]);
+        let d = PiecewiseConstant1D::new(&[0.0, 0.0]);
         assert_eq!(d.integral(), 0.0);
         assert!((d.discrete_pdf(1) - 0.5).abs() < 1e-6);
     }
 
     #[test]
     fn continuous_pdf_matches_sampling_density() {
-        let d = Distribution2D::new(&[1.0, 2.0, 3.0, 4.0, 0.0, 6.0], 3, 2);
+        let d = PiecewiseConstant2D::new(&[1.0, 2.0, 3.0, 4.0, 0.0, 6.0], 3, 2);
         // Monte Carlo check: E[1/pdf] over the support equals its area (1).
         let n = 200;
         let mut sum = 0.0f64;

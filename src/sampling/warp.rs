@@ -1,7 +1,13 @@
-//! Small sampling warps and frames shared by the lights (and the integrators).
+//! Sampling warps: maps from uniform points of [0, 1)² to directions and points with known
+//! densities (sphere, cone, cosine hemisphere, concentric disc), and the power heuristic that
+//! weighs two strategies in multiple importance sampling. Used by lights, materials, cameras
+//! and integrators alike.
 
 use glam::{Vec2, Vec3A};
 use std::f32::consts::PI;
+
+#[cfg(test)]
+use crate::geometry::frame::coordinate_system;
 
 /// A uniformly distributed direction on the unit sphere.
 pub fn uniform_sphere(u: Vec2) -> Vec3A {
@@ -25,15 +31,28 @@ pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
     1.0 / (2.0 * PI * (1.0 - cos_max))
 }
 
-/// An orthonormal basis (s, t) completing the unit vector `n` (Duff et al.).
-pub fn coordinate_system(n: Vec3A) -> (Vec3A, Vec3A) {
-    let sign = 1.0f32.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    (
-        Vec3A::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-        Vec3A::new(b, sign + n.y * n.y * a, -n.y),
-    )
+/// Shirley and Chiu's concentric mapping of [0, 1)² onto the unit disc. The wedge is chosen
+/// by selects, not branches (it is a coin flip per sample).
+pub fn concentric_disc(u: Vec2) -> Vec2 {
+    let o = 2.0 * u - Vec2::ONE;
+    let wide = o.x.abs() > o.y.abs();
+    let (r, other) = if wide { (o.x, o.y) } else { (o.y, o.x) };
+    let q = PI / 4.0 * (other / r);
+    let phi = if wide { q } else { PI / 2.0 - q };
+    let (sin, cos) = phi.sin_cos();
+    if o == Vec2::ZERO {
+        Vec2::ZERO
+    } else {
+        r * Vec2::new(cos, sin)
+    }
+}
+
+/// Cosine-weighted direction on the +z hemisphere (the concentric disc lifted to it);
+/// density cosθ/π.
+pub fn cosine_hemisphere(u: Vec2) -> Vec3A {
+    let d = concentric_disc(u);
+    let z = (1.0 - d.length_squared()).max(0.0).sqrt();
+    Vec3A::new(d.x, d.y, z)
 }
 
 /// Multiple importance sampling: the power heuristic (beta 2) for one sample of each strategy.
