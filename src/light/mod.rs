@@ -7,7 +7,9 @@
 //!   multiplied by it, so the lamp emits `power × efficacy` lumens whatever its size.
 //!   Scenes that want raw `L` write `"float power" [0]`. `nsamples` (1) shadow rays.
 //! - **point**: intensity `L × gain` (W/sr); `power`/`efficacy` (default 0) normalise by
-//!   4π·Y(L). `from` offsets the position.
+//!   4π·Y(L). `from` offsets the position. luxfarm's own `falloffexponent` k (default 2, the
+//!   physical inverse square) sets the falloff 1/d^k for scenes imported from formats whose
+//!   lights do not fall off physically (LightWave, mental ray); spot lights take it too.
 //! - **spot**: like point, times the falloff ((cosθ − cos total)/(cos start − cos total))⁴
 //!   between `coneangle − conedeltaangle` and `coneangle` (30°, 5°); normalisation by
 //!   2π(1 − (cos start + cos total)/2)·Y(L). Direction `from` → `to`.
@@ -290,6 +292,29 @@ pub fn power_gain(power: f32, efficacy: f32, norm: f32, y: f32) -> f32 {
         f
     } else {
         1.0
+    }
+}
+
+/// How a delta light's intensity falls off with the squared distance `d2`: `1 / d^k` for the
+/// light's `falloffexponent` k (LuxRender's lights are physical, k = 2; scenes imported
+/// from LightWave or mental ray may ask for 0 or 1). k = 2 takes the exact `1 / d2` path.
+pub fn distance_falloff(d2: f32, exponent: f32) -> f32 {
+    if exponent == 2.0 {
+        1.0 / d2
+    } else if exponent == 0.0 {
+        1.0
+    } else {
+        d2.powf(-0.5 * exponent)
+    }
+}
+
+/// The `falloffexponent` parameter of point and spot lights (2 when absent), finite and >= 0.
+pub fn falloff_exponent(params: &ParamSet) -> f32 {
+    let k = params.float_or("falloffexponent", 2.0);
+    if k.is_finite() && k >= 0.0 {
+        k
+    } else {
+        2.0
     }
 }
 

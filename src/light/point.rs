@@ -1,6 +1,8 @@
 //! Point light: intensity `L × gain` from a point, optionally normalised by power/efficacy.
 
-use super::{point3, power_gain, LightColor, LightCommon, LightSample};
+use super::{
+    distance_falloff, falloff_exponent, point3, power_gain, LightColor, LightCommon, LightSample,
+};
 use crate::geometry::{Interaction, SurfaceInteraction};
 use crate::lxs::ParamSet;
 use crate::spectrum::Rgb;
@@ -13,6 +15,8 @@ pub struct PointLight {
     pub pos: Vec3A,
     /// Radiant intensity (W/sr).
     pub intensity: Rgb,
+    /// k of the 1/d^k falloff (`falloffexponent`, 2 by default).
+    pub falloff_exponent: f32,
     y: f32,
 }
 
@@ -26,6 +30,7 @@ impl PointLight {
         let l = color.emission.eval(&SurfaceInteraction::default());
         PointLight {
             common,
+            falloff_exponent: falloff_exponent(params),
             pos: l2w.transform_point3a(from),
             intensity: l * scale,
             y: color.y * scale,
@@ -39,7 +44,7 @@ impl PointLight {
             return None;
         }
         Some(LightSample {
-            li: self.intensity / d2,
+            li: self.intensity * distance_falloff(d2, self.falloff_exponent),
             wi: d / d2.sqrt(),
             pdf: 1.0,
             p_light: Interaction {
@@ -62,6 +67,27 @@ mod tests {
     use super::*;
     use crate::light::Emission;
     use crate::lxs::ParamValue;
+
+    #[test]
+    fn falloff_exponent_sets_the_power_of_distance() {
+        // Intensity 3 at distance 2: irradiance 3/2^k for k = 0, 1, 2 (hand-computed).
+        for (k, want) in [(0.0f32, 3.0f32), (1.0, 1.5), (2.0, 0.75)] {
+            let mut ps = ParamSet::new();
+            ps.add("from", ParamValue::Point(vec![[0.0, 0.0, 2.0]]));
+            ps.add("falloffexponent", ParamValue::Float(vec![k]));
+            let color = LightColor {
+                emission: Emission::Const(Rgb::splat(3.0)),
+                y: 3.0,
+            };
+            let common = LightCommon {
+                group: 0,
+                nsamples: 1,
+            };
+            let l = PointLight::new(&ps, Mat4::IDENTITY, &color, common);
+            let s = l.sample_li(&Interaction::default()).unwrap();
+            assert!((s.li.g - want).abs() < 1e-6, "k={k}: {}", s.li.g);
+        }
+    }
 
     #[test]
     fn inverse_square_and_power_normalisation() {

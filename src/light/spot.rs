@@ -1,7 +1,9 @@
 //! Spot light: a point light restricted to a cone from `from` toward `to`, with LuxRender's
 //! fourth-power falloff between `coneangle − conedeltaangle` and `coneangle`.
 
-use super::{point3, power_gain, LightColor, LightCommon, LightSample};
+use super::{
+    distance_falloff, falloff_exponent, point3, power_gain, LightColor, LightCommon, LightSample,
+};
 use crate::geometry::{Interaction, SurfaceInteraction};
 use crate::lxs::ParamSet;
 use crate::spectrum::Rgb;
@@ -15,6 +17,8 @@ pub struct SpotLight {
     /// Unit axis of the cone (world space).
     pub axis: Vec3A,
     pub intensity: Rgb,
+    /// k of the 1/d^k falloff (`falloffexponent`, 2 by default).
+    pub falloff_exponent: f32,
     cos_total: f32,
     cos_falloff: f32,
     y: f32,
@@ -36,6 +40,7 @@ impl SpotLight {
         let axis = l2w.transform_vector3a(to - from).normalize_or(Vec3A::Z);
         SpotLight {
             common,
+            falloff_exponent: falloff_exponent(params),
             pos: l2w.transform_point3a(from),
             axis,
             intensity: color.emission.eval(&SurfaceInteraction::default()) * scale,
@@ -68,7 +73,7 @@ impl SpotLight {
             return None;
         }
         Some(LightSample {
-            li: self.intensity * (f / d2),
+            li: self.intensity * (f * distance_falloff(d2, self.falloff_exponent)),
             wi,
             pdf: 1.0,
             p_light: Interaction {

@@ -9,6 +9,15 @@ use crate::lxs::params::Loc;
 use std::collections::HashMap;
 use std::rc::Rc;
 
+/// One resolved texture reference inside a parameter list (see `texrefs`): parameter index,
+/// namespace, texture index. Kept in the graphics state with the area light it belongs to.
+#[derive(Clone, Copy, Debug)]
+pub struct Binding {
+    pub param: usize,
+    pub ty: TextureType,
+    pub texture: usize,
+}
+
 /// A scoped name -> index map, shared between saved states until one of them changes it.
 pub type Names = Rc<HashMap<String, usize>>;
 
@@ -18,7 +27,7 @@ pub struct GraphicsState {
     /// Index into `SceneDescription::materials` (None: LuxRender's default matte).
     pub material: Option<usize>,
     /// The current AreaLightSource with its resolved texture references.
-    pub area_light: Option<Rc<(Entity, Vec<super::texrefs::Binding>)>>,
+    pub area_light: Option<Rc<(Entity, Vec<Binding>)>>,
     pub reverse_orientation: bool,
     pub interior: Option<String>,
     pub exterior: Option<String>,

@@ -10,18 +10,11 @@
 //! layered materials (`"string namedmaterial1"`) get the same treatment in `named_materials`.
 
 use super::refs;
+pub use super::state::Binding;
 use super::state::GraphicsState;
 use crate::lxs::description::{SceneDescription, TextureType};
 use crate::lxs::error::{LxsError, LxsErrorKind, LxsResult};
 use crate::lxs::params::{ParamSet, ParamValue};
-
-/// One resolved reference inside a parameter list: parameter index, namespace, texture index.
-#[derive(Clone, Copy, Debug)]
-pub struct Binding {
-    pub param: usize,
-    pub ty: TextureType,
-    pub texture: usize,
-}
 
 /// Whose parameter list holds a reference.
 #[derive(Clone, Copy, Debug)]
