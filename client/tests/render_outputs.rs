@@ -126,7 +126,8 @@ fn an_explicit_base_name_gets_the_suffix_appended_locally_and_on_a_farm() {
     std::fs::create_dir_all(&farm).unwrap();
     render(&s, &["-o", local.join("take.v1").to_str().unwrap()]);
     let farm_base = farm.join("take.v1");
-    render(&s, &["--workers", "1", "--threads", "1", "-o", farm_base.to_str().unwrap()]);
+    let farm_base = farm_base.to_str().unwrap();
+    render(&s, &["--workers", "1", "--threads", "1", "-o", farm_base]);
     assert_eq!(outputs(&local), set(&["take.v1.exr"]));
     assert_eq!(outputs(&farm), set(&["take.v1.exr"]));
     assert_eq!(outputs(s.parent().unwrap()), BTreeSet::new());

@@ -5,7 +5,7 @@
 //! - [`FilmParams`]: the `Film "fleximage"` statement with LuxRender's defaults ([`params`]);
 //!   its imaging settings ([`imaging`]: tonemapping, colour space, light groups) and its image
 //!   outputs' settings ([`image_output`]) are plain data here.
-//! - [`flm`], [`flm_header`]: LuxRender's film file; [`compare`]: luxcomp's metrics;
+//! - [`flm`], [`flm_header`]: LuxRender's film file; [`compare`](mod@compare): luxcomp's metrics;
 //!   [`outlier`]: k-nearest outlier rejection of samples.
 //!
 //! The back end runs one way: `film` -> `tonemap` (film sums to RGB) -> `imageio` (pixel
