@@ -1,6 +1,7 @@
 //! Image and FLM outputs as the Film parameters ask for them, and resuming from a resume FLM.
 
-use luxfarm::film::{flm, output, read_flm_file, Channels, Film, FilmParams};
+use luxfarm::film::{flm, read_flm_file, Channels, Film, FilmParams};
+use luxfarm::output;
 use std::path::{Path, PathBuf};
 
 mod common;

@@ -42,7 +42,7 @@ fn reference_tonemaps_to_its_png() {
     let mut sum = [0.0f64; 3];
     for (i, px) in png.pixels().enumerate() {
         for c in 0..3 {
-            let ours = f64::from(tonemap::quantize8(img.rgb[i][c]));
+            let ours = f64::from(luxfarm::imageio::quantize8(img.rgb[i][c]));
             sum[c] += (ours - f64::from(px[c])).abs();
         }
     }

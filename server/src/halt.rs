@@ -1,19 +1,33 @@
 //! Halt rules, checkpoints and the end of a job.
 //!
-//! Halt rules are evaluated on the merged film: haltspp (merged samples >= haltspp x pixels)
-//! after each merge, halttime (seconds since the first lease) on every tick, haltthreshold (the
-//! convergence test every convergencestep spp) after merges. When one holds the job enters its
-//! halting phase: every lease is told to stop and the master waits for the last deltas (at most
-//! two upload intervals plus a margin), then writes the outputs and marks the job done.
+//! The halt rules themselves are the core's (`luxfarm::halt`, shared with `luxfarm render`);
+//! this module asks them at the master's moments, on the merged film: haltspp and haltthreshold
+//! (the convergence test every convergencestep spp) after each merge, halttime (seconds since
+//! the first lease) on every tick. When one holds the job enters its halting phase: every lease
+//! is told to stop and the master waits for the last deltas (at most two upload intervals plus
+//! a margin), then writes the outputs the Film asks for (`luxfarm::output`) and marks the job
+//! done.
 
 use crate::db::{JobRow, JobState};
 use crate::error::Result;
 use crate::farm::{lock, now_ms, Farm, JobRt};
 use crate::scene;
 use crate::scene::Film;
+use luxfarm::halt::HaltRules;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+
+/// The job's halt rules: its haltspp, halttime and haltthreshold (the scene's, or the
+/// submission's overrides) and the scene's convergencestep.
+fn rules(row: &JobRow, rt: &JobRt) -> HaltRules {
+    HaltRules {
+        spp: row.haltspp,
+        time: row.halttime,
+        threshold: row.haltthreshold,
+        step: rt.info.convergence_step,
+    }
+}
 
 /// Checks the halt rules that depend on merged samples.
 pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
@@ -33,44 +47,21 @@ pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
             st.history.pop_front();
         }
     }
-    if let Some(haltspp) = row.haltspp {
-        let pixels = rt.info.pixels as f64;
-        if samples >= haltspp * pixels {
-            begin_halt(
-                farm,
-                rt,
-                format!("haltspp {haltspp} reached ({spp:.2} spp)"),
-            );
-            return Ok(());
-        }
+    let rules = rules(row, rt);
+    if let Some(reason) = rules.spp_reached(samples, rt.info.pixels as f64) {
+        begin_halt(farm, rt, reason.to_string());
+        return Ok(());
     }
-    if let Some(threshold) = row.haltthreshold {
-        let due = {
-            let st = lock(&rt.state);
-            spp >= st.convergence.last_spp + rt.info.convergence_step
+    let due = rules.convergence_due(&lock(&rt.state).convergence, spp);
+    if due {
+        // The test tonemaps a copy: merges into the live film go on meanwhile.
+        let film = lock(&rt.film).clone();
+        let reason = {
+            let mut st = lock(&rt.state);
+            rules.test_convergence(&mut st.convergence, &film, &rt.info.params.tonemap)
         };
-        if due {
-            let film = lock(&rt.film).clone();
-            let failing = {
-                let mut st = lock(&rt.state);
-                st.convergence.last_spp = spp;
-                match scene::convergence_update(&mut st.convergence, &film, &rt.info) {
-                    Ok(r) => r,
-                    Err(e) => {
-                        tracing::error!(job = %rt.id, error = %e, "convergence test failed");
-                        None
-                    }
-                }
-            };
-            if let Some(f) = failing {
-                if f <= threshold {
-                    begin_halt(
-                        farm,
-                        rt,
-                        format!("haltthreshold {threshold} reached ({f:.4} of pixels failing)"),
-                    );
-                }
-            }
+        if let Some(reason) = reason {
+            begin_halt(farm, rt, reason.to_string());
         }
     }
     Ok(())
@@ -99,10 +90,11 @@ pub fn tick(farm: &Farm) -> Result<()> {
     for rt in jobs {
         let row = farm.job_row(&rt.id)?;
         let first_lease = lock(&rt.state).first_lease_ms;
-        if let (Some(halttime), Some(first)) = (row.halttime, first_lease) {
+        if let Some(first) = first_lease {
             let elapsed = (now_ms() - first) as f64 / 1000.0;
-            if elapsed >= halttime {
-                begin_halt(farm, &rt, format!("halttime {halttime} s reached"));
+            let rules = rules(&row, &rt);
+            if let Some(reason) = rules.time_reached(elapsed) {
+                begin_halt(farm, &rt, reason.to_string());
             }
         }
         let halting = lock(&rt.state).halting.clone();

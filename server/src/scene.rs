@@ -1,14 +1,19 @@
 //! Everything the master asks of the render core: inspecting a scene (parsed confined to its
-//! bundle directory), films (new, decode a delta, FLM checkpoints), images and the convergence
-//! test.
+//! bundle directory), films (new, checkpoints), the job's outputs and images, and the halt
+//! rules' convergence state.
+//!
+//! Nothing here encodes, tonemaps or decides by itself: images and the files a Film asks for
+//! come from `luxfarm::output` (the same code `luxfarm render` uses), atomic writes from
+//! `luxfarm::atomic_write`, halt decisions from `luxfarm::halt`.
 
 use crate::codec;
 use crate::error::{Result, ServerError};
-use luxfarm::film::convergence::{ConvergenceTest, YeeParams};
+use luxfarm::atomic_write::write_bytes_atomic;
 pub use luxfarm::film::Film;
 use luxfarm::film::FilmParams;
+pub use luxfarm::halt::Convergence;
 use luxfarm::lxs::{self, ParseOptions};
-use std::io::Write;
+use luxfarm::output;
 use std::path::{Path, PathBuf};
 
 /// What the master needs to know about a scene.
@@ -24,7 +29,8 @@ pub struct SceneInfo {
     pub halttime: Option<f64>,
     pub haltthreshold: Option<f64>,
     pub convergence_step: f64,
-    /// Base name of the outputs (the film's `filename`, else the scene's stem).
+    /// Base name of the outputs in the job's output directory (`output::farm_basename`: the
+    /// last component of the film's `filename`, else the scene's stem).
     pub basename: String,
 }
 
@@ -42,17 +48,7 @@ pub fn inspect(root: &Path, scene: &Path) -> Result<SceneInfo> {
     let params = FilmParams::from_entity(desc.film.as_ref()).map_err(|e| {
         ServerError::BadRequest(format!("film error: {}", strip_root(&e.to_string(), root)))
     })?;
-    let stem = scene
-        .file_stem()
-        .and_then(|s| s.to_str())
-        .unwrap_or("scene")
-        .to_string();
-    let basename = Path::new(&params.filename)
-        .file_name()
-        .and_then(|s| s.to_str())
-        .filter(|s| !s.is_empty())
-        .unwrap_or(&stem)
-        .to_string();
+    let basename = output::farm_basename(scene, &params);
     let groups = if desc.light_groups.is_empty() {
         vec!["default".to_string()]
     } else {
@@ -83,21 +79,9 @@ pub fn new_film(info: &SceneInfo) -> Film {
     Film::new(info.width, info.height, info.groups.clone())
 }
 
-/// Writes bytes to `path` atomically (temporary file, fsync, rename).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = path.with_extension("tmp");
-    {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-    }
-    std::fs::rename(&tmp, path)?;
-    Ok(())
-}
-
 /// Writes a checkpoint (lossless `lxd1`) atomically.
 pub fn write_checkpoint(film: &Film, path: &Path) -> Result<()> {
-    write_atomic(path, &codec::encode(film))
+    write_bytes_atomic(path, &codec::encode(film)).map_err(ServerError::internal)
 }
 
 /// Reads a checkpoint.
@@ -113,95 +97,24 @@ pub fn flm_bytes(film: &Film, info: &SceneInfo) -> Result<Vec<u8>> {
     Ok(out)
 }
 
-/// Writes the job's outputs under `dir`: `BASENAME.png` (tonemapped), `BASENAME.exr`
-/// (linear) and `BASENAME.flm`.
+/// Writes the job's outputs under `dir`: the files the scene's Film asks for, named
+/// `BASENAME.exr`, `.png`, `.tga`, `.flm` as `luxfarm render` names them.
 pub fn write_outputs(film: &Film, info: &SceneInfo, dir: &Path) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;
-    let base = dir.join(&info.basename);
-    let mut written = Vec::new();
-    for (ext, bytes) in [
-        ("png", png_bytes(film, info, None)?),
-        ("exr", exr_bytes(film, info)?),
-        ("flm", flm_bytes(film, info)?),
-    ] {
-        let path = base.with_extension(ext);
-        write_atomic(&path, &bytes)?;
-        written.push(path);
-    }
-    Ok(written)
+    output::write_outputs(film, &info.params, &dir.join(&info.basename))
+        .map_err(ServerError::internal)
 }
 
 /// A tonemapped 8-bit PNG of the film (the scene's tonemapper), scaled down so its longer
 /// side is at most `max_size`.
 pub fn png_bytes(film: &Film, info: &SceneInfo, max_size: Option<u32>) -> Result<Vec<u8>> {
-    let img = luxfarm::tonemap::tonemap_display(film, &info.params.tonemap);
-    let mut buf = Vec::with_capacity(img.rgb.len() * 3);
-    for p in &img.rgb {
-        buf.extend(p.iter().map(|&c| luxfarm::tonemap::quantize8(c)));
-    }
-    let mut rgb = image::RgbImage::from_raw(img.width, img.height, buf)
-        .ok_or_else(|| ServerError::internal("image size mismatch"))?;
-    if let Some(max) = max_size.filter(|&m| m > 0) {
-        let longest = img.width.max(img.height);
-        if longest > max {
-            let scale = max as f64 / longest as f64;
-            let w = ((img.width as f64 * scale).round() as u32).max(1);
-            let h = ((img.height as f64 * scale).round() as u32).max(1);
-            rgb = image::imageops::resize(&rgb, w, h, image::imageops::FilterType::Triangle);
-        }
-    }
-    let mut out = std::io::Cursor::new(Vec::new());
-    rgb.write_to(&mut out, image::ImageFormat::Png)
-        .map_err(ServerError::internal)?;
-    Ok(out.into_inner())
+    output::preview_png(film, &info.params.tonemap, max_size).map_err(ServerError::internal)
 }
 
 /// An EXR (linear RGB, f32, untonemapped) of the film.
 pub fn exr_bytes(film: &Film, info: &SceneInfo) -> Result<Vec<u8>> {
-    use exr::prelude::*;
-    let img = luxfarm::tonemap::untonemapped(film, &info.params.tonemap);
-    let (w, h) = (img.width as usize, img.height as usize);
-    let pixels = img.rgb;
-    let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
-        let c = pixels.get(p.y() * w + p.x()).copied().unwrap_or([0.0; 3]);
-        (c[0], c[1], c[2])
-    });
-    let image = Image::from_channels((w, h), channels);
-    let mut out = std::io::Cursor::new(Vec::new());
-    image
-        .write()
-        .to_buffered(&mut out)
-        .map_err(ServerError::internal)?;
-    Ok(out.into_inner())
+    output::linear_exr(film, &info.params.tonemap).map_err(ServerError::internal)
 }
 
-/// Whether [`convergence_update`] works in this build.
+/// Whether the convergence test (haltthreshold) works in this build.
 pub const CONVERGENCE_AVAILABLE: bool = true;
-
-/// State of a job's convergence test (haltthreshold).
-#[derive(Default)]
-pub struct Convergence {
-    pub last_spp: f64,
-    pub test: Option<ConvergenceTest>,
-    pub last_failing: Option<f64>,
-}
-
-/// Runs the convergence test (Yee perceptual difference against the previous snapshot of the
-/// display image): the failing-pixel fraction, None on the first snapshot.
-pub fn convergence_update(
-    c: &mut Convergence,
-    film: &Film,
-    info: &SceneInfo,
-) -> Result<Option<f64>> {
-    let image = luxfarm::tonemap::tonemap_display(film, &info.params.tonemap);
-    let first = c.test.is_none();
-    let test = c
-        .test
-        .get_or_insert_with(|| ConvergenceTest::new(YeeParams::default()));
-    let failing = test.update(&image);
-    if first {
-        return Ok(None);
-    }
-    c.last_failing = Some(failing);
-    Ok(Some(failing))
-}

@@ -1,4 +1,4 @@
-//! The error type of the film family (films, FLM files, tonemapping outputs, comparisons).
+//! The error type of the film layer (Film parameters, films, FLM files, comparisons).
 
 use crate::lxs::Loc;
 use std::path::PathBuf;
@@ -41,10 +41,17 @@ pub enum FilmError {
     },
     #[error("films do not match: {0}")]
     Mismatch(String),
-    #[error("image output failed for {path}: {message}")]
-    Image { path: PathBuf, message: String },
     #[error("{0}")]
     Unsupported(String),
+}
+
+impl From<crate::atomic_write::FileError> for FilmError {
+    fn from(e: crate::atomic_write::FileError) -> FilmError {
+        FilmError::File {
+            path: e.path,
+            source: e.source,
+        }
+    }
 }
 
 impl FilmError {

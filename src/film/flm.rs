@@ -7,17 +7,19 @@
 //! data into a reusable scratch buffer ([`FlmDelta`]) and validates it, then adds it in
 //! parallel: a corrupt or truncated upload is refused without touching the accumulated film.
 //! Deltas held in memory decode fastest with [`FlmDelta::decode_slice`] (libdeflate). Writing converts
-//! row by row into the compressor; files are written to a temporary name then renamed.
+//! row by row into the compressor; files are written atomically
+//! ([`crate::atomic_write`]).
 
 use super::flm_header::{params_for, read_f64, FlmHeader};
 use super::{BufferType, Film, FilmError, FilmParams, PIXEL_VALUES};
+use crate::atomic_write::write_atomic;
 use flate2::read::GzDecoder;
 use flate2::write::GzEncoder;
 use flate2::Compression;
 use rayon::prelude::*;
 use std::fs::File;
-use std::io::{BufReader, BufWriter, Read, Write};
-use std::path::{Path, PathBuf};
+use std::io::{BufReader, Read, Write};
+use std::path::Path;
 
 /// gzip level of written FLMs: 0, stored blocks. Film sums are noisy floats that deflate
 /// shrinks by only 12-26% (levels 1-4), while stored gzip decodes and encodes about 6 times
@@ -375,34 +377,6 @@ pub fn write_flm_level(
 pub fn read_flm_file(path: &Path) -> Result<(Film, FlmHeader), FilmError> {
     let f = File::open(path).map_err(|e| FilmError::file(path, e))?;
     read_flm(f)
-}
-
-/// Writes `path` atomically: a temporary file beside it, synced, then renamed over it.
-pub fn write_atomic(
-    path: &Path,
-    write: impl FnOnce(&mut BufWriter<File>) -> Result<(), FilmError>,
-) -> Result<(), FilmError> {
-    let tmp = temp_path(path);
-    let result = (|| {
-        let f = File::create(&tmp).map_err(|e| FilmError::file(&tmp, e))?;
-        let mut w = BufWriter::with_capacity(1 << 16, f);
-        write(&mut w)?;
-        let f = w
-            .into_inner()
-            .map_err(|e| FilmError::file(&tmp, e.into_error()))?;
-        f.sync_all().map_err(|e| FilmError::file(&tmp, e))?;
-        std::fs::rename(&tmp, path).map_err(|e| FilmError::file(path, e))
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
-fn temp_path(path: &Path) -> PathBuf {
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(format!(".{}.tmp", std::process::id()));
-    path.with_file_name(name)
 }
 
 /// Writes a film to an FLM file atomically.

@@ -1,8 +1,8 @@
 //! The FLM v0 header: resolution, buffer groups and configurations, and LuxRender's film
 //! parameters by their `luxComponentParameters` ids; conversion to and from `FilmParams`.
 
+use super::imaging::{ClampMethod, Flavour, GroupParams, Kernel};
 use super::{BufferType, FilmError, FilmParams};
-use crate::tonemap::{ClampMethod, Flavour, GroupParams, Kernel};
 use std::io::{Read, Write};
 
 pub const FLM_MAGIC: u32 = 0xCEBC_D816;

@@ -1,6 +1,7 @@
 //! The settings of the Film's image outputs (PNG, TGA, OpenEXR): channel sets, Z-buffer
 //! normalisation and EXR compression, with the option names LuxRender's fleximage uses (see
-//! [`super::params`], which parses them).
+//! [`super::params`], which parses them). Plain data: the `output` module reads them and maps
+//! them onto the encoders' own option types in the `imageio` module.
 
 /// Channels of an image output (`write_*_channels`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

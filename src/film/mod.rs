@@ -1,24 +1,31 @@
-//! Film buffers as LuxRender's fleximage keeps them, FLM v0 read/write, merging, comparison and
-//! convergence.
+//! Film buffers as LuxRender's fleximage keeps them, the Film statement's parameters, FLM v0
+//! read/write/merge and film comparison: the first stage of the image back end.
 //!
 //! - [`Film`]: f64 sums per light group and pixel, f64 sample counts ([`buffer`]).
-//! - [`FilmParams`]: the `Film "fleximage"` statement with LuxRender's defaults ([`params`];
-//!   its image outputs' settings in [`image_output`]).
+//! - [`FilmParams`]: the `Film "fleximage"` statement with LuxRender's defaults ([`params`]);
+//!   its imaging settings ([`imaging`]: tonemapping, colour space, light groups) and its image
+//!   outputs' settings ([`image_output`]) are plain data here.
+//! - [`flm`], [`flm_header`]: LuxRender's film file; [`compare`](mod@compare): luxcomp's metrics;
+//!   [`outlier`]: k-nearest outlier rejection of samples.
+//!
+//! The back end runs one way: `film` -> `tonemap` (film sums to RGB) -> `imageio` (pixel
+//! buffers to PNG/TGA/EXR bytes) -> `output` (the files a Film asks for); `halt` decides when
+//! a render stops. This module imports none of those modules: the settings they interpret are
+//! defined here and read there.
 
 pub mod buffer;
 pub mod compare;
-pub mod convergence;
 pub mod error;
 pub mod image_output;
+pub mod imaging;
 pub mod outlier;
-pub mod output;
 pub mod params;
 
 pub use buffer::{check_size, BufferType, Film, MAX_AXIS, MAX_PIXELS, PIXEL_VALUES};
 pub use compare::{compare, Comparison};
-pub use convergence::ConvergenceTest;
 pub use error::FilmError;
 pub use image_output::{Channels, ExrCompression, ImageOutput, ZBufNorm};
+pub use imaging::{ClampMethod, ColorSpaceParams, Flavour, GroupParams, Kernel, TonemapParams};
 pub use outlier::OutlierRejector;
 pub use params::FilmParams;
 pub mod flm;

@@ -7,9 +7,9 @@
 
 use super::buffer::check_size;
 pub use super::image_output::{Channels, ExrCompression, ExrOptions, ImageOutput, ZBufNorm};
+use super::imaging::{ClampMethod, ColorSpaceParams, Kernel, TonemapParams};
 use super::FilmError;
 use crate::lxs::{Entity, Loc, ParamSet};
-use crate::tonemap::{ClampMethod, ColorSpaceParams, Kernel, TonemapParams};
 
 /// Every fleximage parameter.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,12 +1,14 @@
-//! OpenEXR output: linear RGB (tonemapped or not), channel sets Y/YA/RGB/RGBA, half or float,
-//! optional Z channel, LuxRender's compression choices.
+//! OpenEXR encoder: linear pixels (tonemapped or not, the caller decides), channel sets
+//! Y/YA/RGB/RGBA as half or float, an optional Z channel (always float), and the
+//! compressions LuxRender offers.
 
-use crate::film::flm::write_atomic;
-use crate::film::{Channels, ExrCompression, FilmError};
+use super::{ChannelSet, ImageError};
+use crate::atomic_write::write_atomic;
 use ::exr::prelude::*;
+use std::io::{Seek, Write};
 use std::path::Path;
 
-/// Linear pixels for an EXR file.
+/// Linear pixels for an EXR file, row by row, top row first.
 pub struct ExrImage<'a> {
     pub width: u32,
     pub height: u32,
@@ -15,6 +17,16 @@ pub struct ExrImage<'a> {
     pub gray: &'a [f32],
     pub alpha: &'a [f32],
     pub z: Option<&'a [f32]>,
+}
+
+/// OpenEXR compression.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExrCompression {
+    Rle,
+    Piz,
+    Zip,
+    Pxr24,
+    None,
 }
 
 fn channel(name: &str, v: Vec<f32>, half: bool) -> AnyChannel<FlatSamples> {
@@ -36,14 +48,33 @@ fn compression(c: ExrCompression) -> Compression {
     }
 }
 
-/// Writes an EXR with the channel set; Z is always stored as 32-bit float.
-pub fn write_exr(
-    path: &Path,
+/// Every channel the set asks for must hold one value per pixel.
+fn check_size(img: &ExrImage, ch: ChannelSet) -> std::result::Result<(), ImageError> {
+    let n = img.rgb.len();
+    super::check_pixels(img.width, img.height, n).map_err(ImageError::Codec)?;
+    let short =
+        |name: &str, len: usize| ImageError::Codec(format!("{len} {name} values for {n} pixels"));
+    if ch.is_gray() && img.gray.len() != n {
+        return Err(short("gray", img.gray.len()));
+    }
+    if ch.has_alpha() && img.alpha.len() != n {
+        return Err(short("alpha", img.alpha.len()));
+    }
+    match img.z {
+        Some(z) if z.len() != n => Err(short("depth", z.len())),
+        _ => Ok(()),
+    }
+}
+
+/// Encodes an EXR with the channel set (half or float samples); Z is always float.
+pub fn encode_exr(
+    w: impl Write + Seek,
     img: &ExrImage,
-    ch: Channels,
+    ch: ChannelSet,
     half: bool,
     comp: ExrCompression,
-) -> std::result::Result<(), FilmError> {
+) -> std::result::Result<(), ImageError> {
+    check_size(img, ch)?;
     let pick = |i: usize| img.rgb.iter().map(|p| p[i]).collect::<Vec<f32>>();
     let mut list: Vec<AnyChannel<FlatSamples>> = Vec::new();
     if ch.is_gray() {
@@ -70,11 +101,63 @@ pub fn write_exr(
         encoding,
         AnyChannels::sort(list.into()),
     );
-    let image = Image::from_layer(layer);
+    Image::from_layer(layer)
+        .write()
+        .to_buffered(w)
+        .map_err(|e| ImageError::Codec(e.to_string()))
+}
+
+/// Writes an EXR file atomically (see [`encode_exr`]).
+pub fn write_exr(
+    path: &Path,
+    img: &ExrImage,
+    ch: ChannelSet,
+    half: bool,
+    comp: ExrCompression,
+) -> std::result::Result<(), ImageError> {
     write_atomic(path, |w| {
-        image.write().to_buffered(w).map_err(|e| FilmError::Image {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        })
+        encode_exr(w, img, ch, half, comp).map_err(|e| e.at(path))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn channels_round_trip_and_sizes_are_checked() {
+        let rgb: Vec<[f32; 3]> = (0..6).map(|i| [i as f32, 0.25, 2.0]).collect();
+        let alpha = vec![0.5f32; 6];
+        let z = vec![3.0f32; 6];
+        let img = ExrImage {
+            width: 3,
+            height: 2,
+            rgb: &rgb,
+            gray: &[],
+            alpha: &alpha,
+            z: Some(&z),
+        };
+        let mut out = std::io::Cursor::new(Vec::new());
+        encode_exr(&mut out, &img, ChannelSet::Rgba, false, ExrCompression::Zip).unwrap();
+        let back = ::exr::prelude::read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .all_channels()
+            .all_layers()
+            .all_attributes()
+            .from_buffered(std::io::Cursor::new(out.into_inner()))
+            .unwrap();
+        let names: Vec<String> = back.layer_data[0]
+            .channel_data
+            .list
+            .iter()
+            .map(|c| c.name.to_string())
+            .collect();
+        assert_eq!(names, ["A", "B", "G", "R", "Z"]);
+        let r = &back.layer_data[0].channel_data.list[3].sample_data;
+        assert_eq!(r.value_by_flat_index(5).to_f32(), 5.0);
+        // a Y image without gray values is refused, not a panic
+        let mut out = std::io::Cursor::new(Vec::new());
+        assert!(encode_exr(&mut out, &img, ChannelSet::Y, true, ExrCompression::Piz).is_err());
+    }
 }

@@ -2,7 +2,7 @@
 //! the primaries and the white point, gamut constraining of negative RGB, the LDR clamp
 //! methods, and Bradford chromatic adaptation (light group RGB scale and temperature).
 
-use super::params::{ClampMethod, ColorSpaceParams};
+use crate::film::imaging::{ClampMethod, ColorSpaceParams};
 
 type M3 = [[f64; 3]; 3];
 

@@ -10,6 +10,11 @@
 //!
 //! This is the "imaging applied" image (EXR with `write_exr_applyimaging`); LDR outputs then
 //! clamp with `ldr_clamp_method` and apply the `gamma`.
+//!
+//! Place in the back end: `film` -> `tonemap` (here) -> `imageio` -> `output`. This module
+//! reads films and the imaging settings the film layer defines
+//! ([`crate::film::imaging`], re-exported here) and hands plain RGB images on; it imports
+//! neither the image encoders nor the outputs.
 
 pub mod autolinear;
 pub mod blackbody;
@@ -17,11 +22,12 @@ pub mod colorspace;
 pub mod contrast;
 pub mod linear;
 pub mod maxwhite;
-pub mod params;
 pub mod reinhard;
 
+pub use crate::film::imaging::{
+    ClampMethod, ColorSpaceParams, Flavour, GroupParams, Kernel, TonemapParams,
+};
 pub use colorspace::{ColorAdaptation, ColorSystem};
-pub use params::{ClampMethod, ColorSpaceParams, Flavour, GroupParams, Kernel, TonemapParams};
 
 use crate::film::{BufferType, Film, PIXEL_VALUES};
 use rayon::prelude::*;
@@ -219,16 +225,6 @@ pub fn tonemap_display(film: &Film, params: &TonemapParams) -> RgbImage {
     let mut img = tonemap(film, params);
     to_display(&mut img, params);
     img
-}
-
-/// 8-bit quantisation as LuxRender writes LDR files: truncate(255 * v), clamped.
-pub fn quantize8(v: f32) -> u8 {
-    (255.0 * v).clamp(0.0, 255.0) as u8
-}
-
-/// 16-bit quantisation: truncate(65535 * v), clamped.
-pub fn quantize16(v: f32) -> u16 {
-    (65535.0 * v).clamp(0.0, 65535.0) as u16
 }
 
 #[cfg(test)]

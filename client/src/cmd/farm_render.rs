@@ -1,12 +1,17 @@
 //! `luxfarm render SCENE.lxs --workers N`: the one-command farm. An embedded master in a
 //! temporary data directory, N local worker processes (`luxfarm worker`, spawned from this
 //! executable) over loopback, a progress bar, the dashboard URL printed, and the outputs
-//! written beside the scene (or at `-o BASENAME`).
+//! written beside the scene (or at `-o BASENAME`): the master writes the files the Film asks
+//! for (`luxfarm::output`) and they are copied to the names a local render gives them.
 //!
 //! The render command's argument parsing (client/src/cmd/render.rs) calls [`run`] when
 //! `--workers` is given.
 
 use super::farm_remote::{runtime, Remote};
+use anyhow::Context;
+use luxfarm::film::FilmParams;
+use luxfarm::lxs::{self, ParseOptions};
+use luxfarm::output::{self, OutputKind};
 use luxfarm_proto as pb;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitCode, Stdio};
@@ -118,20 +123,55 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Copies the master's outputs beside the scene (or to the `-o` base name).
+/// The base name of the outputs on this machine: `-o`, else as a local render names them
+/// (`luxfarm::output::basename`, from the scene's Film), else (an archive, whose scene only
+/// the master read) the master's base name beside the archive.
+fn local_basename(o: &Options, master_base: &str) -> anyhow::Result<PathBuf> {
+    if let Some(b) = &o.output {
+        return Ok(b.clone());
+    }
+    let is_archive = o
+        .scene
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("zip") || e.eq_ignore_ascii_case("tar"));
+    if is_archive {
+        let dir = o.scene.parent().unwrap_or(Path::new(""));
+        return Ok(dir.join(master_base));
+    }
+    let desc = lxs::parse_file(&o.scene, &ParseOptions::default())?;
+    let params = FilmParams::from_entity(desc.film.as_ref())?;
+    Ok(output::basename(&o.scene, &params, None))
+}
+
+/// Copies the outputs the master wrote (`BASE.png`, `.exr`, ... in `out_dir`, as the Film
+/// asked) to the same names a local render gives them.
 fn copy_outputs(out_dir: &Path, o: &Options) -> anyhow::Result<Vec<PathBuf>> {
-    let scene_dir = o.scene.parent().unwrap_or(Path::new("."));
-    let mut written = Vec::new();
+    let mut found = Vec::new();
     for entry in std::fs::read_dir(out_dir)? {
         let src = entry?.path();
-        let Some(ext) = src.extension().and_then(|e| e.to_str()) else {
-            continue;
-        };
-        let dest = match &o.output {
-            Some(base) => base.with_extension(ext),
-            None => scene_dir.join(src.file_name().unwrap_or_default()),
-        };
-        std::fs::copy(&src, &dest)?;
+        let name = src
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or_default()
+            .to_string();
+        let kind = OutputKind::ALL
+            .into_iter()
+            .find(|k| name.len() > k.suffix().len() && name.ends_with(k.suffix()));
+        if let Some(kind) = kind {
+            let base = name[..name.len() - kind.suffix().len()].to_string();
+            found.push((src, base, kind));
+        }
+    }
+    let Some((_, master_base, _)) = found.first() else {
+        return Ok(Vec::new());
+    };
+    let local = local_basename(o, master_base)?;
+    let mut written = Vec::new();
+    for (src, _, kind) in &found {
+        let dest = output::path(&local, *kind);
+        std::fs::copy(src, &dest)
+            .with_context(|| format!("copying {} to {}", src.display(), dest.display()))?;
         written.push(dest);
     }
     written.sort();

@@ -10,9 +10,10 @@
 
 use anyhow::{bail, Context};
 use luxfarm::film::{
-    compare, flm, output, read_flm_file, Channels, Film, FilmParams, FlmDelta, FlmHeader, FlmValue,
+    compare, flm, read_flm_file, Channels, ClampMethod, Film, FilmParams, FlmDelta, FlmHeader,
+    FlmValue, Kernel, TonemapParams,
 };
-use luxfarm::tonemap::{ClampMethod, Kernel, TonemapParams};
+use luxfarm::output;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 

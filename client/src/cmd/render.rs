@@ -4,18 +4,18 @@
 //! with a progress bar, halting at the
 //! scene's (or the given) haltspp/halttime/haltthreshold, and writes what the Film asks for.
 //!
-//! haltthreshold works as LuxRender's: every `convergencestep` spp the display image is
-//! compared with the previous snapshot (Yee's perceptual test); the render stops once the
-//! fraction of pixels that still change perceptibly is at most the threshold.
+//! The halt rules are the core's (`luxfarm::halt`, shared with the master): haltspp,
+//! halttime, and haltthreshold as LuxRender's (every `convergencestep` spp the display image
+//! is compared with the previous snapshot by Yee's perceptual test; the render stops once the
+//! fraction of pixels that still change perceptibly is at most the threshold). The outputs
+//! are the core's too (`luxfarm::output`): the files the Film asks for, named as on a farm.
 
 use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
-use luxfarm::film::convergence::{ConvergenceTest, YeeParams};
-use luxfarm::film::output::write_outputs;
-use luxfarm::film::Film;
+use luxfarm::halt::{Convergence, HaltRules};
 use luxfarm::lxs::ParseOptions;
+use luxfarm::output;
 use luxfarm::render::{Session, SessionOptions};
-use luxfarm::tonemap::{tonemap_display, TonemapParams};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
@@ -49,48 +49,6 @@ pub struct Args {
     pub workers: Option<usize>,
 }
 
-/// When to stop.
-struct Halt {
-    spp: Option<f64>,
-    time: Option<f64>,
-    threshold: Option<Threshold>,
-}
-
-/// The haltthreshold state: the Yee test against the previous snapshot, run every `step` spp.
-struct Threshold {
-    limit: f64,
-    step: f64,
-    next_spp: f64,
-    test: ConvergenceTest,
-    failing: Option<f64>,
-}
-
-impl Threshold {
-    /// Runs the test when due; true once the failing fraction is at most the limit.
-    fn converged(&mut self, film: &Film, tonemap: &TonemapParams) -> bool {
-        let spp = film.spp();
-        if spp < self.next_spp {
-            return false;
-        }
-        self.next_spp = spp + self.step;
-        let failing = self.test.update(&tonemap_display(film, tonemap));
-        let first = self.failing.is_none();
-        self.failing = Some(failing);
-        !first && failing <= self.limit
-    }
-}
-
-impl Halt {
-    fn done(&mut self, film: &Film, tonemap: &TonemapParams, secs: f64) -> bool {
-        let spp = film.spp();
-        let converged = self
-            .threshold
-            .as_mut()
-            .is_some_and(|t| t.converged(film, tonemap));
-        converged || self.spp.is_some_and(|h| spp >= h) || self.time.is_some_and(|t| secs >= t)
-    }
-}
-
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(workers) = args.workers {
         return super::farm_render::run(super::farm_render::Options {
@@ -121,31 +79,21 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         eprintln!("warning: {w}");
     }
     let fp = session.film_params().clone();
-    let limit = args.haltthreshold.or(fp.haltthreshold.map(f64::from));
-    if let Some(l) = limit {
-        if !(0.0..=1.0).contains(&l) {
-            bail!("haltthreshold {l} is not a fraction in [0, 1]");
-        }
-    }
-    let mut halt = Halt {
-        spp: args.haltspp.or(fp.haltspp).map(f64::from),
-        time: args.halttime.or(fp.halttime.map(f64::from)),
-        threshold: limit.map(|limit| Threshold {
-            limit,
-            step: fp.convergence_step,
-            next_spp: fp.convergence_step,
-            test: ConvergenceTest::new(YeeParams::default()),
-            failing: None,
-        }),
-    };
-    if halt.spp.is_none() && halt.time.is_none() && halt.threshold.is_none() {
+    let rules = HaltRules::from_film(&fp).with_overrides(
+        args.haltspp.map(f64::from),
+        args.halttime,
+        args.haltthreshold,
+    );
+    rules.validate()?;
+    if rules.is_unbounded() {
         bail!(
             "{}: no halt condition: the Film has no haltspp/halttime/haltthreshold; give \
              --haltspp, --halttime or --haltthreshold",
             args.scene.display()
         );
     }
-    let bar = progress_bar(&halt);
+    let mut convergence = Convergence::default();
+    let bar = progress_bar(&rules);
     let start = Instant::now();
     let pixels = f64::from(fp.x_pixel_count) * f64::from(fp.y_pixel_count);
     let mut samples = 0u64;
@@ -155,29 +103,31 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let spp = session.film().spp();
         let secs = start.elapsed().as_secs_f64();
         let rate = samples as f64 / secs.max(1e-9);
-        bar.set_position(match halt.spp {
+        bar.set_position(match rules.spp {
             Some(_) => spp.floor() as u64,
             None => secs as u64,
         });
-        bar.set_message(format!("{spp:.1} spp, {:.2} Msamples/s", rate / 1e6));
-        if let Some(f) = halt.threshold.as_ref().and_then(|t| t.failing) {
-            bar.set_message(format!(
+        let done = rules.check(&mut convergence, session.film(), &fp.tonemap, secs);
+        bar.set_message(match convergence.last_failing {
+            Some(f) => format!(
                 "{spp:.1} spp, {:.2} Msamples/s, {:.2}% of pixels changing",
                 rate / 1e6,
                 100.0 * f
-            ));
+            ),
+            None => format!("{spp:.1} spp, {:.2} Msamples/s", rate / 1e6),
+        });
+        if let Some(reason) = done {
+            tracing::info!(%reason, "render done");
+            break;
         }
-        if halt.done(session.film(), &fp.tonemap, secs) || pixels == 0.0 {
+        if pixels == 0.0 {
             break;
         }
     }
     bar.finish();
     let secs = start.elapsed().as_secs_f64();
-    let basename = args
-        .output
-        .clone()
-        .unwrap_or_else(|| base_dir.join(&fp.filename));
-    let written = write_outputs(session.film(), &fp, &basename)
+    let basename = output::basename(&args.scene, &fp, args.output.as_deref());
+    let written = output::write_outputs(session.film(), &fp, &basename)
         .with_context(|| format!("writing {}", basename.display()))?;
     eprintln!(
         "rendered {:.1} spp ({samples} samples) in {secs:.2} s: {:.0} samples/s; {} samples rejected (NaN/Inf/negative), {} as outliers (outlierrejection_k)",
@@ -192,8 +142,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn progress_bar(halt: &Halt) -> ProgressBar {
-    let (len, unit) = match (halt.spp, halt.time) {
+fn progress_bar(rules: &HaltRules) -> ProgressBar {
+    let (len, unit) = match (rules.spp, rules.time) {
         (Some(s), _) => (s.ceil() as u64, "spp"),
         (None, Some(t)) => (t.ceil() as u64, "s"),
         (None, None) => (0, ""),

@@ -1,6 +1,8 @@
-//! Job outputs on demand: the merged film as FLM, a tonemapped PNG (preview, optionally
-//! scaled down, optionally with another tonemapping, see [`tonemap`]) or an EXR, from the live
-//! film of a rendering job or the last checkpoint.
+//! Job outputs on demand (the REST/gRPC API): the merged film as FLM, a tonemapped PNG
+//! (preview, optionally scaled down, optionally with another tonemapping, see [`tonemap`]) or
+//! a linear EXR, from the live film of a rendering job or the last checkpoint. The images are
+//! made by the core's `luxfarm::output` (through [`crate::scene`]); the files a finished job
+//! leaves are another matter: the ones its Film asks for ([`crate::scene::write_outputs`]).
 
 pub mod tonemap;
 

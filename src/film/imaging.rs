@@ -1,5 +1,11 @@
-//! Tonemapping parameters: kernel and its parameters, colour space, gamma, LDR clamping and
-//! light group scales, with LuxRender's defaults and names.
+//! The Film's imaging settings as plain data: tonemapping kernel and its parameters, colour
+//! space, gamma, LDR clamping and light group scales, with LuxRender's defaults, names and ids.
+//!
+//! They live in the film layer, not in `tonemap`, because the film carries them without
+//! interpreting them: the Film statement sets them ([`super::params`]) and FLM headers store
+//! and restore them ([`super::flm_header`]). The `tonemap` module reads them to turn film
+//! sums into RGB (and re-exports them under its own name), so the import runs one way:
+//! tonemap -> film.
 
 /// Tonemapping kernel; the discriminant is LuxRender's id (FLM parameter 0).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,6 +1,7 @@
-//! Convergence test for `haltthreshold` and noise-aware sampling: Yee's perceptual image
+//! Convergence test for `haltthreshold` (and noise-aware sampling): Yee's perceptual image
 //! difference ("A perceptual metric for production testing", 2004), the model LuxRender runs
-//! every `convergencestep` spp between the current tonemapped image and the previous one.
+//! every `convergencestep` spp between the current display image (tonemapped, clamped, gamma
+//! applied: `crate::tonemap::tonemap_display`) and the previous one. [`super`] decides when.
 //!
 //! Per pixel, luminance differences are tested against the threshold-versus-intensity of
 //! the local adaptation luminance, raised by spatial frequency sensitivity (Barten's CSF) and
