@@ -1,4 +1,5 @@
-//! `luxfarm`: the command-line tool. Each subcommand lives in its own file under `cmd/`.
+//! `luxfarm`: the command-line tool. Each subcommand lives in its own file under `cmd/`, but
+//! `bench`, whose benchmarks live in the `luxfarm-bench` crate.
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -50,24 +51,7 @@ enum Command {
     Worker(cmd::worker::Args),
     /// Benchmarks (not tests).
     #[command(subcommand)]
-    Bench(BenchCommand),
-}
-
-#[derive(Subcommand)]
-enum BenchCommand {
-    /// Ray throughput of the BVH on incoherent rays (closest hit and any hit).
-    Bvh(cmd::bench_bvh::Args),
-    /// Issue 3's Cornell benchmark side by side with LuxCore: samples/s and RMSE against the
-    /// 2048-spp reference.
-    Cornell(cmd::bench_cornell::Args),
-    /// Parse speed and peak memory on a generated mesh scene.
-    Parse(cmd::bench_parse::Args),
-    /// FLM decode + merge and encode throughput of a 1080p delta.
-    Flm(cmd::bench_flm::Args),
-    /// Master capacity: N simulated workers uploading full-frame deltas over gRPC.
-    Master(cmd::bench_master::Args),
-    /// Film delta encodings (lxd1, FLM, lxd2) on a rendered delta: bytes, encode, decode.
-    Transport(cmd::bench_transport::Args),
+    Bench(luxfarm_bench::Command),
 }
 
 fn main() -> ExitCode {
@@ -87,12 +71,7 @@ fn main() -> ExitCode {
         Command::Workers(a) => cmd::workers::run(a),
         Command::Server(a) => cmd::server::run(a),
         Command::Worker(a) => cmd::worker::run(a),
-        Command::Bench(BenchCommand::Bvh(a)) => cmd::bench_bvh::run(a),
-        Command::Bench(BenchCommand::Cornell(a)) => cmd::bench_cornell::run(a),
-        Command::Bench(BenchCommand::Parse(a)) => cmd::bench_parse::run(a),
-        Command::Bench(BenchCommand::Flm(a)) => cmd::bench_flm::run(a),
-        Command::Bench(BenchCommand::Master(a)) => cmd::bench_master::run(a),
-        Command::Bench(BenchCommand::Transport(a)) => cmd::bench_transport::run(a),
+        Command::Bench(b) => luxfarm_bench::run(b),
     };
     match result {
         Ok(code) => code,

@@ -10,7 +10,7 @@ use farm_common::*;
 use luxfarm::film::Film;
 use luxfarm_proto as pb;
 use luxfarm_proto::connect;
-use luxfarm_server::codec;
+use luxfarm_wire::codec;
 
 fn rt() -> tokio::runtime::Runtime {
     tokio::runtime::Builder::new_multi_thread()

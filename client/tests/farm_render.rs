@@ -8,7 +8,7 @@ mod farm_common;
 
 use farm_common::*;
 use luxfarm::film::Film;
-use luxfarm_server::codec;
+use luxfarm_wire::codec;
 use std::path::Path;
 
 fn cornell() -> Vec<u8> {

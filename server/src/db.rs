@@ -57,7 +57,6 @@ impl JobState {
 #[derive(Clone, Debug)]
 pub struct JobRow {
     pub id: String,
-    pub order: i64,
     pub name: String,
     pub state: JobState,
     pub reason: String,
@@ -73,7 +72,6 @@ pub struct JobRow {
     pub submitted_ms: i64,
     pub first_lease_ms: Option<i64>,
     pub finished_ms: Option<i64>,
-    pub next_stream: u64,
     pub ckpt_gen: i64,
 }
 
@@ -99,9 +97,6 @@ pub struct LeaseRow {
     pub id: String,
     pub job_id: String,
     pub worker_id: String,
-    pub stream: u64,
-    pub started_ms: i64,
-    pub ended_ms: Option<i64>,
 }
 
 /// The store: one connection, used under the caller's lock.
@@ -156,43 +151,41 @@ CREATE TABLE IF NOT EXISTS ledger (
 CREATE INDEX IF NOT EXISTS ledger_job ON ledger (job_id);
 ";
 
-const JOB_COLS: &str = "id, ord, name, state, reason, priority, bundle_hash, scene_path, seed, \
+const JOB_COLS: &str = "id, name, state, reason, priority, bundle_hash, scene_path, seed, \
     haltspp, halttime, haltthreshold, width, height, submitted_ms, first_lease_ms, finished_ms, \
-    next_stream, ckpt_gen";
+    ckpt_gen";
 
 fn job_from_row(r: &Row<'_>) -> rusqlite::Result<JobRow> {
-    let state: String = r.get(3)?;
+    let state: String = r.get(2)?;
     Ok(JobRow {
         id: r.get(0)?,
-        order: r.get(1)?,
-        name: r.get(2)?,
+        name: r.get(1)?,
         state: JobState::parse(&state).unwrap_or(JobState::Failed),
-        reason: r.get(4)?,
-        priority: r.get(5)?,
-        bundle_hash: r.get(6)?,
-        scene_path: r.get(7)?,
-        seed: r.get::<_, i64>(8)? as u64,
-        haltspp: r.get(9)?,
-        halttime: r.get(10)?,
-        haltthreshold: r.get(11)?,
-        width: r.get(12)?,
-        height: r.get(13)?,
-        submitted_ms: r.get(14)?,
-        first_lease_ms: r.get(15)?,
-        finished_ms: r.get(16)?,
-        next_stream: r.get::<_, i64>(17)? as u64,
-        ckpt_gen: r.get(18)?,
+        reason: r.get(3)?,
+        priority: r.get(4)?,
+        bundle_hash: r.get(5)?,
+        scene_path: r.get(6)?,
+        seed: r.get::<_, i64>(7)? as u64,
+        haltspp: r.get(8)?,
+        halttime: r.get(9)?,
+        haltthreshold: r.get(10)?,
+        width: r.get(11)?,
+        height: r.get(12)?,
+        submitted_ms: r.get(13)?,
+        first_lease_ms: r.get(14)?,
+        finished_ms: r.get(15)?,
+        ckpt_gen: r.get(16)?,
     })
 }
+
+/// The columns [`lease_from_row`] reads, in its order.
+const LEASE_COLS: &str = "id, job_id, worker_id";
 
 fn lease_from_row(r: &Row<'_>) -> rusqlite::Result<LeaseRow> {
     Ok(LeaseRow {
         id: r.get(0)?,
         job_id: r.get(1)?,
         worker_id: r.get(2)?,
-        stream: r.get::<_, i64>(3)? as u64,
-        started_ms: r.get(4)?,
-        ended_ms: r.get(5)?,
     })
 }
 
@@ -262,15 +255,6 @@ impl Db {
         Ok(())
     }
 
-    /// Records the first lease time of a job (only the first call has an effect).
-    pub fn set_first_lease(&self, id: &str, now_ms: i64) -> Result<()> {
-        self.conn.execute(
-            "UPDATE jobs SET first_lease_ms = COALESCE(first_lease_ms, ?2) WHERE id = ?1",
-            params![id, now_ms],
-        )?;
-        Ok(())
-    }
-
     /// Registers or refreshes a worker.
     pub fn upsert_worker(&self, id: &str, name: &str, threads: u32, now_ms: i64) -> Result<()> {
         self.conn.execute(
@@ -278,15 +262,6 @@ impl Db {
              VALUES (?1, ?2, ?3, ?4, ?4) ON CONFLICT(id) DO UPDATE SET name = ?2, threads = ?3, \
              last_seen_ms = ?4",
             params![id, name, threads, now_ms],
-        )?;
-        Ok(())
-    }
-
-    /// Updates a worker's last-seen time.
-    pub fn touch_worker(&self, id: &str, now_ms: i64) -> Result<()> {
-        self.conn.execute(
-            "UPDATE workers SET last_seen_ms = ?2 WHERE id = ?1",
-            params![id, now_ms],
         )?;
         Ok(())
     }
@@ -317,8 +292,7 @@ impl Db {
         Ok(self
             .conn
             .query_row(
-                "SELECT id, job_id, worker_id, stream, started_ms, ended_ms FROM leases \
-                 WHERE id = ?1",
+                &format!("SELECT {LEASE_COLS} FROM leases WHERE id = ?1"),
                 [id],
                 lease_from_row,
             )
@@ -327,10 +301,9 @@ impl Db {
 
     /// Leases still open (not ended).
     pub fn open_leases(&self) -> Result<Vec<LeaseRow>> {
-        let mut st = self.conn.prepare(
-            "SELECT id, job_id, worker_id, stream, started_ms, ended_ms FROM leases \
-             WHERE ended_ms IS NULL",
-        )?;
+        let mut st = self.conn.prepare(&format!(
+            "SELECT {LEASE_COLS} FROM leases WHERE ended_ms IS NULL"
+        ))?;
         let rows = st.query_map([], lease_from_row)?;
         Ok(rows.collect::<rusqlite::Result<_>>()?)
     }

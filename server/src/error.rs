@@ -35,6 +35,22 @@ pub enum ServerError {
     Internal(String),
 }
 
+impl From<luxfarm_wire::WireError> for ServerError {
+    /// A refused bundle or delta is the sender's fault (400, 413, 415); local files are ours.
+    fn from(e: luxfarm_wire::WireError) -> ServerError {
+        use luxfarm_wire::WireError as W;
+        match e {
+            W::Delta(_) | W::UnknownEncoding(_) | W::Bundle(_) | W::Scene(_) => {
+                ServerError::BadRequest(e.to_string())
+            }
+            W::TooLarge(m) => ServerError::TooLarge(m),
+            W::Unsupported(m) => ServerError::Unsupported(m),
+            W::Io(e) => ServerError::Io(e),
+            W::File { .. } => ServerError::Internal(e.to_string()),
+        }
+    }
+}
+
 /// Result alias of the master.
 pub type Result<T, E = ServerError> = std::result::Result<T, E>;
 

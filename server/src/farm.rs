@@ -2,13 +2,13 @@
 //! workers, plus job submission, queries and cancellation. Leases and uploads are in
 //! [`crate::lease`], halting and checkpoints in [`crate::halt`].
 
-use crate::bundle::{self, Limits};
 use crate::config::Config;
 use crate::db::{Db, JobRow, JobState, NewJob};
 use crate::error::{Result, ServerError};
-use crate::metrics::Metrics;
+use crate::metrics::{MergeReport, Metrics};
 use crate::scene::Film;
 use crate::scene::{self, SceneInfo};
+use luxfarm_wire::bundle::{self, Limits};
 use std::collections::{HashMap, VecDeque};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -62,8 +62,6 @@ pub struct SubmitOptions {
 /// One lease of a rendering job, as the master tracks it in memory.
 #[derive(Clone, Debug)]
 pub struct LeaseRt {
-    pub worker_id: String,
-    pub stream: u64,
     /// The worker was told (or will be told) to stop.
     pub stop: bool,
     /// The lease ended: its last delta arrived, it was lost, or the job ended.
@@ -275,6 +273,18 @@ impl Farm {
         self.touch();
         self.work_available.notify_waiters();
         self.job_row(&id)
+    }
+
+    /// The merge statistics of a loaded job, for the capacity benchmark.
+    pub fn merge_report(&self, job: &str) -> Option<MergeReport> {
+        let rt = lock(&self.jobs).get(job).cloned()?;
+        let job_samples = lock(&rt.film).total_samples();
+        Some(MergeReport {
+            job_samples,
+            merges: self.metrics.merges.load(Ordering::Relaxed),
+            recent: self.metrics.recent_merges(),
+            lost_workers: lock(&self.workers).values().filter(|w| w.lost).count(),
+        })
     }
 
     /// Cancels a queued or rendering job. Workers on it are told to stop; what was merged is

@@ -223,7 +223,7 @@ impl pb::worker_server::Worker for WorkerService {
         req: Request<pb::BundleRequest>,
     ) -> Result<Response<Self::FetchBundleStream>, Status> {
         let hash = req.into_inner().hash;
-        if !crate::bundle::is_hash(&hash) {
+        if !luxfarm_wire::bundle::is_hash(&hash) {
             return Err(Status::invalid_argument("not a bundle hash"));
         }
         let path = self.0.bundle_path(&hash);

@@ -134,8 +134,6 @@ impl Farm {
         lock(&rt.leases).insert(
             lease_id.clone(),
             LeaseRt {
-                worker_id: worker_id.to_string(),
-                stream,
                 stop: false,
                 ended: false,
                 samples: 0.0,
@@ -204,7 +202,7 @@ impl Farm {
         }
         let rt = self.job_rt(&row)?;
         let decode_start = Instant::now();
-        let delta = crate::codec::decode_as(&h.encoding, data)?;
+        let delta = luxfarm_wire::codec::decode_as(&h.encoding, data)?;
         let decode = decode_start.elapsed();
         let samples = delta.total_samples();
         let merge_start = Instant::now();
@@ -246,8 +244,6 @@ impl Farm {
         let stop = {
             let mut leases = lock(&rt.leases);
             let l = leases.entry(h.lease_id.clone()).or_insert(LeaseRt {
-                worker_id: h.worker_id.clone(),
-                stream: lease.stream,
                 stop: true,
                 ended: false,
                 samples: 0.0,

@@ -25,6 +25,20 @@ pub struct MergeTiming {
     pub total: Duration,
 }
 
+/// What the master has merged, read by the capacity benchmark (`luxfarm bench master`) after
+/// its load window.
+#[derive(Clone, Debug, Default)]
+pub struct MergeReport {
+    /// Samples in the job's merged film.
+    pub job_samples: f64,
+    /// Deltas merged since the master started (all jobs).
+    pub merges: u64,
+    /// Timings of the most recent merges (up to 65536), oldest first.
+    pub recent: Vec<MergeTiming>,
+    /// Workers that are marked lost (timed out).
+    pub lost_workers: usize,
+}
+
 /// Monotonic counters (atomics; samples and seconds kept as f64 bits).
 #[derive(Default)]
 pub struct Metrics {

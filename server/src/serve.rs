@@ -114,11 +114,43 @@ fn tls_config(cert: &std::path::Path, key: &std::path::Path) -> Result<tokio_rus
     Ok(tokio_rustls::TlsAcceptor::from(Arc::new(config)))
 }
 
-/// A running master.
+/// A running master: its address, and the handle of its accept loop.
 pub struct Running {
-    pub addr: SocketAddr,
-    pub farm: Arc<Farm>,
-    pub task: tokio::task::JoinHandle<()>,
+    addr: SocketAddr,
+    farm: Arc<Farm>,
+    task: tokio::task::JoinHandle<()>,
+}
+
+impl Running {
+    /// The address the master listens on (the port is the bound one when 0 was asked).
+    pub fn addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// Stops accepting connections.
+    pub fn stop(&self) {
+        self.task.abort();
+    }
+
+    /// The accept loop, to await (it ends only when stopped or on a fatal error).
+    pub(crate) fn task_mut(&mut self) -> &mut tokio::task::JoinHandle<()> {
+        &mut self.task
+    }
+
+    /// Queues a job from an upload as `POST /jobs` would; returns the job's id.
+    pub fn submit(
+        &self,
+        bytes: &[u8],
+        file_name: &str,
+        opts: &crate::farm::SubmitOptions,
+    ) -> Result<String> {
+        Ok(self.farm.submit(bytes, file_name, opts)?.id)
+    }
+
+    /// What has been merged into a job (None when the job is not loaded).
+    pub fn merge_report(&self, job: &str) -> Option<crate::metrics::MergeReport> {
+        self.farm.merge_report(job)
+    }
 }
 
 /// Opens the store, binds the address and serves until the task is dropped or aborted.

@@ -68,6 +68,30 @@ impl std::fmt::Display for BvhOptions {
 }
 
 impl BvhOptions {
+    /// The configurations compared when the default was chosen (`luxfarm bench bvh --all`):
+    /// each layout at three build qualities and its plausible leaf sizes (CWBVH holds at most
+    /// 3 primitives per leaf).
+    pub fn candidates() -> Vec<BvhOptions> {
+        let mut v = Vec::new();
+        for layout in [BvhLayout::Cwbvh, BvhLayout::Bvh2, BvhLayout::Bvh8] {
+            for quality in [BuildQuality::Fast, BuildQuality::Medium, BuildQuality::Slow] {
+                let leaves: &[u32] = match layout {
+                    BvhLayout::Cwbvh => &[1, 3],
+                    BvhLayout::Bvh2 => &[1, 4, 8],
+                    BvhLayout::Bvh8 => &[1, 2, 4, 8],
+                };
+                for &max_prims_per_leaf in leaves {
+                    v.push(BvhOptions {
+                        layout,
+                        quality,
+                        max_prims_per_leaf,
+                    });
+                }
+            }
+        }
+        v
+    }
+
     fn params(&self) -> BvhBuildParams {
         let mut p = match self.quality {
             BuildQuality::Fastest => BvhBuildParams::fastest_build(),

@@ -406,8 +406,8 @@ impl Node8 {
 
 #[cfg(test)]
 mod tests {
-    use crate::accel::bench::Rng;
     use crate::accel::bvh::{padded, BuildQuality, Bvh, BvhLayout, BvhOptions};
+    use crate::accel::tests::fixtures::Rng;
     use glam::Vec3A;
     use obvhs::aabb::Aabb;
 

@@ -5,7 +5,7 @@
 //! gets its own, and a top-level BVH over the instances' world boxes transforms rays into the
 //! object's space (f64 transform, one f32 rounding) and hits back to world space with error
 //! bounds. Layout and build quality were chosen by measurement (`luxfarm bench bvh --all`,
-//! see [`mod@bench`]; the shared 2-core machine was loaded, so rates are per CPU-second
+//! `bench/src/bvh/`, over [`bvh::BvhOptions::candidates`]; the shared 2-core machine was loaded, so rates are per CPU-second
 //! received). On cornell-mesh.lxs, single thread: our uncompressed 8-wide BVH ([`bvh8`],
 //! collapsed from obvhs's BVH2) with 2 primitives per leaf ran 6.1-6.4 M closest-hit and
 //! 11.4-11.7 M any-hit rays per CPU-second, obvhs's CWBVH (leaf 3) 4.8-5.1 M and 6.9-7.5 M.
@@ -21,7 +21,6 @@
 //! noise on that scene, and on 500k triangles the slow build traversed ~10% faster (1.50 vs
 //! 1.35 M rays/s) for a 2.4 s instead of 1.4 s build: the slow build is the default.
 
-pub mod bench;
 pub mod blas;
 pub mod bvh;
 pub mod bvh8;

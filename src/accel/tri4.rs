@@ -236,7 +236,7 @@ impl Tri4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::bench::Rng;
+    use crate::accel::tests::fixtures::Rng;
 
     fn random_tri(rng: &mut Rng, scale: f32) -> [Vec3A; 3] {
         let c = rng.in_box(Vec3A::splat(-1.0), Vec3A::splat(1.0)) * scale;

@@ -24,7 +24,6 @@
 //! `next_1d` uses one, `next_2d` two. For the best stratification, draw 2D quantities with
 //! `next_2d` (lowdiscrepancy and sobol stratify each 2D request jointly).
 
-pub mod bench;
 mod hash;
 mod lowdiscrepancy;
 mod random;

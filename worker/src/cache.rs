@@ -1,8 +1,8 @@
 //! Scene bundles cached on disk by content hash: downloaded once, checked against their hash,
-//! unpacked with the master's safety rules.
+//! unpacked with the master's safety rules (both from `luxfarm-wire`).
 
 use anyhow::{bail, Context};
-use luxfarm_server::bundle;
+use luxfarm_wire::bundle;
 use std::path::{Path, PathBuf};
 
 /// The bundle cache directory.
@@ -29,10 +29,7 @@ impl Cache {
         if !bundle::is_hash(hash) {
             bail!("not a bundle hash: {hash:?}");
         }
-        let got = {
-            use sha2::{Digest, Sha256};
-            bundle::hex(&Sha256::digest(tar))
-        };
+        let got = bundle::sha256_hex(tar);
         if got != hash {
             bail!("bundle {hash} arrived with hash {got}");
         }

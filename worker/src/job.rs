@@ -67,8 +67,7 @@ pub async fn run_lease(
             cache.put(&a.bundle_hash, &tar)?
         }
     };
-    let rel =
-        luxfarm_server::bundle::safe_relative(&a.scene_path).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let rel = luxfarm_wire::bundle::safe_relative(&a.scene_path)?;
     let scene = dir.join(rel);
     let flags = Arc::new(Flags {
         stop: AtomicBool::new(false),
@@ -161,10 +160,10 @@ fn render_thread(
     }
 }
 
-/// A film delta in the transport encoding (`lxd2`: lossless compressed f64, see the master's
-/// codec).
+/// A film delta in the transport encoding (`lxd2`: lossless compressed f64, see
+/// `luxfarm_wire::codec`).
 pub fn encode(film: &luxfarm::film::Film) -> Vec<u8> {
-    luxfarm_server::codec::encode_delta(film)
+    luxfarm_wire::codec::encode_delta(film)
 }
 
 /// Heartbeats while the lease runs; a stop reply stops the lease.

@@ -138,7 +138,7 @@ impl Link {
             worker_id: self.worker_id(),
             lease_id: lease.to_string(),
             seq,
-            encoding: luxfarm_server::codec::DELTA_ENCODING.into(),
+            encoding: luxfarm_wire::codec::DELTA_ENCODING.into(),
             last,
             size: data.len() as u64,
         };

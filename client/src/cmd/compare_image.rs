@@ -10,13 +10,14 @@
 //! to raster rows `[y, y + 1)`, while LuxCore's cameras use `filmHeight - filmY - 1`, so LuxCore's
 //! row `y` shows what LuxRender shows in row `y - 1`. `--shift-rows 1` compares a luxfarm image
 //! with a LuxCore reference under one convention; the shift is a whole row, so nothing is
-//! resampled.
+//! resampled. The metrics are `luxfarm_bench::image_metrics`, which `luxfarm bench cornell`
+//! reports too.
 
 use anyhow::{bail, Context};
 use luxfarm::film::flm::read_flm;
-use luxfarm::film::Film;
-use luxfarm::spectrum::{xyz_to_rgb, Rgb};
+use luxfarm::spectrum::Rgb;
 use luxfarm::texture::image_io::load_rgb as load_image;
+use luxfarm_bench::image_metrics::{film_rgb, metrics, row_pairs};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -35,52 +36,6 @@ pub struct Args {
     /// pixel convention; see the module docs).
     #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     pub shift_rows: i64,
-}
-
-/// Index pairs (a, b) of pixels compared when A is shifted down by `rows` rows.
-pub fn row_pairs(w: usize, h: usize, rows: i64) -> Vec<(usize, usize)> {
-    let mut out = Vec::with_capacity(w * h);
-    for y in 0..h as i64 {
-        let ya = y - rows;
-        if ya < 0 || ya >= h as i64 {
-            continue;
-        }
-        for x in 0..w {
-            out.push((ya as usize * w + x, y as usize * w + x));
-        }
-    }
-    out
-}
-
-/// Error metrics of A against the reference B.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Metrics {
-    /// sqrt(mean over pixels and channels of (a − b)²).
-    pub rmse: f64,
-    /// mean of (a − b)² / (b² + 0.01).
-    pub rel_mse: f64,
-    /// mean(a) / mean(b).
-    pub mean_ratio: f64,
-}
-
-pub fn metrics(a: &[[f32; 3]], b: &[[f32; 3]]) -> Metrics {
-    let (mut se, mut rel, mut sa, mut sb) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for (pa, pb) in a.iter().zip(b) {
-        for c in 0..3 {
-            let (x, y) = (f64::from(pa[c]), f64::from(pb[c]));
-            let d = x - y;
-            se += d * d;
-            rel += d * d / (y * y + 0.01);
-            sa += x;
-            sb += y;
-        }
-    }
-    let n = (a.len().min(b.len()) * 3).max(1) as f64;
-    Metrics {
-        rmse: (se / n).sqrt(),
-        rel_mse: rel / n,
-        mean_ratio: if sb != 0.0 { sa / sb } else { f64::NAN },
-    }
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
@@ -127,54 +82,4 @@ fn load_flm(p: &PathBuf) -> anyhow::Result<(usize, usize, Vec<Rgb>)> {
         film.height() as usize,
         film_rgb(&film),
     ))
-}
-
-/// Linear RGB of light group 0, buffer 0 of a film: weight-normalised XYZ turned back into the
-/// renderer's RGB, row by row.
-pub fn film_rgb(film: &Film) -> Vec<Rgb> {
-    let mut px = Vec::with_capacity(film.pixel_count());
-    for y in 0..film.height() {
-        for x in 0..film.width() {
-            let v = film.pixel(0, 0, x, y).unwrap_or([0.0; 5]);
-            let s = if v[4] != 0.0 { 1.0 / v[4] } else { 0.0 };
-            px.push(xyz_to_rgb([
-                (v[0] * s) as f32,
-                (v[1] * s) as f32,
-                (v[2] * s) as f32,
-            ]));
-        }
-    }
-    px
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn identical_images_have_zero_error() {
-        let a = vec![[0.5, 0.25, 1.0]; 4];
-        let m = metrics(&a, &a);
-        assert_eq!(m.rmse, 0.0);
-        assert_eq!(m.rel_mse, 0.0);
-        assert_eq!(m.mean_ratio, 1.0);
-    }
-
-    #[test]
-    fn row_shift_pairs_a_row_above_with_b() {
-        // 2x3 image: shifting by one row pairs A's row 0 with B's row 1, A's 1 with B's 2.
-        assert_eq!(row_pairs(2, 3, 1), vec![(0, 2), (1, 3), (2, 4), (3, 5)]);
-        assert_eq!(row_pairs(2, 3, -1), vec![(2, 0), (3, 1), (4, 2), (5, 3)]);
-        assert_eq!(row_pairs(2, 3, 0).len(), 6);
-        assert!(row_pairs(2, 3, 5).is_empty());
-    }
-
-    #[test]
-    fn known_difference() {
-        let a = vec![[1.0, 1.0, 1.0]; 2];
-        let b = vec![[0.5, 0.5, 0.5]; 2];
-        let m = metrics(&a, &b);
-        assert!((m.rmse - 0.5).abs() < 1e-12);
-        assert!((m.mean_ratio - 2.0).abs() < 1e-12);
-    }
 }

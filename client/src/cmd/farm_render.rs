@@ -71,7 +71,7 @@ fn spawn_workers(url: &str, n: usize, threads: usize) -> anyhow::Result<Workers>
 
 /// Renders a scene on a local farm.
 pub fn run(o: Options) -> anyhow::Result<ExitCode> {
-    let upload = super::farm_bundle::prepare(&o.scene)?;
+    let upload = luxfarm_wire::bundle::prepare(&o.scene)?;
     let data = tempfile::Builder::new()
         .prefix("luxfarm-render-")
         .tempdir()?;
@@ -80,7 +80,7 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
     cfg.upload_interval = o.upload_interval;
     cfg.checkpoint_interval = 10.0;
     let running = rt.block_on(luxfarm_server::start(cfg))?;
-    let url = format!("http://{}", running.addr);
+    let url = format!("http://{}", running.addr());
     eprintln!("dashboard: {url}/");
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let threads = o.threads.unwrap_or((cores / o.workers.max(1)).max(1));
@@ -119,7 +119,7 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
             0.0
         }
     );
-    running.task.abort();
+    running.stop();
     Ok(ExitCode::SUCCESS)
 }
 

@@ -1,15 +1,8 @@
-//! One module per subcommand (farm commands share `farm_remote` and `farm_bundle`).
+//! One module per subcommand (farm commands share `farm_remote`; scenes are bundled by
+//! `luxfarm_wire::bundle`). `luxfarm bench` lives in the `luxfarm-bench` crate.
 
-pub mod bench_bvh;
-pub mod bench_cornell;
-pub mod bench_flm;
-pub mod bench_load;
-pub mod bench_master;
-pub mod bench_parse;
-pub mod bench_transport;
 pub mod cancel;
 pub mod compare_image;
-pub mod farm_bundle;
 pub mod farm_remote;
 pub mod farm_render;
 pub mod fetch;

@@ -35,7 +35,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
-    let upload = super::farm_bundle::prepare(&a.scene)?;
+    let upload = luxfarm_wire::bundle::prepare(&a.scene)?;
     tracing::info!(
         files = upload.files.len(),
         bytes = upload.bytes.len(),

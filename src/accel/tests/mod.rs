@@ -2,6 +2,7 @@
 //! instancing, scale robustness and area sampling (one file per theme).
 
 mod files;
+pub(crate) mod fixtures;
 mod robust;
 mod sampling;
 mod shapes;

@@ -100,7 +100,7 @@ fn no_acne_and_no_leaks_at_any_scale() {
     for scale in [1e-4, 1.0, 1e5] {
         for instanced in [false, true] {
             let g = scaled_scene(scale, instanced);
-            let mut rng = bench::Rng::new(1);
+            let mut rng = fixtures::Rng::new(1);
             let sf = scale as f32;
             let (mut leaks, mut acne, mut tested) = (0, 0, 0);
             for i in 0..2000 {
@@ -160,7 +160,7 @@ fn rays_between_close_surfaces_hit_the_other_one() {
         for instanced in [false, true] {
             let g = scaled_scene(scale, instanced);
             let sf = scale as f32;
-            let mut rng = bench::Rng::new(2);
+            let mut rng = fixtures::Rng::new(2);
             let rot = |v: Vec3A| {
                 if instanced {
                     Vec3A::new(
@@ -235,8 +235,8 @@ fn found(si: SurfaceInteraction) -> (u32, f32, Vec3A, glam::Vec2) {
 fn every_bvh_configuration_finds_the_same_hits() {
     // The Cornell meshes and 30 small analytic spheres (quadrics share leaves and packets
     // with triangles).
-    let mut shapes = bench::cornell_like();
-    let mut rng = bench::Rng::new(77);
+    let mut shapes = fixtures::cornell_like();
+    let mut rng = fixtures::Rng::new(77);
     for _ in 0..30 {
         let c = rng.in_box(Vec3A::new(-0.9, -0.9, 0.1), Vec3A::new(0.9, 0.9, 1.9));
         let at = DMat4::from_translation(DVec3::new(c.x as f64, c.y as f64, c.z as f64));
@@ -245,7 +245,7 @@ fn every_bvh_configuration_finds_the_same_hits() {
     }
     let build = |opts| build_with(&shapes, opts);
     let reference = build(bvh::BvhOptions::default());
-    let (closest, any) = bench::incoherent_rays(&reference, 3000, 11);
+    let (closest, any) = fixtures::incoherent_rays(&reference, 3000, 11);
     let expect: Vec<_> = closest
         .iter()
         .map(|r| reference.intersect(r).map(found))
@@ -254,7 +254,7 @@ fn every_bvh_configuration_finds_the_same_hits() {
     let sphere_hits = expect.iter().flatten().filter(|h| h.0 >= 6).count();
     assert!(sphere_hits > 20, "{sphere_hits} sphere hits");
     let expect_any: Vec<bool> = any.iter().map(|r| reference.intersect_p(r)).collect();
-    for opts in bench::candidate_options() {
+    for opts in bvh::BvhOptions::candidates() {
         let g = build(opts);
         for (r, e) in closest.iter().zip(&expect) {
             assert_eq!(g.intersect(r).map(found), *e, "{opts}");
@@ -304,7 +304,7 @@ fn packets_mixing_triangles_and_quadrics_find_the_closest() {
         max_prims_per_leaf: 1,
     };
     let reference = build_with(&shapes, single);
-    let mut rng = bench::Rng::new(4);
+    let mut rng = fixtures::Rng::new(4);
     let rays: Vec<Ray> = (0..6000)
         .map(|k| {
             let c = centres[k % centres.len()];

@@ -3,7 +3,7 @@
 use super::*;
 
 fn mean_and_inverse_pdf(g: &Geometry, id: ShapeId, n: usize) -> (Vec3A, f64, Vec<Interaction>) {
-    let mut rng = bench::Rng::new(5);
+    let mut rng = fixtures::Rng::new(5);
     let (mut sum, mut inv) = (Vec3A::ZERO, 0.0f64);
     let mut pts = Vec::new();
     for _ in 0..n {
@@ -142,7 +142,7 @@ fn sampled_mesh_points_carry_their_uv() {
         crate::shape::test_util::floats(&[-1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0, 1.0]),
     );
     let g = geo(&[q]);
-    let mut rng = bench::Rng::new(3);
+    let mut rng = fixtures::Rng::new(3);
     for _ in 0..1000 {
         let (it, uv, pdf) = g.sample(ShapeId(0), Vec2::new(rng.f32(), rng.f32()), rng.f32());
         assert!(pdf > 0.0);

@@ -1,12 +1,50 @@
-//! Throughput of the camera-side of a sample: sampler values, camera rays and filter splats
-//! (for a `luxfarm bench` command; speed is measured here, never asserted in tests).
+//! `luxfarm bench sampler`: throughput of the camera side of a sample on one thread: values
+//! per second of each sampler, rays per second of a perspective camera with a thin lens, and
+//! splats per second of the default (Mitchell) filter. Each measurement keeps a checksum of
+//! its results so the work cannot be optimised away.
 
-use super::{Sampler, SamplerKind};
-use crate::camera::{Camera, FilmGeometry};
-use crate::filter::Filter;
-use crate::lxs::{CameraDesc, Entity, Xform};
 use glam::DMat4;
+use luxfarm::camera::{Camera, FilmGeometry};
+use luxfarm::filter::Filter;
+use luxfarm::lxs::{CameraDesc, Entity, ParamValue, Xform};
+use luxfarm::sampler::{Sampler, SamplerKind};
+use std::process::ExitCode;
 use std::time::Instant;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Samples drawn from each sampler.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub samples: u64,
+    /// Dimensions drawn per sample after the camera's five (as 2D pairs).
+    #[arg(long, default_value_t = 16)]
+    pub dims: u32,
+    /// Camera rays and filter splats.
+    #[arg(long, default_value_t = 2_000_000)]
+    pub rays: u64,
+}
+
+pub fn run(a: Args) -> anyhow::Result<ExitCode> {
+    println!(
+        "one thread; {} samples of 5 + {} dimensions, {} rays and splats; load average {}",
+        a.samples,
+        a.dims,
+        a.rays,
+        crate::support::loadavg()
+    );
+    let results = samplers(a.samples, a.dims)
+        .into_iter()
+        .chain(camera_and_filter(a.rays));
+    for r in results {
+        println!(
+            "{:<34} {:>9.2} M/s   (checksum {:.6e})",
+            r.name,
+            r.per_second / 1e6,
+            r.checksum
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
 
 /// One measurement: what, how many per second, and a checksum that keeps the work alive.
 #[derive(Clone, Debug)]
@@ -63,10 +101,8 @@ pub fn camera_and_filter(n: u64) -> Vec<BenchResult> {
         kind: "perspective".into(),
         ..Default::default()
     };
-    e.params
-        .add("lensradius", crate::lxs::ParamValue::Float(vec![0.05]));
-    e.params
-        .add("focaldistance", crate::lxs::ParamValue::Float(vec![3.0]));
+    e.params.add("lensradius", ParamValue::Float(vec![0.05]));
+    e.params.add("focaldistance", ParamValue::Float(vec![3.0]));
     let desc = CameraDesc {
         entity: e,
         world_to_camera: Xform::fixed(DMat4::from_translation(glam::DVec3::new(0.0, 0.0, 4.0))),

@@ -1,6 +1,11 @@
 //! Film encodings of the farm, all lossless (the master's merged film is the exact sum of the
 //! acknowledged deltas); FLM (f32, gzip) stays the download and output format.
 //!
+//! Data flow: a worker's session film -> [`encode_delta`] -> upload chunks -> the master's
+//! [`decode_as`] (checked against the upload's `encoding` name) -> a cleared [`Film`] holding
+//! exactly the sent sums, which the master adds to the job's film. Checkpoints go through
+//! [`encode`] and [`decode`].
+//!
 //! - `lxd1`: the film's f64 sums and sample counts, little endian, uncompressed. Checkpoints use
 //!   it (as fast to write and read as a copy) and old workers upload it.
 //! - `lxd2` ([`lxd2`]): the same header, then the f64 values split into channel planes, byte
@@ -15,7 +20,7 @@
 
 pub mod lxd2;
 
-use crate::error::{Result, ServerError};
+use crate::{Result, WireError};
 use luxfarm::film::{BufferType, Film, PIXEL_VALUES};
 
 pub use lxd2::Compressor;
@@ -41,9 +46,7 @@ pub fn decode_as(encoding: &str, bytes: &[u8]) -> Result<Film> {
     match encoding {
         "lxd1" | "lxd2" if magic.eq_ignore_ascii_case(encoding.as_bytes()) => decode(bytes),
         "lxd1" | "lxd2" => Err(bad(&format!("not an {encoding} film"))),
-        other => Err(ServerError::BadRequest(format!(
-            "unknown delta encoding {other:?} (expected \"lxd1\" or \"lxd2\")"
-        ))),
+        other => Err(WireError::UnknownEncoding(other.to_string())),
     }
 }
 
@@ -120,8 +123,9 @@ impl<'a> Reader<'a> {
     }
 }
 
-fn bad(why: &str) -> ServerError {
-    ServerError::BadRequest(format!("film delta unreadable: {why}"))
+/// A delta refused for the reason `why`.
+fn bad(why: &str) -> WireError {
+    WireError::Delta(why.to_string())
 }
 
 /// Decodes an `lxd1` or `lxd2` film (told apart by the magic), refusing malformed input and

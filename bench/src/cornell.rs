@@ -11,7 +11,7 @@
 //! `compare-image`), because LuxCore's cameras map film rows one row lower than LuxRender's
 //! (`filmHeight - filmY - 1`); LuxCore's own render is compared over the same pixels.
 
-use super::compare_image::{film_rgb, metrics, row_pairs};
+use crate::image_metrics::{film_rgb, metrics, row_pairs};
 use anyhow::{bail, Context};
 use luxfarm::lxs::{parse_file, ParseOptions};
 use luxfarm::render::{Session, SessionOptions};
@@ -43,15 +43,7 @@ pub struct Args {
 }
 
 fn shared_dir(a: &Args) -> PathBuf {
-    if let Some(s) = &a.shared {
-        return s.clone();
-    }
-    let beside = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared"));
-    if beside.join("scenes").is_dir() {
-        beside
-    } else {
-        PathBuf::from("/work/shared")
-    }
+    a.shared.clone().unwrap_or_else(crate::support::shared_dir)
 }
 
 /// One render's speed and image (linear RGB, row-major).
@@ -170,15 +162,8 @@ fn rmse(img: &[[f32; 3]], reference: &[[f32; 3]], pairs: &[(usize, usize)]) -> f
 }
 
 fn machine() -> String {
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    format!(
-        "{cores} cores, load average {}",
-        load.split_whitespace()
-            .take(3)
-            .collect::<Vec<_>>()
-            .join(" ")
-    )
+    format!("{cores} cores, load average {}", crate::support::loadavg())
 }
 
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {

@@ -2,9 +2,9 @@
 //! single-group FLM delta from memory into an accumulated film, and encodes one, reporting
 //! milliseconds and MB/s of decompressed data per gzip level.
 
+use crate::support::best;
 use luxfarm::film::{flm, Film, FilmParams, FlmDelta};
 use std::process::ExitCode;
-use std::time::Instant;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -39,22 +39,6 @@ fn delta_film(w: u32, h: u32) -> Film {
     }
     f.add_sample_count(f64::from(w) * f64::from(h) * 4.0);
     f
-}
-
-/// Runs `f` `runs` times (at least once): the fastest time in seconds and the last result.
-pub fn best<T>(runs: u32, mut f: impl FnMut() -> T) -> (f64, T) {
-    let time = |f: &mut dyn FnMut() -> T| {
-        let t = Instant::now();
-        let r = f();
-        (t.elapsed().as_secs_f64(), r)
-    };
-    let (mut fastest, mut last) = time(&mut f);
-    for _ in 1..runs {
-        let (s, r) = time(&mut f);
-        fastest = fastest.min(s);
-        last = r;
-    }
-    (fastest, last)
 }
 
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {

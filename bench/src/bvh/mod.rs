@@ -1,8 +1,13 @@
 //! `luxfarm bench bvh`: ray throughput of the BVH on incoherent rays (closest hit and any
 //! hit), for every obvhs configuration or the default one.
+//!
+//! The geometry (a scene file, or [`synthetic`] shapes) is built once per configuration and
+//! the same rays are cast through each ([`measure`]); one row per configuration is printed.
+
+pub mod measure;
+pub mod synthetic;
 
 use anyhow::Context;
-use luxfarm::accel::bench::{self, BenchResult};
 use luxfarm::accel::bvh::BvhOptions;
 use luxfarm::lxs::{parse_file, ParseOptions};
 use luxfarm::shape::ShapeCtx;
@@ -31,39 +36,33 @@ pub struct Args {
     pub all: bool,
 }
 
-/// The shared Cornell mesh scene, found beside the repository (`../shared`) or in /work/shared.
+/// The shared Cornell mesh scene.
 fn default_scene() -> PathBuf {
-    let rel = "scenes/cornell/cornell-mesh.lxs";
-    let beside = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared")).join(rel);
-    if beside.exists() {
-        beside
-    } else {
-        PathBuf::from("/work/shared").join(rel)
-    }
+    crate::support::shared_dir().join("scenes/cornell/cornell-mesh.lxs")
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let options = if args.all {
-        bench::candidate_options()
+        BvhOptions::candidates()
     } else {
         vec![BvhOptions::default()]
     };
     let results = if let Some(k) = args.spheres {
-        let shapes = bench::sphere_field(k, 64);
+        let shapes = synthetic::sphere_field(k, 64);
         header(&format!("{k}³ tessellated spheres"), &args);
         let ctx = ShapeCtx::default();
-        bench::bench(
-            |o| bench::shapes_geometry(&shapes, &ctx, o),
+        measure::bench(
+            |o| measure::shapes_geometry(&shapes, &ctx, o),
             &options,
             args.rays,
             args.threads,
         )
     } else if args.builtin {
-        let shapes = bench::cornell_like();
+        let shapes = synthetic::cornell_like();
         header("Cornell geometry (generated)", &args);
         let ctx = ShapeCtx::default();
-        bench::bench(
-            |o| bench::shapes_geometry(&shapes, &ctx, o),
+        measure::bench(
+            |o| measure::shapes_geometry(&shapes, &ctx, o),
             &options,
             args.rays,
             args.threads,
@@ -76,8 +75,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             base_dir: path.parent().map(PathBuf::from).unwrap_or_default(),
         };
         header(&path.display().to_string(), &args);
-        bench::bench(
-            |o| bench::scene_geometry(&desc, &ctx, o),
+        measure::bench(
+            |o| measure::scene_geometry(&desc, &ctx, o),
             &options,
             args.rays,
             args.threads,
@@ -108,7 +107,7 @@ fn header(name: &str, args: &Args) {
     println!("Mray/s: wall clock | per CPU-second received x threads (the machine may be shared)");
 }
 
-fn print_row(r: &BenchResult) {
+fn print_row(r: &measure::BenchResult) {
     println!(
         "{:<24} {:>9.1} {:>10.2} | {:>9.2} {:>10.2} | {:>9.2} {:>8.1}%",
         r.options.to_string(),

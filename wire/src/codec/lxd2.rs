@@ -12,7 +12,7 @@
 //! Bands are independent, so both sides work on them in parallel.
 
 use super::{bad, write_header, Reader};
-use crate::error::{Result, ServerError};
+use crate::{Result, WireError};
 use luxfarm::film::{Film, PIXEL_VALUES};
 use rayon::prelude::*;
 use std::cell::RefCell;
@@ -176,7 +176,7 @@ pub(super) fn read_values(r: &mut Reader, film: &mut Film) -> Result<()> {
 }
 
 /// Reverses [`encode_band`] into `dst` (interleaved pixel values).
-fn decode_band(tag: u8, src: &[u8], dst: &mut [f64]) -> Result<(), ServerError> {
+fn decode_band(tag: u8, src: &[u8], dst: &mut [f64]) -> Result<(), WireError> {
     if src.is_empty() {
         dst.fill(0.0);
         return Ok(());
@@ -192,7 +192,7 @@ fn decode_band(tag: u8, src: &[u8], dst: &mut [f64]) -> Result<(), ServerError> 
 
 /// Gathers each value's 8 bytes from the byte planes straight into the interleaved pixels,
 /// undoes alpha XOR weight and checks that every value is finite.
-fn unshuffle(shuffled: &[u8], dst: &mut [f64]) -> Result<(), ServerError> {
+fn unshuffle(shuffled: &[u8], dst: &mut [f64]) -> Result<(), WireError> {
     let m = dst.len();
     let n = m / PIXEL_VALUES;
     let p: Vec<&[u8]> = shuffled.chunks_exact(m).collect();

@@ -14,7 +14,8 @@ pub struct Args {
     /// Size of the generated scene in megabytes (at least 200 for the reported target).
     #[arg(long, default_value_t = 256)]
     pub size_mb: u64,
-    /// Keep the generated file in this directory instead of a temporary one.
+    /// Keep the generated file in this directory (created when missing) instead of a
+    /// temporary one.
     #[arg(long)]
     pub dir: Option<std::path::PathBuf>,
 }
@@ -135,7 +136,10 @@ fn cpu_seconds() -> Option<f64> {
 pub fn run(args: Args) -> anyhow::Result<std::process::ExitCode> {
     let tmp;
     let dir = match &args.dir {
-        Some(d) => d.clone(),
+        Some(d) => {
+            std::fs::create_dir_all(d).with_context(|| format!("creating {}", d.display()))?;
+            d.clone()
+        }
         None => {
             tmp = tempfile::tempdir()?;
             tmp.path().to_path_buf()

@@ -5,11 +5,11 @@
 //! time, bytes and exactness of: `lxd1` (raw f64), FLM (f32 + gzip, LuxRender's own; lossy
 //! for f64 sums) and `lxd2` (planes + byte shuffle + lz4 or zstd; lossless).
 
-use super::bench_flm::best;
+use crate::support::{best, parse_res};
 use luxfarm::film::{flm, Film, FilmParams};
 use luxfarm::lxs::{self, ParseOptions};
 use luxfarm::render::{Session, SessionOptions};
-use luxfarm_server::codec::{self, lxd2, Compressor};
+use luxfarm_wire::codec::{self, lxd2, Compressor};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -31,26 +31,6 @@ pub struct Args {
     /// The Cornell scene to render (default: the shared one).
     #[arg(long)]
     pub scene: Option<PathBuf>,
-}
-
-/// Parses `WxH`.
-pub fn parse_res(s: &str) -> anyhow::Result<(u32, u32)> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| anyhow::anyhow!("resolution {s:?} is not WIDTHxHEIGHT"))?;
-    let (w, h) = (w.trim().parse()?, h.trim().parse()?);
-    luxfarm::film::check_size(w, h)?;
-    Ok((w, h))
-}
-
-/// The shared material directory (beside the repository, else /work/shared).
-fn shared() -> PathBuf {
-    let beside = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared"));
-    if beside.exists() {
-        beside.to_path_buf()
-    } else {
-        PathBuf::from("/work/shared")
-    }
 }
 
 /// Renders the scene at `res` with `filter` for `spp` passes; returns the delta film.
@@ -183,7 +163,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     let scene = a
         .scene
         .clone()
-        .unwrap_or_else(|| shared().join("scenes/cornell/cornell.lxs"));
+        .unwrap_or_else(|| crate::support::shared_dir().join("scenes/cornell/cornell.lxs"));
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     println!(
         "transport encodings of a rendered {}x{} delta, {} spp, {threads} threads",

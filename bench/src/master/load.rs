@@ -51,8 +51,8 @@ pub fn noise_film(w: u32, h: u32, spp: u32, seed: u32) -> Film {
 /// Encodes a film into an upload payload.
 pub fn payload(film: &Film, encoding: &str) -> anyhow::Result<Payload> {
     let bytes = match encoding {
-        "lxd1" => luxfarm_server::codec::encode(film),
-        "lxd2" => luxfarm_server::codec::encode_delta(film),
+        "lxd1" => luxfarm_wire::codec::encode(film),
+        "lxd2" => luxfarm_wire::codec::encode_delta(film),
         other => anyhow::bail!("unknown encoding {other:?} (lxd1 or lxd2)"),
     };
     Ok(Payload {
@@ -269,7 +269,8 @@ fn payload_encoding(p: &Payload) -> &'static str {
     }
 }
 
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+/// Locks a mutex, recovering from poisoning (the counters stay meaningful).
+pub fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
 

@@ -2,7 +2,7 @@
 //!
 //! Starts a real master in this process (loopback, temporary data dir, its own tokio runtime
 //! with threads named `master`), queues one job of the chosen resolution, and simulates N
-//! workers over the real gRPC worker protocol ([`super::bench_load`], runtime threads named
+//! workers over the real gRPC worker protocol ([`load`], runtime threads named
 //! `loadgen`): each registers, takes a lease, heartbeats, and uploads a full-frame delta every
 //! interval, the first uploads staggered over one interval. Reports offered and sustained
 //! merges/s, server-side latency (decode, merge, total) and client-side upload round trips,
@@ -10,8 +10,11 @@
 //! the CPU of master and generator, checks that the job's merged samples equal the sum of the
 //! acknowledged deltas, and prints a verdict.
 
-use super::bench_load::{self, Cpu, Payload, Schedule, SimWorker, Stats};
-use luxfarm_server::farm::{lock, SubmitOptions};
+pub mod load;
+
+use crate::support::{loadavg, parse_res};
+use load::{lock, Cpu, Payload, Schedule, SimWorker, Stats};
+use luxfarm_server::{MergeReport, Running, SubmitOptions};
 use std::process::ExitCode;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
@@ -88,12 +91,12 @@ struct Sample {
 
 fn build_payloads(a: &Args, w: u32, h: u32) -> anyhow::Result<Vec<Payload>> {
     (0..a.payloads.max(1))
-        .map(|k| bench_load::payload(&bench_load::noise_film(w, h, a.spp, k as u32), &a.encoding))
+        .map(|k| load::payload(&load::noise_film(w, h, a.spp, k as u32), &a.encoding))
         .collect()
 }
 
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
-    let (w, h) = super::bench_transport::parse_res(&a.res)?;
+    let (w, h) = parse_res(&a.res)?;
     if a.workers == 0 || a.interval <= 0.0 || a.duration < 3.0 * a.interval {
         anyhow::bail!("need at least one worker and --duration >= 3 x --interval");
     }
@@ -122,13 +125,12 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     let mut cfg = luxfarm_server::Config::local(dir.path().to_path_buf());
     cfg.upload_interval = a.interval;
     let running = master_rt.block_on(luxfarm_server::start(cfg))?;
-    let farm = running.farm.clone();
     let opts = SubmitOptions {
         name: Some("bench-master".into()),
         ..SubmitOptions::default()
     };
-    let job = farm.submit(scene_text(w, h).as_bytes(), "bench.lxs", &opts)?;
-    let url = format!("http://{}", running.addr);
+    let job = running.submit(scene_text(w, h).as_bytes(), "bench.lxs", &opts)?;
+    let url = format!("http://{}", running.addr());
     let gen_rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(cores)
         .thread_name("loadgen")
@@ -136,8 +138,8 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         .build()?;
     let stats = Arc::new(Stats::default());
     let result = gen_rt.block_on(generate(&a, &url, payloads.clone(), stats.clone()))?;
-    report(&a, (w, h), &farm, &job.id, &stats, &result, &payloads)?;
-    drop(running);
+    report(&a, (w, h), &running, &job, &stats, &result, &payloads)?;
+    running.stop();
     master_rt.shutdown_timeout(Duration::from_secs(2));
     Ok(ExitCode::SUCCESS)
 }
@@ -194,7 +196,7 @@ async fn generate(
         samples.push(Sample {
             backlog: sched.offered_by(t) as i64 - done as i64,
             in_flight: stats.in_flight.load(Ordering::Relaxed),
-            rss: bench_load::rss_mb().0,
+            rss: load::rss_mb().0,
         });
     }
     let cpu1 = Cpu::now();
@@ -234,12 +236,6 @@ struct Run {
     drain: Option<f64>,
 }
 
-fn loadavg() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_else(|_| "?".into())
-}
-
 fn mean(v: impl Iterator<Item = f64>) -> f64 {
     let (s, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
     if n == 0 {
@@ -252,12 +248,15 @@ fn mean(v: impl Iterator<Item = f64>) -> f64 {
 fn report(
     a: &Args,
     (w, h): (u32, u32),
-    farm: &luxfarm_server::farm::Farm,
+    master: &Running,
     job: &str,
     stats: &Stats,
     run: &Run,
     payloads: &[Payload],
 ) -> anyhow::Result<()> {
+    let merged = master
+        .merge_report(job)
+        .ok_or_else(|| anyhow::anyhow!("the bench job is not loaded"))?;
     let win = run.window;
     let in_window = lock(&stats.rtts).iter().filter(|(_, t)| *t <= win).count();
     let acked = stats.acked.load(Ordering::Relaxed);
@@ -273,7 +272,7 @@ fn report(
         stats.failures.load(Ordering::Relaxed),
         stats.abandoned.load(Ordering::Relaxed),
     );
-    let timings = farm.metrics.recent_merges();
+    let timings = &merged.recent;
     println!("latency:");
     println!(
         "{}",
@@ -322,7 +321,7 @@ fn report(
         .map(|c| format!("{:.0}", mean(c.iter().map(|s| s.backlog as f64))))
         .collect();
     println!("  backlog per 10 s: {}", per10.join(" "));
-    let (rss_now, hwm) = bench_load::rss_mb();
+    let (rss_now, hwm) = load::rss_mb();
     let rss_mean = mean(run.samples.iter().map(|s| s.rss));
     let held: f64 = payloads.iter().map(|p| p.bytes as f64).sum::<f64>() / 1e6;
     println!(
@@ -338,7 +337,7 @@ fn report(
     let (c0, c1) = run.cpu;
     let gen = (c1.generator - c0.generator) / win;
     let master = ((c1.total - c0.total) - (c1.generator - c0.generator)) / win;
-    let lost = lock(&farm.workers).values().filter(|w| w.lost).count();
+    let lost = merged.lost_workers;
     let per_merge = master * win / (in_window.max(1) as f64);
     println!(
         "master CPU per merged delta {:.0} ms (receive, decode, merge, checkpoints, heartbeats): \
@@ -355,7 +354,7 @@ fn report(
         Some(d) => println!("drain: the last uploads were acknowledged {d:.1} s after the window"),
         None => println!("drain: uploads still pending 3 intervals after the window"),
     }
-    let ok = verify(farm, job, stats)?;
+    let ok = verify(&merged, stats);
     let keeps_up = last <= first + (a.workers as f64 * 0.02).max(2.0)
         && run.drain.is_some()
         && lost == 0
@@ -381,18 +380,14 @@ fn report(
 }
 
 /// The job's merged samples against the acknowledged deltas' (exact: counts are integers).
-fn verify(farm: &luxfarm_server::farm::Farm, job: &str, stats: &Stats) -> anyhow::Result<bool> {
-    let rt = lock(&farm.jobs)
-        .get(job)
-        .cloned()
-        .ok_or_else(|| anyhow::anyhow!("the bench job is not loaded"))?;
-    let merged = lock(&rt.film).total_samples();
+fn verify(merged: &MergeReport, stats: &Stats) -> bool {
     let acked = stats.acked_samples();
-    let merges = farm.metrics.merges.load(Ordering::Relaxed);
-    let ok = merged == acked && merges == stats.acked.load(Ordering::Relaxed);
+    let ok = merged.job_samples == acked && merged.merges == stats.acked.load(Ordering::Relaxed);
     println!(
-        "check: job film holds {merged} samples, acknowledged deltas sum to {acked}; master \
-         merges {merges} = acknowledged {} -> {}",
+        "check: job film holds {} samples, acknowledged deltas sum to {acked}; master \
+         merges {} = acknowledged {} -> {}",
+        merged.job_samples,
+        merged.merges,
         stats.acked.load(Ordering::Relaxed),
         if ok {
             "exact, no double count"
@@ -400,5 +395,5 @@ fn verify(farm: &luxfarm_server::farm::Farm, job: &str, stats: &Stats) -> anyhow
             "MISMATCH"
         }
     );
-    Ok(ok)
+    ok
 }

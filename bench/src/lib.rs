@@ -1,0 +1,62 @@
+//! luxfarm's benchmarks, apart from the product code: the bodies of the `luxfarm bench ...`
+//! subcommands. The `luxfarm` command parses `bench` into a [`Command`] and hands it to
+//! [`run`]; each benchmark prints its report on standard output and returns the exit code.
+//! Speed is measured here and reported, never asserted in tests.
+//!
+//! - [`bvh`]: ray throughput of the BVH on incoherent rays, per obvhs configuration.
+//! - [`cornell`]: the Cornell scene against LuxCore, speed and RMSE.
+//! - [`parse`]: parse speed and peak memory on a generated mesh scene.
+//! - [`flm`]: FLM decode, merge and encode throughput.
+//! - [`master`]: master capacity under simulated workers over gRPC.
+//! - [`transport`]: the film delta encodings on a rendered delta.
+//! - [`sampler`]: sampler values, camera rays and filter splats per second.
+//! - [`image_metrics`]: image error metrics, shared with `luxfarm compare-image`;
+//!   [`support`]: helpers the benchmarks share.
+//!
+//! Like the command modules of a binary, the benchmarks return `anyhow` errors: this crate is
+//! the body of a subcommand, not an API to build on.
+
+pub mod bvh;
+pub mod cornell;
+pub mod flm;
+pub mod image_metrics;
+pub mod master;
+pub mod parse;
+pub mod sampler;
+pub mod support;
+pub mod transport;
+
+use std::process::ExitCode;
+
+/// The benchmarks of `luxfarm bench`.
+#[derive(clap::Subcommand)]
+pub enum Command {
+    /// Ray throughput of the BVH on incoherent rays (closest hit and any hit).
+    Bvh(bvh::Args),
+    /// Issue 3's Cornell benchmark side by side with LuxCore: samples/s and RMSE against the
+    /// 2048-spp reference.
+    Cornell(cornell::Args),
+    /// Parse speed and peak memory on a generated mesh scene.
+    Parse(parse::Args),
+    /// FLM decode + merge and encode throughput of a 1080p delta.
+    Flm(flm::Args),
+    /// Master capacity: N simulated workers uploading full-frame deltas over gRPC.
+    Master(master::Args),
+    /// Film delta encodings (lxd1, FLM, lxd2) on a rendered delta: bytes, encode, decode.
+    Transport(transport::Args),
+    /// Sampler values, camera rays and filter splats per second (one thread).
+    Sampler(sampler::Args),
+}
+
+/// Runs one benchmark.
+pub fn run(command: Command) -> anyhow::Result<ExitCode> {
+    match command {
+        Command::Bvh(a) => bvh::run(a),
+        Command::Cornell(a) => cornell::run(a),
+        Command::Parse(a) => parse::run(a),
+        Command::Flm(a) => flm::run(a),
+        Command::Master(a) => master::run(a),
+        Command::Transport(a) => transport::run(a),
+        Command::Sampler(a) => sampler::run(a),
+    }
+}
