@@ -2,13 +2,13 @@
 //! merges their film deltas into each job's f64 film, evaluates the halt rules, checkpoints,
 //! and serves outputs, metrics and an OpenAPI document.
 //!
-//! - [`config`]: command-line options; [`serve`]: the listener (gRPC + REST, token, TLS).
-//! - [`farm`]: shared state, submission, cancel; [`lease`]: workers, leases, uploads;
-//!   [`halt`]: halt rules, checkpoints, job end; [`db`]: the SQLite store.
+//! - `config`: command-line options; `serve`: the listener (gRPC + REST, token, TLS).
+//! - `farm`: shared state, submission, cancel; `lease`: workers, leases, uploads;
+//!   `halt`: halt rules, checkpoints, job end; `db`: the SQLite store.
 //! - Bundles and film deltas are decoded with `luxfarm-wire`, which the client and the workers
 //!   share.
-//! - [`scene`]: what the master asks of the render core; [`output`]: outputs on demand.
-//! - [`rest`], [`grpc`], [`views`], [`metrics`], [`error`]; [`dashboard`]: the web page.
+//! - `scene`: what the master asks of the render core; `output`: outputs on demand.
+//! - `rest`, `grpc`, `views`, `metrics`, `error`; `dashboard`: the web page.
 //!
 //! The public surface is what the `luxfarm` command needs to run or embed a master
 //! ([`Config`], [`run`], [`start`], [`Running`]) and what the capacity benchmark reads through
