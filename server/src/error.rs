@@ -43,6 +43,7 @@ impl From<luxfarm_wire::WireError> for ServerError {
             W::Delta(_) | W::UnknownEncoding(_) | W::Bundle(_) | W::Scene(_) => {
                 ServerError::BadRequest(e.to_string())
             }
+            W::SceneParse(inner) => ServerError::BadRequest(inner.to_string()),
             W::TooLarge(m) => ServerError::TooLarge(m),
             W::Unsupported(m) => ServerError::Unsupported(m),
             W::Io(e) => ServerError::Io(e),

@@ -20,8 +20,12 @@ pub enum WireError {
     /// An upload in a format that is not accepted (compressed tar, binary data).
     #[error("{0}")]
     Unsupported(String),
-    /// A scene that cannot be bundled: a parse error, or a referenced file that is missing or
-    /// outside the scene's directory.
+    /// A scene that cannot be bundled because it does not parse (the located error is the
+    /// source, so a caller that walks the chain prints it once and can tell it is the input's).
+    #[error("the scene cannot be bundled")]
+    SceneParse(#[source] luxfarm::lxs::LxsError),
+    /// A scene that cannot be bundled: a referenced file is missing or outside the scene's
+    /// directory.
     #[error("{0}")]
     Scene(String),
     /// A local file that cannot be read while packing.

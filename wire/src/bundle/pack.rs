@@ -2,16 +2,17 @@
 //! relative to the scene's directory (the layout [`super::unpack`] and [`super::pick_scene`]
 //! expect). A .zip or .tar given by the user is sent as it is.
 //!
-//! What a scene references: the files the parser read (the scene and its Includes, recorded in
-//! `SceneDescription::files` as the parser opened them, i.e. relative to the working directory
-//! or absolute), and every string parameter naming an existing file, relative to the scene's
+//! What a scene references: the files its importer read (`luxfarm::formats::load`; for a .lxs,
+//! the scene and its Includes, recorded in `SceneDescription::files` as the parser opened them,
+//! i.e. relative to the working directory or absolute), and every string parameter naming an existing file, relative to the scene's
 //! directory (PLY meshes, image maps, environment maps, IES and spectrum files). Each must lie
 //! inside the scene's directory, since the master unpacks the bundle there and confines the
 //! scene to it; a `filename`, `mapname` or `iesname` outside it is an error, any other string
 //! that happens to name an outside file is left out.
 
 use crate::{Result, WireError};
-use luxfarm::lxs::{self, ParamValue, ParseOptions, SpectrumValue};
+use luxfarm::formats;
+use luxfarm::lxs::{ParamValue, ParseOptions, SpectrumValue};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
@@ -107,8 +108,7 @@ impl Collector {
 
 /// The scene file and every file it references, relative to the scene's directory.
 pub fn referenced_files(scene: &Path) -> Result<Vec<PathBuf>> {
-    let desc = lxs::parse_file(scene, &ParseOptions::default())
-        .map_err(|e| WireError::Scene(e.to_string()))?;
+    let desc = formats::load(scene, &ParseOptions::default()).map_err(WireError::SceneParse)?;
     let root = scene_dir(scene).to_path_buf();
     let root_abs = root.canonicalize().map_err(|e| file_error(&root, e))?;
     let mut c = Collector {
@@ -296,6 +296,9 @@ mod tests {
             "WorldBegin\nShape \"sphere\" \"float radius\" [\nWorldEnd\n",
         )
         .unwrap();
-        assert!(matches!(prepare(&p), Err(WireError::Scene(_))));
+        let e = prepare(&p).unwrap_err();
+        let source = std::error::Error::source(&e).map(ToString::to_string);
+        assert!(matches!(e, WireError::SceneParse(_)), "{e:?}");
+        assert!(source.is_some_and(|s| s.contains("bad.lxs:")), "{e:?}");
     }
 }
