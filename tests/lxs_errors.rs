@@ -9,6 +9,7 @@ const OPTS: ParseOptions = ParseOptions {
     max_include_depth: 32,
     max_array_len: 1 << 28,
     max_total_bytes: u64::MAX,
+    frame: None,
 };
 
 /// Line and column (1-based) of the first occurrence of `needle` in `text`.

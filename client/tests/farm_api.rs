@@ -181,6 +181,27 @@ fn queue_order_and_cancel() {
 }
 
 #[test]
+fn a_job_without_a_name_is_named_after_its_film() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(&dir.path().join("data"), &[]);
+    // A raw .lxs without ?filename=: the Film's filename names the job.
+    let named = small_scene(
+        dir.path(),
+        "n",
+        (8, 6),
+        r#""string filename" ["renders/hall"]"#,
+    );
+    let (st, body) = post_job(&s, std::fs::read(named).unwrap(), "");
+    assert_eq!(st, 201, "{body}");
+    assert_eq!(body["name"], "hall");
+    // Without a Film filename: the scene's own name in the bundle.
+    let plain = std::fs::read(small_scene(dir.path(), "kitchen", (8, 6), "")).unwrap();
+    let (st, body) = post_job(&s, plain, "?filename=kitchen.lxs");
+    assert_eq!(st, 201, "{body}");
+    assert_eq!(body["name"], "kitchen");
+}
+
+#[test]
 fn multipart_submission_and_documents() {
     let dir = tempfile::tempdir().unwrap();
     let s = server(&dir.path().join("data"), &[]);

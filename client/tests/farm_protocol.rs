@@ -87,8 +87,10 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
     let dir = tempfile::tempdir().unwrap();
     let s = server(&dir.path().join("data"), &[]);
     let scene = std::fs::read(small_scene(dir.path(), "p", (8, 6), "")).unwrap();
-    let (st, job) = post_job(&s, scene, "?filename=p.lxs&haltspp=3");
+    // The frame option travels from the submission to the worker's assignment.
+    let (st, job) = post_job(&s, scene, "?filename=p.lxs&haltspp=3&frame=12");
     assert_eq!(st, 201, "{job}");
+    assert_eq!(job["frame"], 12);
     let id = job["id"].as_str().unwrap().to_string();
     let url = s.url();
     rt().block_on(async move {
@@ -97,6 +99,7 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         let (reg, a) = register_and_lease(&mut c).await;
         assert_eq!(a.job_id, id);
         assert_eq!((a.width, a.height), (8, 6));
+        assert_eq!(a.frame, Some(12));
         let w = &reg.worker_id;
         let d1 = delta(8, 6, 0.25, 1.0);
         let ack = upload(&mut c, w, &a.lease_id, 1, &d1).await.unwrap();

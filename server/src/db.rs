@@ -73,6 +73,8 @@ pub struct JobRow {
     pub first_lease_ms: Option<i64>,
     pub finished_ms: Option<i64>,
     pub ckpt_gen: i64,
+    /// The animation frame the job renders (animated formats), when given.
+    pub frame: Option<i64>,
 }
 
 /// A new job to insert.
@@ -89,6 +91,7 @@ pub struct NewJob<'a> {
     pub width: u32,
     pub height: u32,
     pub submitted_ms: i64,
+    pub frame: Option<i64>,
 }
 
 /// One lease as stored.
@@ -120,7 +123,8 @@ CREATE TABLE IF NOT EXISTS jobs (
     submitted_ms INTEGER NOT NULL,
     first_lease_ms INTEGER, finished_ms INTEGER,
     next_stream INTEGER NOT NULL DEFAULT 1,
-    ckpt_gen INTEGER NOT NULL DEFAULT 0
+    ckpt_gen INTEGER NOT NULL DEFAULT 0,
+    frame INTEGER
 );
 CREATE TABLE IF NOT EXISTS workers (
     id TEXT PRIMARY KEY,
@@ -153,7 +157,7 @@ CREATE INDEX IF NOT EXISTS ledger_job ON ledger (job_id);
 
 const JOB_COLS: &str = "id, name, state, reason, priority, bundle_hash, scene_path, seed, \
     haltspp, halttime, haltthreshold, width, height, submitted_ms, first_lease_ms, finished_ms, \
-    ckpt_gen";
+    ckpt_gen, frame";
 
 fn job_from_row(r: &Row<'_>) -> rusqlite::Result<JobRow> {
     let state: String = r.get(2)?;
@@ -175,7 +179,21 @@ fn job_from_row(r: &Row<'_>) -> rusqlite::Result<JobRow> {
         first_lease_ms: r.get(14)?,
         finished_ms: r.get(15)?,
         ckpt_gen: r.get(16)?,
+        frame: r.get(17)?,
     })
+}
+
+/// Adds a column that a store written by an older master lacks.
+fn add_column_if_missing(conn: &Connection, table: &str, column: &str, ty: &str) -> Result<()> {
+    let mut st = conn.prepare(&format!("PRAGMA table_info({table})"))?;
+    let names = st.query_map([], |r| r.get::<_, String>(1))?;
+    for n in names {
+        if n? == column {
+            return Ok(());
+        }
+    }
+    conn.execute_batch(&format!("ALTER TABLE {table} ADD COLUMN {column} {ty}"))?;
+    Ok(())
 }
 
 /// The columns [`lease_from_row`] reads, in its order.
@@ -196,6 +214,7 @@ impl Db {
         conn.pragma_update(None, "journal_mode", "WAL")?;
         conn.pragma_update(None, "synchronous", "NORMAL")?;
         conn.execute_batch(SCHEMA)?;
+        add_column_if_missing(&conn, "jobs", "frame", "INTEGER")?;
         Ok(Db { conn })
     }
 
@@ -203,9 +222,9 @@ impl Db {
     pub fn insert_job(&self, j: &NewJob<'_>) -> Result<()> {
         self.conn.execute(
             "INSERT INTO jobs (id, ord, name, state, priority, bundle_hash, scene_path, seed, \
-             haltspp, halttime, haltthreshold, width, height, submitted_ms) \
+             haltspp, halttime, haltthreshold, width, height, submitted_ms, frame) \
              VALUES (?1, (SELECT COALESCE(MAX(ord), 0) + 1 FROM jobs), ?2, 'queued', ?3, ?4, ?5, \
-             ?6, ?7, ?8, ?9, ?10, ?11, ?12)",
+             ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
             params![
                 j.id,
                 j.name,
@@ -218,7 +237,8 @@ impl Db {
                 j.haltthreshold,
                 j.width,
                 j.height,
-                j.submitted_ms
+                j.submitted_ms,
+                j.frame
             ],
         )?;
         Ok(())
@@ -417,7 +437,30 @@ mod tests {
             width: 8,
             height: 6,
             submitted_ms: 1,
+            frame: None,
         }
+    }
+
+    #[test]
+    fn a_store_of_an_older_master_gains_the_frame_column() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("farm.sqlite");
+        {
+            let conn = Connection::open(&path).unwrap();
+            // The jobs table as masters before the frame option wrote it.
+            let old = SCHEMA.replace(",\n    frame INTEGER\n", "\n");
+            assert!(!old.contains("frame INTEGER"));
+            conn.execute_batch(&old).unwrap();
+        }
+        let db = Db::open(&path).unwrap();
+        let mut j = new_job("a", 0);
+        j.frame = Some(12);
+        db.insert_job(&j).unwrap();
+        assert_eq!(db.job("a").unwrap().unwrap().frame, Some(12));
+        drop(db);
+        // Opening again finds the column and leaves it.
+        let db = Db::open(&path).unwrap();
+        assert_eq!(db.job("a").unwrap().unwrap().frame, Some(12));
     }
 
     #[test]

@@ -57,6 +57,8 @@ pub struct SubmitOptions {
     pub priority: Option<i32>,
     /// Path of the .lxs inside a bundle holding several.
     pub scene: Option<String>,
+    /// The animation frame to render (animated scene formats).
+    pub frame: Option<i64>,
 }
 
 /// One lease of a rendering job, as the master tracks it in memory.
@@ -229,7 +231,7 @@ impl Farm {
         std::fs::create_dir_all(&unpacked)?;
         let files = bundle::unpack(bytes, file_name, &unpacked, limits)?;
         let scene_rel = bundle::pick_scene(&files, opts.scene.as_deref().unwrap_or(""))?;
-        let info = scene::inspect(&unpacked, &scene_rel)?;
+        let info = scene::inspect(&unpacked, &scene_rel, opts.frame)?;
         if opts.haltthreshold.or(info.haltthreshold).is_some() && !scene::CONVERGENCE_AVAILABLE {
             return Err(ServerError::BadRequest(
                 "haltthreshold is not supported yet (the convergence test is not built)".into(),
@@ -246,12 +248,11 @@ impl Farm {
             std::fs::rename(&unpacked, &scene_dir)?;
         }
         let id = new_id("j");
-        let stem = scene_rel
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .unwrap_or("scene")
-            .to_string();
-        let name = opts.name.clone().filter(|n| !n.is_empty()).unwrap_or(stem);
+        let name = opts
+            .name
+            .clone()
+            .filter(|n| !n.is_empty())
+            .unwrap_or_else(|| info.name.clone());
         let seed = opts.seed.unwrap_or_else(|| now_ms() as u64);
         let scene_path = scene_rel.to_string_lossy().replace('\\', "/");
         lock(&self.db).insert_job(&NewJob {
@@ -267,6 +268,7 @@ impl Farm {
             width: info.width,
             height: info.height,
             submitted_ms: now_ms(),
+            frame: opts.frame,
         })?;
         tracing::info!(job = %id, %name, bundle = %hash, "job queued");
         self.metrics.jobs_submitted.fetch_add(1, Ordering::Relaxed);
@@ -285,31 +287,6 @@ impl Farm {
             recent: self.metrics.recent_merges(),
             lost_workers: lock(&self.workers).values().filter(|w| w.lost).count(),
         })
-    }
-
-    /// Cancels a queued or rendering job. Workers on it are told to stop; what was merged is
-    /// kept (film.flm stays downloadable).
-    pub fn cancel(&self, id: &str) -> Result<JobRow> {
-        let row = self.job_row(id)?;
-        if row.state.is_final() {
-            return Err(ServerError::Conflict(format!(
-                "job {id} is already {}",
-                row.state.as_str()
-            )));
-        }
-        let rt = lock(&self.jobs).get(id).cloned();
-        match rt {
-            Some(rt) => crate::halt::finish(self, &rt, JobState::Cancelled, "cancelled by user")?,
-            None => lock(&self.db).set_job_state(
-                id,
-                JobState::Cancelled,
-                "cancelled by user",
-                now_ms(),
-            )?,
-        }
-        tracing::info!(job = %id, "job cancelled");
-        self.touch();
-        self.job_row(id)
     }
 }
 

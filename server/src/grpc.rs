@@ -73,6 +73,7 @@ impl pb::jobs_server::Jobs for JobsService {
             seed: h.seed,
             priority: h.priority,
             scene: Some(h.scene),
+            frame: h.frame,
         };
         let farm = self.0.clone();
         let view = blocking(move || {
@@ -102,7 +103,7 @@ impl pb::jobs_server::Jobs for JobsService {
         let farm = self.0.clone();
         let id = req.into_inner().id;
         let view = blocking(move || {
-            let row = farm.cancel(&id)?;
+            let row = crate::halt::cancel(&farm, &id)?;
             views::job_view(&farm, &row)
         })
         .await?;

@@ -9,7 +9,7 @@
 //! done.
 
 use crate::db::{JobRow, JobState};
-use crate::error::Result;
+use crate::error::{Result, ServerError};
 use crate::farm::{lock, now_ms, Farm, JobRt};
 use crate::scene;
 use crate::scene::Film;
@@ -228,4 +228,26 @@ pub fn finish(farm: &Farm, rt: &Arc<JobRt>, state: JobState, reason: &str) -> Re
     farm.touch();
     farm.work_available.notify_waiters();
     Ok(())
+}
+
+/// Cancels a queued or rendering job. Workers on it are told to stop; what was merged is
+/// kept (film.flm stays downloadable).
+pub fn cancel(farm: &Farm, id: &str) -> Result<JobRow> {
+    let row = farm.job_row(id)?;
+    if row.state.is_final() {
+        return Err(ServerError::Conflict(format!(
+            "job {id} is already {}",
+            row.state.as_str()
+        )));
+    }
+    let rt = lock(&farm.jobs).get(id).cloned();
+    match rt {
+        Some(rt) => finish(farm, &rt, JobState::Cancelled, "cancelled by user")?,
+        None => {
+            lock(&farm.db).set_job_state(id, JobState::Cancelled, "cancelled by user", now_ms())?
+        }
+    }
+    tracing::info!(job = %id, "job cancelled");
+    farm.touch();
+    farm.job_row(id)
 }

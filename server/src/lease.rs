@@ -66,7 +66,11 @@ impl Farm {
         if let Some(rt) = lock(&self.jobs).get(&row.id) {
             return Ok(rt.clone());
         }
-        let info = scene::inspect(&self.scene_dir(&row.bundle_hash), row.scene_path.as_ref())?;
+        let info = scene::inspect(
+            &self.scene_dir(&row.bundle_hash),
+            row.scene_path.as_ref(),
+            row.frame,
+        )?;
         let film = match crate::halt::load_checkpoint(self, row)? {
             Some(f) => f,
             None => scene::new_film(&info),
@@ -157,6 +161,7 @@ impl Farm {
             haltthreshold: row.haltthreshold,
             width: row.width,
             height: row.height,
+            frame: row.frame,
         })
     }
 

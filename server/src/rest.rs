@@ -93,6 +93,8 @@ pub struct SubmitQuery {
     pub scene: Option<String>,
     /// Name of the uploaded file for a raw body (decides .lxs naming).
     pub filename: Option<String>,
+    /// The animation frame to render (animated scene formats such as LightWave).
+    pub frame: Option<i64>,
 }
 
 impl SubmitQuery {
@@ -105,6 +107,7 @@ impl SubmitQuery {
             seed: self.seed,
             priority: self.priority,
             scene: self.scene.clone(),
+            frame: self.frame,
         }
     }
 }
@@ -116,8 +119,8 @@ fn query<T>(q: std::result::Result<Query<T>, QueryRejection>) -> Result<T> {
 }
 
 /// Submit a job: a raw .lxs, a .zip or .tar bundle, or multipart/form-data with a `file` part
-/// (and optional `haltspp`, `halttime`, `haltthreshold`, `seed`, `priority`, `name`, `scene`
-/// fields). Query parameters give the same options.
+/// (and optional `haltspp`, `halttime`, `haltthreshold`, `seed`, `priority`, `name`, `scene`,
+/// `frame` fields). Query parameters give the same options.
 #[utoipa::path(post, path = "/api/v1/jobs", params(SubmitQuery),
     request_body(content = Vec<u8>, description = "scene (.lxs), .zip or .tar; or multipart/form-data",
                  content_type = "application/octet-stream"),
@@ -192,6 +195,11 @@ async fn read_multipart(
             "priority" => opts.priority = Some(num(text)? as i32),
             "name" => opts.name = Some(text.to_string()),
             "scene" => opts.scene = Some(text.to_string()),
+            "frame" => {
+                opts.frame = Some(text.parse::<i64>().map_err(|_| {
+                    ServerError::BadRequest(format!("field frame: not an integer: {text:?}"))
+                })?)
+            }
             _ => {}
         }
     }
@@ -222,7 +230,7 @@ async fn get_job(State(farm): State<AppState>, Path(id): Path<String>) -> Result
 async fn cancel_job(State(farm): State<AppState>, Path(id): Path<String>) -> Result<Json<JobView>> {
     Ok(Json(
         blocking(move || {
-            let row = farm.cancel(&id)?;
+            let row = crate::halt::cancel(&farm, &id)?;
             views::job_view(&farm, &row)
         })
         .await?,

@@ -12,7 +12,7 @@ use luxfarm::atomic_write::write_bytes_atomic;
 pub use luxfarm::film::Film;
 use luxfarm::film::FilmParams;
 pub use luxfarm::halt::Convergence;
-use luxfarm::lxs::{self, ParseOptions};
+use luxfarm::lxs::ParseOptions;
 use luxfarm::output;
 use std::path::{Path, PathBuf};
 
@@ -32,23 +32,40 @@ pub struct SceneInfo {
     /// Base name of the outputs in the job's output directory (`output::farm_basename`: the
     /// last component of the film's `filename`, else the scene's stem).
     pub basename: String,
+    /// The job's name when the submission gives none.
+    pub name: String,
 }
 
 /// Parses `root/scene` with its Includes confined to `root` and reads its film parameters.
 /// Scene errors become 400s naming file:line:column.
-pub fn inspect(root: &Path, scene: &Path) -> Result<SceneInfo> {
+pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInfo> {
     let opts = ParseOptions {
         confine_to_root: true,
+        frame,
         ..ParseOptions::default()
     };
     let path = root.join(scene);
-    let desc = lxs::parse_file(&path, &opts).map_err(|e| {
+    let desc = luxfarm::formats::load(&path, &opts).map_err(|e| {
         ServerError::BadRequest(format!("scene error: {}", strip_root(&e.to_string(), root)))
     })?;
     let params = FilmParams::from_entity(desc.film.as_ref()).map_err(|e| {
         ServerError::BadRequest(format!("film error: {}", strip_root(&e.to_string(), root)))
     })?;
     let basename = output::farm_basename(scene, &params);
+    // A job's default name: the Film's filename when the scene gives one, else the scene's
+    // own name in the bundle.
+    let stem = scene
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("scene");
+    let name = desc
+        .film
+        .as_ref()
+        .and_then(|f| f.params.string("filename"))
+        .and_then(|f| Path::new(f).file_name().and_then(|n| n.to_str()))
+        .filter(|n| !n.is_empty())
+        .unwrap_or(stem)
+        .to_string();
     let groups = if desc.light_groups.is_empty() {
         vec!["default".to_string()]
     } else {
@@ -64,6 +81,7 @@ pub fn inspect(root: &Path, scene: &Path) -> Result<SceneInfo> {
         haltthreshold: params.haltthreshold.map(f64::from),
         convergence_step: params.convergence_step.max(1.0),
         basename,
+        name,
         params,
     })
 }

@@ -43,6 +43,8 @@ pub struct JobView {
     pub finished_ms: Option<i64>,
     pub seed: u64,
     pub merged_deltas: u64,
+    /// The animation frame the job renders (animated scene formats), when given.
+    pub frame: Option<i64>,
     /// Changes whenever the merged film changes (the preview's ETag).
     pub film_version: String,
 }
@@ -120,6 +122,7 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
         finished_ms: row.finished_ms,
         seed: row.seed,
         merged_deltas: deltas,
+        frame: row.frame,
         film_version: format!("{}-{}", row.ckpt_gen, 0),
     };
     if let Some(rt) = rt {
@@ -281,6 +284,7 @@ impl From<JobView> for pb::JobInfo {
             seed: v.seed,
             convergence: v.convergence,
             merged_deltas: v.merged_deltas,
+            frame: v.frame,
         }
     }
 }
@@ -328,6 +332,7 @@ mod tests {
                 width: 8,
                 height: 6,
                 submitted_ms: 0,
+                frame: None,
             })
             .unwrap();
             // Rows come in merge order. w3: uploads long ago only.

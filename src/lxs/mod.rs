@@ -38,6 +38,9 @@ pub struct ParseOptions {
     pub max_array_len: usize,
     /// Most bytes read over the root file and all its Includes.
     pub max_total_bytes: u64,
+    /// The animation frame to import, for formats whose scenes are animated (LightWave);
+    /// `None`: the scene's own current frame. Formats without animation ignore it.
+    pub frame: Option<i64>,
 }
 
 impl Default for ParseOptions {
@@ -47,6 +50,7 @@ impl Default for ParseOptions {
             max_include_depth: 32,
             max_array_len: 1 << 28,
             max_total_bytes: u64::MAX,
+            frame: None,
         }
     }
 }

@@ -7,7 +7,7 @@ use crate::cache::Cache;
 use crate::link::{backoff, Link};
 use crate::Config;
 use anyhow::Context;
-use luxfarm::lxs::{self, ParseOptions};
+use luxfarm::lxs::ParseOptions;
 use luxfarm::render::{Session, SessionOptions};
 use luxfarm_proto as pb;
 use std::collections::VecDeque;
@@ -84,9 +84,10 @@ pub async fn run_lease(
             seed: a.seed,
             stream: a.stream,
         };
+        let frame = a.frame;
         std::thread::Builder::new()
             .name("render".into())
-            .spawn(move || render_thread(&scene, opts, &flags, &shutdown, &tx))?
+            .spawn(move || render_thread(&scene, frame, opts, &flags, &shutdown, &tx))?
     };
     let hb = tokio::spawn(heartbeat_loop(
         link.clone(),
@@ -119,6 +120,7 @@ pub async fn run_lease(
 /// one at stop.
 fn render_thread(
     scene: &Path,
+    frame: Option<i64>,
     opts: SessionOptions,
     flags: &Flags,
     shutdown: &AtomicBool,
@@ -126,9 +128,10 @@ fn render_thread(
 ) -> anyhow::Result<()> {
     let parse = ParseOptions {
         confine_to_root: true,
+        frame,
         ..ParseOptions::default()
     };
-    let desc = lxs::parse_file(scene, &parse).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let desc = luxfarm::formats::load(scene, &parse).map_err(|e| anyhow::anyhow!("{e}"))?;
     let base = scene.parent().unwrap_or(Path::new("."));
     let mut session = Session::new(&desc, base, opts).map_err(|e| anyhow::anyhow!("{e}"))?;
     *flags.cancel.lock().unwrap_or_else(|p| p.into_inner()) = Some(session.cancel_flag());

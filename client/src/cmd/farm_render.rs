@@ -10,7 +10,7 @@
 use super::farm_remote::{runtime, Remote};
 use anyhow::Context;
 use luxfarm::film::FilmParams;
-use luxfarm::lxs::{self, ParseOptions};
+use luxfarm::lxs::ParseOptions;
 use luxfarm::output::{self, OutputKind};
 use luxfarm_proto as pb;
 use std::path::{Path, PathBuf};
@@ -31,6 +31,8 @@ pub struct Options {
     pub output: Option<PathBuf>,
     /// Seconds between worker uploads (default 2: a local farm can merge often).
     pub upload_interval: f64,
+    /// The animation frame to render (animated scene formats).
+    pub frame: Option<i64>,
 }
 
 /// Worker processes, terminated (SIGTERM, then waited for) when dropped.
@@ -96,6 +98,7 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
         halttime: o.halttime,
         haltthreshold: o.haltthreshold,
         seed: o.seed,
+        frame: o.frame,
         ..Default::default()
     };
     let job = rt.block_on(super::submit::submit(&remote, header, upload.bytes))?;
@@ -139,7 +142,11 @@ fn local_basename(o: &Options, master_base: &str) -> anyhow::Result<PathBuf> {
         let dir = o.scene.parent().unwrap_or(Path::new(""));
         return Ok(dir.join(master_base));
     }
-    let desc = lxs::parse_file(&o.scene, &ParseOptions::default())?;
+    let parse = ParseOptions {
+        frame: o.frame,
+        ..ParseOptions::default()
+    };
+    let desc = luxfarm::formats::load(&o.scene, &parse)?;
     let params = FilmParams::from_entity(desc.film.as_ref())?;
     Ok(output::basename(&o.scene, &params, None))
 }

@@ -43,6 +43,9 @@ pub struct Args {
     /// Output base name (default: the Film's filename, beside the scene).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
+    /// The animation frame to render (animated scene formats such as LightWave).
+    #[arg(long, allow_negative_numbers = true)]
+    pub frame: Option<i64>,
     /// Render on a local farm instead: an embedded master in a temporary data directory and
     /// this many worker processes over loopback (`--threads` is then per worker).
     #[arg(long)]
@@ -61,9 +64,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             seed: Some(args.seed),
             output: args.output,
             upload_interval: 2.0,
+            frame: args.frame,
         });
     }
-    let desc = luxfarm::formats::load(&args.scene, &ParseOptions::default())?;
+    let parse = ParseOptions {
+        frame: args.frame,
+        ..ParseOptions::default()
+    };
+    let desc = luxfarm::formats::load(&args.scene, &parse)?;
     let base_dir = args
         .scene
         .parent()

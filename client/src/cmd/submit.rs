@@ -29,6 +29,9 @@ pub struct Args {
     /// The .lxs inside a .zip/.tar holding several.
     #[arg(long)]
     pub scene_in_bundle: Option<String>,
+    /// The animation frame to render (animated scene formats).
+    #[arg(long, allow_negative_numbers = true)]
+    pub frame: Option<i64>,
     /// Follow the job until it ends (as `luxfarm watch`).
     #[arg(long)]
     pub watch: bool,
@@ -52,6 +55,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
             seed: a.seed,
             priority: a.priority,
             scene: a.scene_in_bundle.clone().unwrap_or_default(),
+            frame: a.frame,
         };
         submit(&a.remote, header, upload.bytes).await
     })?;

@@ -35,7 +35,11 @@ pub fn scene_info(farm: &Farm, id: &str) -> Result<SceneInfo> {
     if let Some(rt) = lock(&farm.jobs).get(id) {
         return Ok(rt.info.clone());
     }
-    scene::inspect(&farm.scene_dir(&row.bundle_hash), row.scene_path.as_ref())
+    scene::inspect(
+        &farm.scene_dir(&row.bundle_hash),
+        row.scene_path.as_ref(),
+        row.frame,
+    )
 }
 
 /// Makes `format` (png, exr, flm) of job `id` with the scene's tonemapping; `max_size`
@@ -61,7 +65,11 @@ pub fn render_with(
             let path = crate::halt::latest_checkpoint(farm, &row).ok_or_else(|| {
                 ServerError::NotReady(format!("job {id} has no merged samples yet"))
             })?;
-            let info = scene::inspect(&farm.scene_dir(&row.bundle_hash), row.scene_path.as_ref())?;
+            let info = scene::inspect(
+                &farm.scene_dir(&row.bundle_hash),
+                row.scene_path.as_ref(),
+                row.frame,
+            )?;
             (scene::read_checkpoint(&path)?, info)
         }
     };
