@@ -1,17 +1,20 @@
-//! luxfarm render core: LuxRender scene parsing, scene building, rendering, films and FLM.
+//! luxfarm render core: scene formats, the world and its render setup, rendering, films and
+//! FLM, tonemapping and outputs. ARCHITECTURE.md (repository root) maps it.
 //!
-//! Data flows one way (see DESIGN.md):
-//! `lxs` (text -> SceneDescription) -> `scene` (build only what is referenced) ->
-//! `render` (seeded sample streams) -> `film` (f64 sums per light group, Film parameters, FLM)
-//! -> `tonemap` (film sums to RGB) -> `imageio` (pixel buffers to PNG/TGA/EXR bytes) ->
-//! `output` (the files the Film asks for, named the same way locally and on a farm).
-//! `halt` reads the film (through `tonemap` for the convergence test) and says when a render
-//! is done. Each stage imports only the stages before it: `film` imports none of `tonemap`,
-//! `imageio`, `output`; `imageio` imports neither `film` nor `tonemap`. `atomic_write` sits
-//! below them all: every file written (FLM, images, the master's checkpoints) goes through it.
+//! Data flows one way:
+//! `formats` (any scene file -> `lxs::SceneDescription`) -> `render::setup` (the render setup:
+//! camera, film parameters, filter, sampler, integrator; and the `scene::World`: geometry,
+//! materials, textures, lights — never importing an integrator) -> `render` (seeded sample
+//! streams) -> `film` (f64 sums per light group, Film parameters, FLM) -> `tonemap` (film
+//! sums to RGB) -> `imageio` (pixel buffers to PNG/TGA/EXR bytes) -> `output` (the files the
+//! Film asks for, named the same way locally and on a farm). `halt` reads the film (through
+//! `tonemap` for the convergence test) and says when a render is done. Each stage imports only
+//! the stages before it; `tests/architecture.rs` checks it. `atomic_write` sits below them
+//! all: every file written (FLM, images, the master's checkpoints) goes through it.
 //!
-//! Plugin families live in one folder each, one file per plugin: `camera`, `sampler`, `filter`,
-//! `shape`, `light`, `material`, `texture`, `integrator`, `tonemap`.
+//! Plugin families live in one folder each, one file per plugin, built by one convention
+//! (`plugin`): `camera`, `sampler`, `filter`, `shape`, `light`, `material`, `texture`,
+//! `integrator`, `tonemap`. Shared building blocks: `geometry`, `spectrum`, `sampling`.
 
 pub mod accel;
 pub mod atomic_write;
