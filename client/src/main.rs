@@ -31,6 +31,9 @@ enum Command {
     CompareImage(cmd::compare_image::Args),
     /// FLM film tools: info, merge, compare, tonemap.
     Flm(cmd::flm::Args),
+    /// Run TestSuite-style regression tests (.cfg files): render, compare with the reference
+    /// films as luxcomp does, print a pass/fail table.
+    Regress(cmd::regress::Args),
     /// Submit a scene (bundled with what it references) to a master.
     Submit(cmd::submit::Args),
     /// List the master's jobs.
@@ -62,6 +65,7 @@ fn main() -> ExitCode {
         Command::Render(a) => cmd::render::run(a),
         Command::CompareImage(a) => cmd::compare_image::run(a),
         Command::Flm(a) => cmd::flm::run(a),
+        Command::Regress(a) => cmd::regress::run(a),
         Command::Submit(a) => cmd::submit::run(a),
         Command::Jobs(a) => cmd::jobs::run(a),
         Command::Status(a) => cmd::status::run(a),

@@ -2,6 +2,12 @@
 //! group, MSE and RMS over the normalised X, Y, Z of every pixel, and the shares of small
 //! (<= 10%), medium (<= 50%) and big relative differences. The result is the largest value
 //! over the buffers.
+//!
+//! [`block_bias`] looks past per-pixel noise: it compares the luminance means of square pixel
+//! blocks, and reports the overall scale of the test against the reference separately from
+//! the block-to-block error that remains once that scale is removed. A reference made by
+//! another renderer (or an older LuxRender, with spectral noise) can then be judged on bias
+//! rather than on its own noise.
 
 use super::{BufferType, Film, FilmError, PIXEL_VALUES};
 
@@ -113,6 +119,89 @@ pub fn compare(reference: &Film, test: &Film) -> Result<Comparison, FilmError> {
     worst.ok_or_else(|| FilmError::Mismatch("no buffers".into()))
 }
 
+/// Block-level agreement of two films ([`block_bias`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BlockBias {
+    /// Block edge in pixels.
+    pub block: u32,
+    /// Blocks compared (blocks whose reference mean is zero are left out).
+    pub blocks: usize,
+    /// Total luminance of the test over that of the reference.
+    pub scale: f64,
+    /// RMS over blocks of `test / reference - 1`.
+    pub rms_rel: f64,
+    /// RMS over blocks of `test / (scale * reference) - 1`: the error the global scale
+    /// does not explain.
+    pub rms_rel_unscaled: f64,
+    /// Largest `|test / reference - 1|` of a block.
+    pub max_rel: f64,
+}
+
+/// Luminance (normalised Y summed over the buffers of group 0) of every pixel.
+fn luminance(f: &Film) -> Vec<f64> {
+    let n = f.pixel_count();
+    let screen = n as f64 / f.sample_count(0).max(f64::MIN_POSITIVE);
+    let mut y = vec![0.0; n];
+    for (b, &ty) in f.buffer_types().iter().enumerate() {
+        let Some(buf) = f.buffer(0, b) else { continue };
+        for (out, p) in y.iter_mut().zip(buf.chunks_exact(PIXEL_VALUES)) {
+            *out += normalised(p, ty, screen)[1];
+        }
+    }
+    y
+}
+
+/// Luminance means of `block`×`block` blocks (partial blocks at the right and bottom edges
+/// are left out).
+fn block_means(f: &Film, block: u32) -> Vec<f64> {
+    let y = luminance(f);
+    let (w, block) = (f.width(), block.max(1));
+    let (bw, bh) = (w / block, f.height() / block);
+    let mut out = vec![0.0; bw as usize * bh as usize];
+    let area = f64::from(block) * f64::from(block);
+    for py in 0..bh * block {
+        for px in 0..bw * block {
+            let i = ((py / block) * bw + px / block) as usize;
+            out[i] += y[(py * w + px) as usize] / area;
+        }
+    }
+    out
+}
+
+/// Compares `block`×`block` luminance block means of two films of the same resolution.
+pub fn block_bias(reference: &Film, test: &Film, block: u32) -> Result<BlockBias, FilmError> {
+    if reference.width() != test.width() || reference.height() != test.height() {
+        return Err(FilmError::Mismatch(format!(
+            "reference is {}x{}, test is {}x{}",
+            reference.width(),
+            reference.height(),
+            test.width(),
+            test.height()
+        )));
+    }
+    let (r, t) = (block_means(reference, block), block_means(test, block));
+    let pairs: Vec<(f64, f64)> = r.into_iter().zip(t).filter(|(r, _)| *r > 0.0).collect();
+    let (sr, st) = pairs
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (r, t)| (a + r, b + t));
+    let scale = if sr > 0.0 { st / sr } else { 0.0 };
+    let rms = |s: f64| {
+        let se: f64 = pairs.iter().map(|(r, t)| (t / (s * r) - 1.0).powi(2)).sum();
+        (se / pairs.len().max(1) as f64).sqrt()
+    };
+    Ok(BlockBias {
+        block,
+        blocks: pairs.len(),
+        scale,
+        rms_rel: rms(1.0),
+        rms_rel_unscaled: if scale > 0.0 { rms(scale) } else { f64::NAN },
+        max_rel: pairs
+            .iter()
+            .map(|(r, t)| (t / r - 1.0).abs())
+            .fold(0.0, f64::max),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -137,5 +226,30 @@ mod tests {
         assert!((c.mse - (0.0025 + 1.0) / 3.0).abs() < 1e-6);
         assert_eq!((c.small, c.medium, c.big), (2, 0, 1));
         assert!(compare(&a, &Film::new(2, 1, vec![])).is_err());
+    }
+
+    #[test]
+    fn block_bias_separates_scale_from_structure() {
+        let mut a = Film::new(4, 4, vec![]);
+        let mut b = Film::new(4, 4, vec![]);
+        for y in 0..4 {
+            for x in 0..4 {
+                a.add_splat(0, x, y, [1.0, 1.0, 1.0], 1.0, 1.0);
+                // Twice as bright everywhere, and the top-left 2x2 block 3x instead of 2x.
+                let k = if x < 2 && y < 2 { 3.0 } else { 2.0 };
+                b.add_splat(0, x, y, [k, k, k], 1.0, 1.0);
+            }
+        }
+        let c = block_bias(&a, &b, 2).unwrap();
+        assert_eq!(c.blocks, 4);
+        // Block ratios 3, 2, 2, 2: scale 9/4.
+        assert!((c.scale - 2.25).abs() < 1e-12);
+        let want = ((4.0 + 3.0) / 4.0f64).sqrt();
+        assert!((c.rms_rel - want).abs() < 1e-12, "{}", c.rms_rel);
+        let u = [3.0 / 2.25 - 1.0, 2.0 / 2.25 - 1.0];
+        let want_u = ((u[0] * u[0] + 3.0 * u[1] * u[1]) / 4.0f64).sqrt();
+        assert!((c.rms_rel_unscaled - want_u).abs() < 1e-12);
+        assert!((c.max_rel - 2.0).abs() < 1e-12);
+        assert!(block_bias(&a, &Film::new(2, 2, vec![]), 2).is_err());
     }
 }

@@ -22,7 +22,7 @@ pub mod outlier;
 pub mod params;
 
 pub use buffer::{check_size, BufferType, Film, MAX_AXIS, MAX_PIXELS, PIXEL_VALUES};
-pub use compare::{compare, Comparison};
+pub use compare::{block_bias, compare, BlockBias, Comparison};
 pub use error::FilmError;
 pub use image_output::{Channels, ExrCompression, ImageOutput, ZBufNorm};
 pub use imaging::{ClampMethod, ColorSpaceParams, Flavour, GroupParams, Kernel, TonemapParams};

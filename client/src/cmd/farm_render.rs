@@ -4,7 +4,7 @@
 //! written beside the scene (or at `-o BASENAME`): the master writes the files the Film asks
 //! for (`luxfarm::output`) and they are copied to the names a local render gives them.
 //!
-//! The render command's argument parsing (client/src/cmd/render.rs) calls [`run`] when
+//! The render command's argument parsing (client/src/cmd/render.rs) calls [`render`] when
 //! `--workers` is given.
 
 use super::farm_remote::{runtime, Remote};
@@ -14,7 +14,7 @@ use luxfarm::lxs::ParseOptions;
 use luxfarm::output::{self, OutputKind};
 use luxfarm_proto as pb;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitCode, Stdio};
+use std::process::{Child, Command, Stdio};
 
 /// What `luxfarm render --workers N` needs.
 #[derive(Clone, Debug)]
@@ -71,8 +71,9 @@ fn spawn_workers(url: &str, n: usize, threads: usize) -> anyhow::Result<Workers>
     Ok(Workers(children))
 }
 
-/// Renders a scene on a local farm.
-pub fn run(o: Options) -> anyhow::Result<ExitCode> {
+/// Renders a scene on a local farm and returns the files written beside the scene (or at
+/// `-o`).
+pub fn render(o: Options) -> anyhow::Result<Vec<PathBuf>> {
     let upload = luxfarm_wire::bundle::prepare(&o.scene)?;
     let data = tempfile::Builder::new()
         .prefix("luxfarm-render-")
@@ -109,9 +110,6 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
     }
     let out_dir = data.path().join("jobs").join(&job.id).join("out");
     let written = copy_outputs(&out_dir, &o)?;
-    for p in &written {
-        println!("{}", p.display());
-    }
     eprintln!(
         "{:.1} spp in {:.1} s ({:.0} samples/s)",
         last.spp,
@@ -123,7 +121,7 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
         }
     );
     running.stop();
-    Ok(ExitCode::SUCCESS)
+    Ok(written)
 }
 
 /// The base name of the outputs on this machine: `-o`, else as a local render names them

@@ -9,6 +9,7 @@ pub mod fetch;
 pub mod flm;
 pub mod jobs;
 pub mod parse;
+pub mod regress;
 pub mod render;
 pub mod server;
 pub mod status;

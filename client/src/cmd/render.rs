@@ -53,8 +53,16 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    for p in render(args)? {
+        println!("{}", p.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Renders as `luxfarm render` does and returns the files written.
+pub fn render(args: Args) -> anyhow::Result<Vec<PathBuf>> {
     if let Some(workers) = args.workers {
-        return super::farm_render::run(super::farm_render::Options {
+        return super::farm_render::render(super::farm_render::Options {
             scene: args.scene,
             workers,
             threads: (args.threads > 0).then_some(args.threads),
@@ -144,10 +152,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         session.rejected_samples(),
         session.outlier_samples(),
     );
-    for p in written {
-        println!("{}", p.display());
-    }
-    Ok(ExitCode::SUCCESS)
+    Ok(written)
 }
 
 fn progress_bar(rules: &HaltRules) -> ProgressBar {
