@@ -229,3 +229,41 @@ fn allmaterials_08_glass2_scatter_and_checker_as_luxrender_defines_them() {
     assert!(xyz.iter().all(|p| p.iter().all(|v| v.is_finite())));
     assert!(xyz.iter().map(|p| p[1]).sum::<f64>() > 0.0);
 }
+
+#[test]
+fn null_surfaces_neither_show_nor_cast_shadows() {
+    let scene = |with_null: bool| {
+        let null = if with_null {
+            "AttributeBegin\nMaterial \"null\"\nTranslate 0 0 1\nShape \"sphere\" \"float radius\" [0.6]\nAttributeEnd\n"
+        } else {
+            ""
+        };
+        format!(
+            r#"LookAt 0 -4 4 0 0 0 0 0 1
+Camera "perspective" "float fov" [45]
+Film "fleximage" "integer xresolution" [16] "integer yresolution" [16] "integer haltspp" [1]
+SurfaceIntegrator "directlighting"
+WorldBegin
+LightSource "point" "point from" [0 0 3] "color L" [10 10 10]
+Material "matte"
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-3 -3 0 3 -3 0 3 3 0 -3 3 0]
+{null}WorldEnd
+"#
+        )
+    };
+    let opts = SessionOptions {
+        threads: 1,
+        seed: 4,
+        stream: 0,
+    };
+    let path = Path::new("/tmp/luxfarm-material-null.lxs");
+    let plain = render(&parse_text(&scene(false), path), Path::new("/tmp"), opts, 1);
+    let with = render(&parse_text(&scene(true), path), Path::new("/tmp"), opts, 1);
+    let (a, b) = (normalized_xyz(&plain), normalized_xyz(&with));
+    for (p, q) in a.iter().zip(&b) {
+        assert!(
+            (p[1] - q[1]).abs() <= 1e-3 * p[1].max(1.0),
+            "{p:?} vs {q:?}"
+        );
+    }
+}

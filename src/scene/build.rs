@@ -128,7 +128,9 @@ impl World {
             lights = lights.len(),
             "world built"
         );
+        let has_null = prims.iter().any(|p| materials.get(p.material).is_null());
         Ok(World {
+            has_null,
             groups,
             geometry,
             materials,
