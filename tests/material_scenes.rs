@@ -267,3 +267,48 @@ Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-3 -3 0 3 -3 0 3
         );
     }
 }
+
+#[test]
+fn compositing_flags_apply_where_luxrender_applies_them() {
+    let scene = |integrator: &str, compo: &str| {
+        format!(
+            r#"LookAt 0 -4 0 0 0 0 0 0 1
+Camera "perspective" "float fov" [20]
+Film "fleximage" "integer xresolution" [9] "integer yresolution" [9] "integer haltspp" [1]
+SurfaceIntegrator "{integrator}"
+WorldBegin
+LightSource "point" "point from" [0 -3 2] "color L" [10 10 10]
+AttributeBegin
+Material "matte" {compo}
+Shape "sphere" "float radius" [1]
+AttributeEnd
+WorldEnd
+"#
+        )
+    };
+    let opts = SessionOptions {
+        threads: 1,
+        seed: 2,
+        stream: 0,
+    };
+    let centre = |text: String| {
+        let path = Path::new("/tmp/luxfarm-material-compo.lxs");
+        let desc = parse_text(&text, path);
+        let f = render(&desc, Path::new("/tmp"), opts, 1);
+        let p = f.pixel(0, 0, 4, 4).expect("pixel");
+        (p[1] / p[4], p[3] / p[4])
+    };
+    let hidden = r#""bool compo_visible_material" ["false"]"#;
+    // distributedpath: an invisible material gives alpha 0 and no light.
+    let (y, a) = centre(scene("distributedpath", hidden));
+    assert_eq!((y, a), (0.0, 0.0));
+    // An overridden alpha replaces the hit's alpha, the surface stays visible.
+    let (y, a) = centre(scene(
+        "distributedpath",
+        r#""bool compo_override_alpha" ["true"] "float compo_override_alpha_value" [0.25]"#,
+    ));
+    assert!(y > 0.0 && (a - 0.25).abs() < 1e-6, "{y} {a}");
+    // LuxRender's path integrator ignores the flags.
+    let (y, a) = centre(scene("path", hidden));
+    assert!(y > 0.0 && a == 1.0);
+}

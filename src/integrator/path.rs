@@ -143,7 +143,7 @@ impl PathIntegrator {
             if bs.pdf <= 0.0 || bs.f.is_black() {
                 break;
             }
-            beta *= bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
+            beta *= bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
             specular = bs.specular;
             prev_pdf = bs.pdf;
             prev = si.it;
