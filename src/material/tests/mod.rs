@@ -6,6 +6,7 @@
 
 mod basic;
 mod composite;
+mod hand_values;
 mod media;
 mod new_lobes;
 
