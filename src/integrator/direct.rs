@@ -52,7 +52,7 @@ fn sample_one(
         return Rgb::BLACK;
     };
     let (f, pdf_bsdf) = bsdf.f_pdf(si.wo, ls.wi);
-    let f = f * ls.wi.dot(si.shading.n).abs();
+    let f = f * ls.wi.dot(bsdf.frame.n).abs();
     if f.is_black() || !scene.unoccluded(&si.it, &ls) {
         return Rgb::BLACK;
     }

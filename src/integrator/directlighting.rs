@@ -67,7 +67,7 @@ impl DirectLightingIntegrator {
             let (u, u2) = (s.next_1d(), s.next_2d());
             match bsdf.sample_f(si.wo, u, u2) {
                 Some(bs) if bs.specular && bs.pdf > 0.0 => {
-                    beta *= bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
+                    beta *= bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
                     ray = si.it.spawn_ray(bs.wi);
                     depth += 1;
                 }
@@ -97,7 +97,7 @@ impl DirectLightingIntegrator {
         if bs.specular || bs.pdf <= 0.0 || bs.f.is_black() {
             return;
         }
-        let tp = beta * bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
+        let tp = beta * bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
         let ray = si.it.spawn_ray(bs.wi);
         match &scene.intersect(&ray) {
             Some(hit) => {

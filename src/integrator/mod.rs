@@ -78,6 +78,21 @@ impl Integrator {
         Ok(match e.kind.as_str() {
             "path" => Integrator::Path(PathIntegrator::build(&mut s)?),
             "directlighting" => Integrator::DirectLighting(DirectLightingIntegrator::build(&mut s)),
+            "distributedpath" => {
+                s.warn(
+                    "SurfaceIntegrator \"distributedpath\" is not supported; rendering with \"path\" \
+                     (with the materials' compo_* flags)",
+                );
+                let fallback = Entity {
+                    kind: "path".into(),
+                    loc: e.loc.clone(),
+                    ..Default::default()
+                };
+                let mut fs = Stmt::new("SurfaceIntegrator", &fallback, s.warnings());
+                let mut p = PathIntegrator::build(&mut fs)?;
+                p.compositing = true;
+                Integrator::Path(p)
+            }
             other => {
                 s.warn(format!(
                     "SurfaceIntegrator \"{other}\" is not supported; rendering with \"path\""

@@ -1,5 +1,8 @@
 //! The `path` integrator: unidirectional path tracing with next-event estimation, MIS
 //! between light and BSDF sampling, and Russian roulette (none / probability / efficiency).
+//! Rendering a `distributedpath` scene it also applies the materials' `compo_*` flags as
+//! LuxRender's distributedpath does ([`crate::material::Compositing`]): hidden emission or
+//! surfaces, overridden alpha.
 
 use super::direct::{bsdf_hit_weight, escaped, sample_lights};
 use super::{add_group, DirectSettings};
@@ -30,6 +33,8 @@ pub struct PathIntegrator {
     pub include_environment: bool,
     pub direct_light_sampling: bool,
     pub direct: DirectSettings,
+    /// Apply the materials' compositing flags (set when standing in for distributedpath).
+    pub compositing: bool,
 }
 
 impl PathIntegrator {
@@ -54,6 +59,7 @@ impl PathIntegrator {
             include_environment: p.bool_or("includeenvironment", true),
             direct_light_sampling: p.bool_or("directlightsampling", true),
             direct: DirectSettings::build(s),
+            compositing: false,
         })
     }
 
@@ -86,7 +92,19 @@ impl PathIntegrator {
                 }
                 break;
             };
-            if let Some((i, light)) = scene.area_light(si.prim) {
+            let material = scene.material(si.prim);
+            let vis = self.compositing.then(|| {
+                if depth == 0 {
+                    material.compositing.camera_hit()
+                } else {
+                    material.compositing.indirect_hit()
+                }
+            });
+            if let Some(a) = vis.and_then(|v| v.alpha) {
+                alpha = a;
+            }
+            let emission = vis.is_none_or(|v| v.emission);
+            if let Some((i, light)) = scene.area_light(si.prim).filter(|_| emission) {
                 let le = light.l(si, si.wo);
                 if !le.is_black() {
                     let w = if specular || !dls {
@@ -98,7 +116,6 @@ impl PathIntegrator {
                     add_group(l, light.common.group, beta * le * w);
                 }
             }
-            let material = scene.material(si.prim);
             if material.is_null() {
                 pass += 1;
                 if pass > MAX_PASS_THROUGH {
@@ -108,7 +125,7 @@ impl PathIntegrator {
                 continue;
             }
             pass = 0;
-            if depth >= self.max_depth {
+            if depth >= self.max_depth || !vis.is_none_or(|v| v.material) {
                 break;
             }
             let last = depth + 1 >= self.max_depth;
@@ -126,7 +143,7 @@ impl PathIntegrator {
             if bs.pdf <= 0.0 || bs.f.is_black() {
                 break;
             }
-            beta *= bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
+            beta *= bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
             specular = bs.specular;
             prev_pdf = bs.pdf;
             prev = si.it;

@@ -3,17 +3,29 @@
 //! geometric normal decides reflection against transmission so that shading normals never let
 //! light leak through a surface: a lobe contributes only when the local and geometric sides
 //! agree.
+//!
+//! Materials made of other materials (glossycoating, doubleside, layered) hold the `Bsdf`s of
+//! their components in a boxed [`Composite`], which works in world space with its own side
+//! rules; only those materials allocate.
+//!
+//! `f` and `pdf` are defined for any pair of directions (not only sampled ones), so that
+//! reverse densities are available to bidirectional methods: `pdf(wi, wo)` is the density of
+//! sampling `wo` from `wi`.
 
 use super::bxdf::asperity::Asperity;
 use super::bxdf::carpaint::CarPaintLobes;
 use super::bxdf::diffuse::Diffuse;
+use super::bxdf::fresnel_blend::FresnelBlend;
 use super::bxdf::glossy_translucent::GlossyTranslucentLobes;
+use super::bxdf::irawan::ClothLobes;
 use super::bxdf::microfacet::MicrofacetReflection;
 use super::bxdf::rough_dielectric::RoughDielectric;
-use super::bxdf::schlick::Coating;
+use super::bxdf::scatter::SchlickScatter;
+use super::bxdf::schlick::{Coating, SchlickBrdf};
 use super::bxdf::specular::{pass_through, SpecularDielectric, SpecularReflection};
 use super::bxdf::translucent::Translucent;
 use super::bxdf::LocalSample;
+use super::composite::Composite;
 use crate::geometry::{unit_or, SurfaceInteraction};
 use crate::spectrum::Rgb;
 use glam::{Vec2, Vec3A};
@@ -58,7 +70,7 @@ impl Frame {
 }
 
 /// The scattering model of a hit (closed set: enum dispatch).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub enum Lobes {
     /// Absorbs everything.
     Black,
@@ -71,7 +83,12 @@ pub enum Lobes {
     CarPaint(CarPaintLobes),
     /// Double-sided coating with diffuse transmission.
     GlossyTranslucent(GlossyTranslucentLobes),
+    /// Glossy: Schlick coating over a diffuse base.
     Coating(Coating),
+    /// Glossy with `separable` false.
+    SchlickBrdf(SchlickBrdf),
+    /// glossy_lossy (and the legacy plastic, substrate).
+    FresnelBlend(FresnelBlend),
     Microfacet(MicrofacetReflection),
     /// Shinymetal: glossy conductor plus a mirror term, each picked with probability
     /// proportional to its weight.
@@ -83,10 +100,16 @@ pub enum Lobes {
     Mirror(SpecularReflection),
     Dielectric(SpecularDielectric),
     RoughDielectric(RoughDielectric),
+    /// Scatter: a volume-like phase function on the surface.
+    Scatter(SchlickScatter),
+    /// Cloth: Lambertian plus the Irawan yarn lobe.
+    Cloth(ClothLobes),
+    /// Materials built from other materials' BSDFs.
+    Composite(Box<Composite>),
     Null,
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Bsdf {
     pub frame: Frame,
     /// Geometric normal.
@@ -116,18 +139,11 @@ impl Bsdf {
 
     /// Whether some lobe is not a delta distribution (light sampling is worthwhile).
     pub fn has_non_specular(&self) -> bool {
-        matches!(
-            self.lobes,
-            Lobes::Diffuse(_)
-                | Lobes::Translucent(_)
-                | Lobes::Velvet(_)
-                | Lobes::CarPaint(_)
-                | Lobes::GlossyTranslucent(_)
-                | Lobes::Coating(_)
-                | Lobes::Microfacet(_)
-                | Lobes::GlossyMirror { .. }
-                | Lobes::RoughDielectric(_)
-        )
+        match &self.lobes {
+            Lobes::Black | Lobes::Mirror(_) | Lobes::Dielectric(_) | Lobes::Null => false,
+            Lobes::Composite(c) => c.has_non_specular(),
+            _ => true,
+        }
     }
 
     /// True when local and geometric sides agree on reflection vs transmission.
@@ -139,6 +155,9 @@ impl Bsdf {
 
     /// BSDF value for the pair (no cosine), zero for delta lobes.
     pub fn f(&self, wo_w: Vec3A, wi_w: Vec3A) -> Rgb {
+        if let Lobes::Composite(c) = &self.lobes {
+            return finite_or_black(c.f(self, wo_w, wi_w));
+        }
         let (wo, wi) = (self.frame.to_local(wo_w), self.frame.to_local(wi_w));
         if wo.z == 0.0 || !self.consistent(wo_w, wi_w, wo, wi) {
             return Rgb::BLACK;
@@ -155,20 +174,27 @@ impl Bsdf {
             Lobes::CarPaint(c) => c.f(wo, wi),
             Lobes::GlossyTranslucent(g) => g.f(wo, wi),
             Lobes::Coating(c) => c.f(wo, wi),
+            Lobes::SchlickBrdf(s) => s.f(wo, wi),
+            Lobes::FresnelBlend(b) => b.f(wo, wi),
             Lobes::Microfacet(m) => m.f(wo, wi),
             Lobes::GlossyMirror { glossy, .. } => glossy.f(wo, wi),
             Lobes::RoughDielectric(r) => r.f(wo, wi),
-            Lobes::Black | Lobes::Mirror(_) | Lobes::Dielectric(_) | Lobes::Null => Rgb::BLACK,
+            Lobes::Scatter(s) => s.f(wo, wi),
+            Lobes::Cloth(c) => c.f(wo, wi),
+            Lobes::Black
+            | Lobes::Mirror(_)
+            | Lobes::Dielectric(_)
+            | Lobes::Composite(_)
+            | Lobes::Null => Rgb::BLACK,
         };
-        if v.is_finite() {
-            v
-        } else {
-            Rgb::BLACK
-        }
+        finite_or_black(v)
     }
 
     /// Density of [`Bsdf::sample_f`] producing `wi` (solid angle), zero for delta lobes.
     pub fn pdf(&self, wo_w: Vec3A, wi_w: Vec3A) -> f32 {
+        if let Lobes::Composite(c) = &self.lobes {
+            return finite_or_zero(c.pdf(self, wo_w, wi_w));
+        }
         let (wo, wi) = (self.frame.to_local(wo_w), self.frame.to_local(wi_w));
         if wo.z == 0.0 || !self.consistent(wo_w, wi_w, wo, wi) {
             return 0.0;
@@ -178,6 +204,12 @@ impl Bsdf {
 
     /// [`Self::f`] and [`Self::pdf`] together (one change of frame, one side test).
     pub fn f_pdf(&self, wo_w: Vec3A, wi_w: Vec3A) -> (Rgb, f32) {
+        if let Lobes::Composite(c) = &self.lobes {
+            return (
+                finite_or_black(c.f(self, wo_w, wi_w)),
+                finite_or_zero(c.pdf(self, wo_w, wi_w)),
+            );
+        }
         let (wo, wi) = (self.frame.to_local(wo_w), self.frame.to_local(wi_w));
         if wo.z == 0.0 || !self.consistent(wo_w, wi_w, wo, wi) {
             return (Rgb::BLACK, 0.0);
@@ -187,24 +219,37 @@ impl Bsdf {
 
     /// The lobes' density for local directions on consistent sides.
     fn local_pdf(&self, wo: Vec3A, wi: Vec3A) -> f32 {
-        match &self.lobes {
+        let p = match &self.lobes {
             Lobes::Diffuse(d) => d.pdf(wo, wi),
             Lobes::Translucent(t) => t.pdf(wo, wi),
             Lobes::Velvet(v) => v.pdf(wo, wi),
             Lobes::CarPaint(c) => c.pdf(wo, wi),
             Lobes::GlossyTranslucent(g) => g.pdf(wo, wi),
             Lobes::Coating(c) => c.pdf(wo, wi),
+            Lobes::SchlickBrdf(s) => s.pdf(wo, wi),
+            Lobes::FresnelBlend(b) => b.pdf(wo, wi),
             Lobes::Microfacet(m) => m.pdf(wo, wi),
             Lobes::GlossyMirror {
                 glossy, p_mirror, ..
             } => (1.0 - p_mirror) * glossy.pdf(wo, wi),
             Lobes::RoughDielectric(r) => r.pdf(wo, wi),
-            Lobes::Black | Lobes::Mirror(_) | Lobes::Dielectric(_) | Lobes::Null => 0.0,
-        }
+            Lobes::Scatter(s) => s.pdf(wo, wi),
+            Lobes::Cloth(c) => c.pdf(wo, wi),
+            Lobes::Black
+            | Lobes::Mirror(_)
+            | Lobes::Dielectric(_)
+            | Lobes::Composite(_)
+            | Lobes::Null => 0.0,
+        };
+        finite_or_zero(p)
     }
 
     /// Samples an incident direction. `u` picks a lobe, `u2` the direction within it.
     pub fn sample_f(&self, wo_w: Vec3A, u: f32, u2: Vec2) -> Option<BsdfSample> {
+        if let Lobes::Composite(c) = &self.lobes {
+            let s = c.sample_f(self, wo_w, u, u2)?;
+            return (s.pdf > 0.0 && s.pdf.is_finite() && s.f.is_finite()).then_some(s);
+        }
         let wo = self.frame.to_local(wo_w);
         if wo.z == 0.0 {
             return None;
@@ -217,6 +262,8 @@ impl Bsdf {
             Lobes::CarPaint(c) => c.sample(wo, u, u2)?,
             Lobes::GlossyTranslucent(g) => g.sample(wo, u, u2)?,
             Lobes::Coating(c) => c.sample(wo, u, u2)?,
+            Lobes::SchlickBrdf(s) => s.sample(wo, u, u2)?,
+            Lobes::FresnelBlend(b) => b.sample(wo, u, u2)?,
             Lobes::Microfacet(m) => m.sample(wo, u2)?,
             Lobes::GlossyMirror {
                 glossy,
@@ -236,6 +283,9 @@ impl Bsdf {
             Lobes::Mirror(m) => m.sample(wo)?,
             Lobes::Dielectric(d) => d.sample(wo, u)?,
             Lobes::RoughDielectric(r) => r.sample(wo, u, u2)?,
+            Lobes::Scatter(s) => s.sample(wo, u2)?,
+            Lobes::Cloth(c) => c.sample(wo, u2)?,
+            Lobes::Composite(_) => return None,
             Lobes::Null => pass_through(wo)?,
         };
         let wi_w = self.frame.to_world(s.wi);
@@ -251,5 +301,21 @@ impl Bsdf {
             pdf: s.pdf,
             specular: s.specular,
         })
+    }
+}
+
+fn finite_or_black(v: Rgb) -> Rgb {
+    if v.is_finite() {
+        v
+    } else {
+        Rgb::BLACK
+    }
+}
+
+fn finite_or_zero(p: f32) -> f32 {
+    if p.is_finite() {
+        p
+    } else {
+        0.0
     }
 }

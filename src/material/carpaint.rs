@@ -1,5 +1,6 @@
 //! `carpaint`: `name` picks one of LuxRender's measured presets (`ford f8`, `polaris silber`,
-//! `opel titan`, `bmw339`, `2k acrylack`, `white`, `blue`, `blue matte`; unknown names fall back
+//! `opel titan`, `bmw339`, `2k acrylack` (also spelled `2k acrylic`), `white`, `blue`,
+//! `blue matte`; unknown names fall back
 //! to `ford f8` with a warning); without a name `Kd`, `Ks1`–`Ks3`, `R1`–`R3`, `M1`–`M3` are
 //! read, defaulting to `ford f8`. `Ka` (0) and `d` (0) give the coating absorption. See
 //! [`super::bxdf::carpaint`] for the model.
@@ -63,7 +64,13 @@ impl CarPaint {
         let depth = b.textures.float_param(p, "d", 0.0)?;
         let c = |a: [f32; 3]| ColorTex::constant(Rgb::from_array(a));
         if !name.is_empty() {
-            let preset = match PRESETS.iter().find(|x| x.0 == name) {
+            // The scene-format page spells the acrylic paint "2k acrylic".
+            let key = if name == "2k acrylic" {
+                "2k acrylack"
+            } else {
+                name.as_str()
+            };
+            let preset = match PRESETS.iter().find(|x| x.0 == key) {
                 Some(x) => x,
                 None => {
                     b.warn(

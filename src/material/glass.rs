@@ -1,10 +1,12 @@
 //! `glass`: smooth dielectric with `Kr` and `Kt` (default 1, clamped to [0, 1]), `index`
-//! (float texture, default 1.5) and `architectural` (default false: light passes without
-//! bending). Dispersion (`cauchyb` ≠ 0) needs spectral rendering, which is not built: a
-//! warning is given and it is ignored.
+//! (float texture, default 1.5), `architectural` (default false; true: a thin sheet that light
+//! crosses without bending, see [`super::bxdf::specular`]) and a thin film on the reflection
+//! (`film` nm, default 0 = none; `filmindex` 1.5). Dispersion (`cauchyb` ≠ 0) needs spectral
+//! rendering, which is not built: a located warning is given and it is ignored.
 
 use super::bsdf::Lobes;
 use super::bxdf::specular::SpecularDielectric;
+use super::mirror::FilmParams;
 use super::{Builder, MaterialError};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;
@@ -17,6 +19,7 @@ pub struct Glass {
     pub kt: ColorTex,
     pub index: FloatTex,
     pub architectural: bool,
+    pub film: FilmParams,
 }
 
 /// Reads `cauchyb` and warns when it asks for dispersion.
@@ -41,6 +44,7 @@ impl Glass {
             kt: b.textures.color_param(p, "Kt", Rgb::WHITE)?,
             index: b.textures.float_param(p, "index", 1.5)?,
             architectural: p.bool_or("architectural", false),
+            film: FilmParams::read(b, e)?,
         })
     }
 
@@ -52,6 +56,7 @@ impl Glass {
             kt: clamp(self.kt.eval(si)),
             eta: if eta > 0.0 { eta } else { 1.0 },
             architectural: self.architectural,
+            film: self.film.eval(si),
         })
     }
 }

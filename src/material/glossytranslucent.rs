@@ -7,59 +7,34 @@
 use super::bsdf::Lobes;
 use super::bxdf::diffuse::Diffuse;
 use super::bxdf::glossy_translucent::GlossyTranslucentLobes;
-use super::bxdf::schlick::{Coating, SchlickDist};
+use super::bxdf::schlick::Coating;
+use super::glossy::CoatParams;
 use super::{Builder, MaterialError};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;
 use crate::spectrum::Rgb;
-use crate::texture::{ColorTex, FloatTex};
-
-/// The coating parameters of one face.
-#[derive(Debug)]
-pub struct Face {
-    pub ks: ColorTex,
-    pub index: FloatTex,
-    pub ka: ColorTex,
-    pub depth: FloatTex,
-    pub u: FloatTex,
-    pub v: FloatTex,
-    pub multibounce: bool,
-}
+use crate::texture::ColorTex;
 
 #[derive(Debug)]
 pub struct GlossyTranslucent {
     pub kd: ColorTex,
     pub kt: ColorTex,
-    pub front: Face,
+    pub front: CoatParams,
     /// `None` when one-sided: the back face uses the front parameters.
-    pub back: Option<Face>,
-}
-
-fn face(b: &mut Builder, e: &Entity, prefix: &str, d: (f32, f32)) -> Result<Face, MaterialError> {
-    let p = &e.params;
-    let t = &mut b.textures;
-    let k = |n: &str| format!("{prefix}{n}");
-    Ok(Face {
-        ks: t.color_param(p, &k("Ks"), Rgb::splat(d.0))?,
-        index: t.float_param(p, &k("index"), 0.0)?,
-        ka: t.color_param(p, &k("Ka"), Rgb::BLACK)?,
-        depth: t.float_param(p, &k("d"), 0.0)?,
-        u: t.float_param(p, &k("uroughness"), d.1)?,
-        v: t.float_param(p, &k("vroughness"), d.1)?,
-        multibounce: p.bool_or(&k("multibounce"), false),
-    })
+    pub back: Option<CoatParams>,
 }
 
 impl GlossyTranslucent {
     pub fn build(b: &mut Builder, e: &Entity) -> Result<GlossyTranslucent, MaterialError> {
         let p = &e.params;
-        let kd = b.textures.color_param(p, "Kd", Rgb::WHITE)?;
-        let kt = b.textures.color_param(p, "Kt", Rgb::WHITE)?;
-        let front = face(b, e, "", (1.0, 0.1))?;
+        let t = &mut b.textures;
+        let kd = t.color_param(p, "Kd", Rgb::WHITE)?;
+        let kt = t.color_param(p, "Kt", Rgb::WHITE)?;
+        let front = CoatParams::read(t, p, "", 1.0, 0.1)?;
         let back = if p.bool_or("onesided", true) {
             None
         } else {
-            Some(face(b, e, "backface_", (0.0, 0.0))?)
+            Some(CoatParams::read(t, p, "backface_", 0.0, 0.0)?)
         };
         Ok(GlossyTranslucent {
             kd,
@@ -69,20 +44,10 @@ impl GlossyTranslucent {
         })
     }
 
-    fn coating(f: &Face, kd: Rgb, si: &SurfaceInteraction) -> Coating {
-        let mut ks = f.ks.eval(si);
-        let i = f.index.eval(si);
-        if i > 0.0 {
-            let r = (i - 1.0) / (i + 1.0);
-            ks *= r * r;
-        }
+    fn coating(f: &CoatParams, kd: Rgb, si: &SurfaceInteraction) -> Coating {
         Coating {
             base: Diffuse::lambert(kd),
-            ks: ks.map(|v| v.clamp(0.0, 1.0)),
-            ka: f.ka.eval(si).map(|v| v.clamp(0.0, 1.0)),
-            depth: f.depth.eval(si).max(0.0),
-            dist: SchlickDist::from_uv(f.u.eval(si), f.v.eval(si)),
-            multibounce: f.multibounce,
+            coat: f.eval(si),
         }
     }
 

@@ -1,12 +1,15 @@
-//! `metal`: a glossy conductor. `name` is a preset (`amorphous carbon`, `silver`, `gold`,
+//! `metal`: a glossy conductor (LuxRender 1.x: microfacet reflection with its Schlick
+//! distribution of roughness u·v, anisotropic when they differ, and the conductor Fresnel
+//! term). `filename` (or the older `name`) is a preset (`amorphous carbon`, `silver`, `gold`,
 //! `copper`, `aluminium`, the default) or an `.nk` file (relative to the scene directory;
-//! LuxRender tries the file first). Unknown names fall back to aluminium with a warning, as in
-//! LuxRender. The spectral n, k are averaged over red/green/blue bands (see
-//! [`NkTable::to_rgb`]). `uroughness`/`vroughness` default 0.1 (Blinn exponents 1/roughness,
-//! anisotropic when they differ); the 0.x `roughness` is accepted when neither is given.
+//! LuxRender tries the file first). Unknown names fall back to aluminium with a warning, as
+//! in LuxRender. The spectral n, k are averaged over red/green/blue bands (see
+//! [`NkTable::to_rgb`]). `uroughness`/`vroughness` default 0.1; the 0.x `roughness` is
+//! accepted when neither is given.
 
 use super::bsdf::Lobes;
-use super::bxdf::microfacet::{Blinn, MicrofacetReflection};
+use super::bxdf::microfacet::{Fresnel, MicrofacetReflection};
+use super::bxdf::schlick::SchlickDist;
 use super::nk_data::NkTable;
 use super::{Builder, MaterialError};
 use crate::geometry::SurfaceInteraction;
@@ -39,16 +42,30 @@ pub fn roughness_pair(
     Ok((u, v))
 }
 
+/// Largest `.nk` file read (bytes): measured data files are a few kilobytes.
+pub const MAX_NK_BYTES: u64 = 4 << 20;
+
+fn read_nk(path: &std::path::Path) -> Result<NkTable, String> {
+    let len = std::fs::metadata(path).map_err(|e| e.to_string())?.len();
+    if len > MAX_NK_BYTES {
+        return Err(format!("{len} bytes, more than the {MAX_NK_BYTES} allowed"));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+    NkTable::parse(&text)
+}
+
 fn load_nk(b: &mut Builder, e: &Entity, name: &str) -> NkTable {
     let path = b.ctx.base_dir.join(name);
+    let key = if e.params.contains("filename") {
+        "filename"
+    } else {
+        "name"
+    };
     if path.is_file() {
-        match std::fs::read_to_string(&path)
-            .map_err(|err| err.to_string())
-            .and_then(|t| NkTable::parse(&t))
-        {
+        match read_nk(&path) {
             Ok(t) => return t,
             Err(err) => {
-                let loc = param_loc(&e.params, "name", &e.loc);
+                let loc = param_loc(&e.params, key, &e.loc);
                 b.warn(
                     &loc,
                     format!(
@@ -59,7 +76,7 @@ fn load_nk(b: &mut Builder, e: &Entity, name: &str) -> NkTable {
             }
         }
     } else if NkTable::preset(name).is_none() {
-        let loc = param_loc(&e.params, "name", &e.loc);
+        let loc = param_loc(&e.params, key, &e.loc);
         b.warn(
             &loc,
             format!("metal \"{name}\" not found, using the default (aluminium)"),
@@ -76,7 +93,12 @@ fn load_nk(b: &mut Builder, e: &Entity, name: &str) -> NkTable {
 
 impl Metal {
     pub fn build(b: &mut Builder, e: &Entity) -> Result<Metal, MaterialError> {
-        let name = e.params.string_or("name", "aluminium").to_string();
+        let p = &e.params;
+        let name = p
+            .string("filename")
+            .or_else(|| p.string("name"))
+            .unwrap_or("aluminium")
+            .to_string();
         let name = if name.is_empty() {
             "aluminium".to_string()
         } else {
@@ -96,9 +118,11 @@ impl Metal {
     pub fn lobes(&self, si: &SurfaceInteraction) -> Lobes {
         Lobes::Microfacet(MicrofacetReflection {
             scale: Rgb::WHITE,
-            n: self.n,
-            k: self.k,
-            dist: Blinn::from_uv(self.u.eval(si), self.v.eval(si)),
+            fresnel: Fresnel::Conductor {
+                n: self.n,
+                k: self.k,
+            },
+            dist: SchlickDist::unclamped(self.u.eval(si), self.v.eval(si)),
         })
     }
 }

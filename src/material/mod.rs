@@ -1,36 +1,57 @@
-//! Materials and their BSDFs (one file per material, scattering functions in [`bxdf`]).
+//! Materials and their BSDFs: one file per LuxRender 1.x material, scattering functions in
+//! [`bxdf`], materials made of materials in [`composite`].
 //!
-//! [`MaterialSet::build`] builds only the materials the scene uses (and the ones `mix`
-//! materials reference), with LuxRender's parameter names and defaults, and their textures
-//! through a [`TextureSet`]. [`Material::bsdf`] applies bump mapping and returns the [`Bsdf`]
-//! of a hit. Unsupported material types are reported with their file:line:column and replaced
-//! by LuxRender's fallback, a default matte.
+//! ```text
+//! MaterialDesc --MaterialSet::build (set.rs: only the materials the scene uses, and what
+//!   they reference)--> Builder::build_entity (here: dispatch on the type name)
+//!   --<material>::build (reads its parameters and textures)--> Material
+//! hit --Material::bsdf (bump map, then the kind's lobes; mix picks a component)--> Bsdf
+//! ```
+//!
+//! Every material also reads the common parameters: `bumpmap`/`bumpmapsampledistance`
+//! (applied through [`bump`]) and the `compo_*` compositing flags ([`Compositing`]). Legacy
+//! names keep their parameters: `plastic` and `substrate` are LuxRender's glossy_lossy (the
+//! parser reports them, located), `plastic`'s `roughness` sets both roughnesses. An unknown
+//! type is reported with its file:line:column and replaced by LuxRender's fallback, a
+//! default matte.
 
 pub mod bsdf;
 pub mod bump;
 pub mod bxdf;
 pub mod carpaint;
+pub mod cloth;
+pub mod cloth_patterns;
+pub mod composite;
+pub mod compositing;
+pub mod doubleside;
 pub mod glass;
+pub mod glass2;
 pub mod glossy;
+pub mod glossy_lossy;
+pub mod glossycoating;
 pub mod glossytranslucent;
+pub mod layered;
 pub mod matte;
 pub mod mattetranslucent;
 pub mod metal;
+pub mod metal2;
 pub mod mirror;
 pub mod mix;
 pub mod nk_data;
 pub mod roughglass;
+pub mod scatter;
+pub mod set;
 pub mod shinymetal;
 pub mod velvet;
 
 pub use bsdf::{Bsdf, BsdfSample, Lobes};
+pub use compositing::Compositing;
+pub use set::{Builder, MaterialCtx, MaterialSet};
 
 use crate::geometry::SurfaceInteraction;
-use crate::lxs::{Diagnostic, Entity, Loc, SceneDescription};
+use crate::lxs::{Entity, Loc};
 use crate::plugin::BuildError;
-use crate::texture::{FloatTex, TextureCtx, TextureError, TextureSet};
-use std::path::PathBuf;
-use std::sync::Arc;
+use crate::texture::{FloatTex, TextureError};
 use thiserror::Error;
 
 #[derive(Debug, Error)]
@@ -41,7 +62,7 @@ pub enum MaterialError {
     Missing { loc: Loc, name: String },
     #[error("{loc}: material index {index} does not exist")]
     BadIndex { loc: Loc, index: usize },
-    #[error("{loc}: mix material \"{name}\" contains itself")]
+    #[error("{loc}: material \"{name}\" contains itself")]
     Cycle { loc: Loc, name: String },
     #[error("{loc}: {message}")]
     BadParam { loc: Loc, message: String },
@@ -70,28 +91,29 @@ impl From<MaterialError> for BuildError {
     }
 }
 
-/// Where material files (nk data, images) are found.
-#[derive(Clone, Debug, Default)]
-pub struct MaterialCtx {
-    /// Directory of the scene's root file.
-    pub base_dir: PathBuf,
-}
-
 /// The closed set of materials.
 #[derive(Debug)]
 pub enum MaterialKind {
     CarPaint(carpaint::CarPaint),
+    Cloth(cloth::Cloth),
+    DoubleSide(doubleside::DoubleSide),
+    Glass(glass::Glass),
+    Glass2(glass2::Glass2),
+    Glossy(glossy::Glossy),
+    GlossyCoating(glossycoating::GlossyCoating),
+    GlossyLossy(glossy_lossy::GlossyLossy),
+    GlossyTranslucent(glossytranslucent::GlossyTranslucent),
+    Layered(layered::Layered),
     Matte(matte::Matte),
     MatteTranslucent(mattetranslucent::MatteTranslucent),
-    Mirror(mirror::Mirror),
-    Glass(glass::Glass),
-    RoughGlass(roughglass::RoughGlass),
-    Glossy(glossy::Glossy),
-    GlossyTranslucent(glossytranslucent::GlossyTranslucent),
     Metal(metal::Metal),
+    Metal2(metal2::Metal2),
+    Mirror(mirror::Mirror),
+    Mix(mix::MixMaterial),
+    RoughGlass(roughglass::RoughGlass),
+    Scatter(scatter::Scatter),
     ShinyMetal(shinymetal::ShinyMetal),
     Velvet(velvet::Velvet),
-    Mix(mix::MixMaterial),
     Null,
 }
 
@@ -102,6 +124,8 @@ pub struct Material {
     pub bump: Option<FloatTex>,
     /// `bumpmapsampledistance` (finite-difference step in u and v).
     pub bump_distance: f32,
+    /// The `compo_*` parameters.
+    pub compositing: Compositing,
     /// Type name as written (for logs).
     pub type_name: String,
 }
@@ -113,6 +137,7 @@ impl Material {
             kind: MaterialKind::Matte(matte::Matte::default_params()),
             bump: None,
             bump_distance: bump::DEFAULT_DISTANCE,
+            compositing: Compositing::default(),
             type_name: "matte".into(),
         }
     }
@@ -122,7 +147,8 @@ impl Material {
         matches!(self.kind, MaterialKind::Null)
     }
 
-    /// The BSDF at a hit; `u_select` in [0, 1) picks a component of mix materials.
+    /// The BSDF at a hit; `u_select` in [0, 1) picks a component of mix materials (and seeds
+    /// the layered material's estimator).
     pub fn bsdf(&self, si: &SurfaceInteraction, u_select: f32) -> Bsdf {
         let bumped;
         let si = match &self.bump {
@@ -134,14 +160,22 @@ impl Material {
         };
         let lobes = match &self.kind {
             MaterialKind::CarPaint(m) => m.lobes(si),
+            MaterialKind::Cloth(m) => m.lobes(si),
+            MaterialKind::DoubleSide(m) => m.lobes(si, u_select),
+            MaterialKind::Glass(m) => m.lobes(si),
+            MaterialKind::Glass2(m) => m.lobes(),
+            MaterialKind::Glossy(m) => m.lobes(si),
+            MaterialKind::GlossyCoating(m) => m.lobes(si, u_select),
+            MaterialKind::GlossyLossy(m) => m.lobes(si),
+            MaterialKind::GlossyTranslucent(m) => m.lobes(si),
+            MaterialKind::Layered(m) => m.lobes(si, u_select),
             MaterialKind::Matte(m) => m.lobes(si),
             MaterialKind::MatteTranslucent(m) => m.lobes(si),
-            MaterialKind::Mirror(m) => m.lobes(si),
-            MaterialKind::Glass(m) => m.lobes(si),
-            MaterialKind::RoughGlass(m) => m.lobes(si),
-            MaterialKind::Glossy(m) => m.lobes(si),
-            MaterialKind::GlossyTranslucent(m) => m.lobes(si),
             MaterialKind::Metal(m) => m.lobes(si),
+            MaterialKind::Metal2(m) => m.lobes(si),
+            MaterialKind::Mirror(m) => m.lobes(si),
+            MaterialKind::RoughGlass(m) => m.lobes(si),
+            MaterialKind::Scatter(m) => m.lobes(si),
             MaterialKind::ShinyMetal(m) => m.lobes(si),
             MaterialKind::Velvet(m) => m.lobes(si),
             MaterialKind::Null => Lobes::Null,
@@ -154,108 +188,42 @@ impl Material {
     }
 }
 
-/// Everything a material builder needs.
-pub struct Builder<'a, 't> {
-    pub desc: &'a SceneDescription,
-    pub textures: &'t mut TextureSet<'a>,
-    pub ctx: MaterialCtx,
-    built: Vec<Option<Arc<Material>>>,
-    building: Vec<usize>,
-    pub warnings: Vec<Diagnostic>,
-}
-
 impl Builder<'_, '_> {
-    pub fn warn(&mut self, loc: &Loc, message: String) {
-        tracing::warn!("{loc}: {message}");
-        self.warnings.push(Diagnostic {
-            loc: loc.clone(),
-            message,
-        });
-    }
-
-    /// The material at `index` of the description, built once.
-    pub fn material(&mut self, index: usize, loc: &Loc) -> Result<Arc<Material>, MaterialError> {
-        if let Some(Some(m)) = self.built.get(index) {
-            return Ok(m.clone());
-        }
-        let desc = self.desc;
-        let Some(md) = desc.materials.get(index) else {
-            return Err(MaterialError::BadIndex {
-                loc: loc.clone(),
-                index,
-            });
-        };
-        if self.building.contains(&index) {
-            return Err(MaterialError::Cycle {
-                loc: md.entity.loc.clone(),
-                name: md.name.clone().unwrap_or_default(),
-            });
-        }
-        self.building.push(index);
-        let m = self.build_entity(&md.entity);
-        self.building.pop();
-        let m = Arc::new(m?);
-        tracing::debug!(
-            "built material {} ({})",
-            md.name.as_deref().unwrap_or("<anonymous>"),
-            m.type_name
-        );
-        if let Some(slot) = self.built.get_mut(index) {
-            *slot = Some(m.clone());
-        }
-        Ok(m)
-    }
-
-    /// A named material (mix components).
-    pub fn named(&mut self, name: &str, loc: &Loc) -> Result<Arc<Material>, MaterialError> {
-        let Some(&i) = self.desc.named_materials.get(name) else {
-            return Err(MaterialError::Missing {
-                loc: loc.clone(),
-                name: name.to_string(),
-            });
-        };
-        self.material(i, loc)
-    }
-
-    fn build_entity(&mut self, e: &Entity) -> Result<Material, MaterialError> {
+    /// Builds one material statement: the kind by its type name, then the common parameters.
+    pub(crate) fn build_entity(&mut self, e: &Entity) -> Result<Material, MaterialError> {
         let p = &e.params;
         // MakeNamedMaterial's "type" became `kind`: it is not an unused parameter.
         let _ = p.string("type");
         let kind = match e.kind.as_str() {
+            "carpaint" => MaterialKind::CarPaint(carpaint::CarPaint::build(self, e)?),
+            "cloth" => MaterialKind::Cloth(cloth::Cloth::build(self, e)?),
+            "doubleside" => MaterialKind::DoubleSide(doubleside::DoubleSide::build(self, e)?),
+            "glass" => MaterialKind::Glass(glass::Glass::build(self, e)?),
+            "glass2" => MaterialKind::Glass2(glass2::Glass2::build(self, e)?),
+            "glossy" => MaterialKind::Glossy(glossy::Glossy::build(self, e)?),
+            "glossycoating" => {
+                MaterialKind::GlossyCoating(glossycoating::GlossyCoating::build(self, e)?)
+            }
+            "glossy_lossy" | "plastic" | "substrate" => {
+                MaterialKind::GlossyLossy(glossy_lossy::GlossyLossy::build(self, e)?)
+            }
+            "glossytranslucent" => MaterialKind::GlossyTranslucent(
+                glossytranslucent::GlossyTranslucent::build(self, e)?,
+            ),
+            "layered" => MaterialKind::Layered(layered::Layered::build(self, e)?),
             "matte" => MaterialKind::Matte(matte::Matte::build(self, e)?),
             "mattetranslucent" => {
                 MaterialKind::MatteTranslucent(mattetranslucent::MatteTranslucent::build(self, e)?)
             }
-            "mirror" => MaterialKind::Mirror(mirror::Mirror::build(self, e)?),
-            "glass" => MaterialKind::Glass(glass::Glass::build(self, e)?),
-            "glass2" => {
-                self.warn(
-                    &e.loc,
-                    "glass2 takes its index from volumes, which are not built: rendered as glass \
-                     with index 1.5"
-                        .into(),
-                );
-                if p.bool_or("dispersion", false) {
-                    self.warn(
-                        &e.loc,
-                        "dispersion needs spectral rendering, which is not built: ignored".into(),
-                    );
-                }
-                MaterialKind::Glass(glass::Glass::build(self, e)?)
-            }
-            "roughglass" => MaterialKind::RoughGlass(roughglass::RoughGlass::build(self, e)?),
-            "glossy" | "glossy_lossy" | "plastic" | "substrate" => {
-                MaterialKind::Glossy(glossy::Glossy::build(self, e)?)
-            }
             "metal" => MaterialKind::Metal(metal::Metal::build(self, e)?),
-            "shinymetal" => MaterialKind::ShinyMetal(shinymetal::ShinyMetal::build(self, e)?),
-            "glossytranslucent" => MaterialKind::GlossyTranslucent(
-                glossytranslucent::GlossyTranslucent::build(self, e)?,
-            ),
-            "carpaint" => MaterialKind::CarPaint(carpaint::CarPaint::build(self, e)?),
-            "velvet" => MaterialKind::Velvet(velvet::Velvet::build(self, e)?),
+            "metal2" => MaterialKind::Metal2(metal2::Metal2::build(self, e)?),
+            "mirror" => MaterialKind::Mirror(mirror::Mirror::build(self, e)?),
             "mix" => MaterialKind::Mix(mix::MixMaterial::build(self, e)?),
             "null" => MaterialKind::Null,
+            "roughglass" => MaterialKind::RoughGlass(roughglass::RoughGlass::build(self, e)?),
+            "scatter" => MaterialKind::Scatter(scatter::Scatter::build(self, e)?),
+            "shinymetal" => MaterialKind::ShinyMetal(shinymetal::ShinyMetal::build(self, e)?),
+            "velvet" => MaterialKind::Velvet(velvet::Velvet::build(self, e)?),
             other => {
                 self.warn(
                     &e.loc,
@@ -274,85 +242,9 @@ impl Builder<'_, '_> {
             kind,
             bump,
             bump_distance,
+            compositing: Compositing::read(p),
             type_name: e.kind.clone(),
         })
-    }
-}
-
-/// The materials of a scene, indexed like `SceneDescription::materials`.
-pub struct MaterialSet {
-    materials: Vec<Option<Arc<Material>>>,
-    default: Arc<Material>,
-    /// Non-fatal problems found while building (also logged).
-    pub warnings: Vec<Diagnostic>,
-    /// Number of image files the textures loaded.
-    pub images_loaded: usize,
-}
-
-impl MaterialSet {
-    /// Builds the materials at `used` (indices into `desc.materials`) and what they reference.
-    pub fn build(
-        desc: &SceneDescription,
-        used: &[usize],
-        ctx: &MaterialCtx,
-    ) -> Result<MaterialSet, MaterialError> {
-        let mut textures = TextureSet::new(
-            desc,
-            TextureCtx {
-                base_dir: ctx.base_dir.clone(),
-            },
-        );
-        let mut set = MaterialSet::build_with_textures(desc, used, ctx, &mut textures)?;
-        set.warnings.append(&mut textures.warnings);
-        Ok(set)
-    }
-
-    /// As [`MaterialSet::build`], with a texture set shared with other users (lights), so that
-    /// an image referenced by both is loaded once. Texture warnings stay in `textures`.
-    pub fn build_with_textures<'a>(
-        desc: &'a SceneDescription,
-        used: &[usize],
-        ctx: &MaterialCtx,
-        textures: &mut TextureSet<'a>,
-    ) -> Result<MaterialSet, MaterialError> {
-        let mut b = Builder {
-            desc,
-            textures,
-            ctx: ctx.clone(),
-            built: vec![None; desc.materials.len()],
-            building: Vec::new(),
-            warnings: Vec::new(),
-        };
-        for &i in used {
-            b.material(i, &Loc::default())?;
-        }
-        let count = b.built.iter().filter(|m| m.is_some()).count();
-        tracing::info!(
-            "built {count} of {} materials, {} textures, {} images",
-            desc.materials.len(),
-            b.textures.built_names().len(),
-            b.textures.images_loaded()
-        );
-        Ok(MaterialSet {
-            images_loaded: b.textures.images_loaded(),
-            materials: b.built,
-            default: Arc::new(Material::default_matte()),
-            warnings: b.warnings,
-        })
-    }
-
-    /// The material at `index`; `None` (or an index that was not built) gives LuxRender's
-    /// default matte.
-    pub fn get(&self, index: Option<usize>) -> &Material {
-        index
-            .and_then(|i| self.materials.get(i))
-            .and_then(|m| m.as_deref())
-            .unwrap_or(&self.default)
-    }
-
-    /// Whether the material at `index` was built.
-    pub fn is_built(&self, index: usize) -> bool {
-        matches!(self.materials.get(index), Some(Some(_)))
     }
 }
 

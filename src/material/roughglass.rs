@@ -1,17 +1,18 @@
 //! `roughglass`: rough dielectric with `Kr`, `Kt` (default 1), `index` (1.5), `uroughness`
-//! and `vroughness` (0.001, Blinn exponent 1/roughness). Dispersion (`cauchyb`) is ignored with
-//! a warning. Unequal u/v roughness gives an anisotropic distribution.
+//! and `vroughness` (0.001, clamped to [6e-3, 1] as LuxRender 1.x does, Schlick distribution;
+//! unequal u/v roughness is anisotropic). Dispersion (`cauchyb` ≠ 0 or `dispersion`) needs
+//! spectral rendering: ignored with a located warning.
 
 use super::bsdf::Lobes;
-use super::bxdf::microfacet::Blinn;
 use super::bxdf::rough_dielectric::RoughDielectric;
+use super::bxdf::schlick::SchlickDist;
 use super::glass::check_dispersion;
 use super::metal::roughness_pair;
 use super::{Builder, MaterialError};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;
 use crate::spectrum::Rgb;
-use crate::texture::{ColorTex, FloatTex};
+use crate::texture::{param_loc, ColorTex, FloatTex};
 
 #[derive(Debug)]
 pub struct RoughGlass {
@@ -26,6 +27,13 @@ impl RoughGlass {
     pub fn build(b: &mut Builder, e: &Entity) -> Result<RoughGlass, MaterialError> {
         let p = &e.params;
         check_dispersion(b, e)?;
+        if p.bool_or("dispersion", false) {
+            let loc = param_loc(p, "dispersion", &e.loc);
+            b.warn(
+                &loc,
+                "dispersion needs spectral rendering, which is not built: ignored".into(),
+            );
+        }
         let (u, v) = roughness_pair(b, e, 0.001)?;
         Ok(RoughGlass {
             kr: b.textures.color_param(p, "Kr", Rgb::WHITE)?,
@@ -43,7 +51,7 @@ impl RoughGlass {
             kr: clamp(self.kr.eval(si)),
             kt: clamp(self.kt.eval(si)),
             eta: if eta > 0.0 { eta } else { 1.0 },
-            dist: Blinn::from_uv(self.u.eval(si), self.v.eval(si)),
+            dist: SchlickDist::from_uv(self.u.eval(si), self.v.eval(si)),
         })
     }
 }

@@ -1,14 +1,18 @@
-//! `shinymetal`: a glossy conductor lobe whose Fresnel term reflects `Ks` at normal incidence
-//! plus a mirror lobe reflecting `Kr` (both default 1, clamped; conductor indices from
-//! LuxRender's `FresnelApproxEta`/`FresnelApproxK`), `uroughness`/`vroughness` default 0.1.
-//! Thin-film parameters are not modelled.
+//! `shinymetal`: glossy reflection whose Fresnel term reflects `Ks` at normal incidence plus a
+//! mirror reflection whose Fresnel term reflects `Kr` (both default 1, clamped), each an
+//! interface of LuxRender's approximate index for that colour (`FresnelApproxEta`/`K`, with
+//! the general Fresnel model); `uroughness`/`vroughness` (default 0.1) of LuxRender 1.x's
+//! Schlick distribution; `film` (thin-film thickness in nm, default 0 = none) and
+//! `filmindex` (1.5) on the mirror part.
 
 use super::bsdf::Lobes;
 use super::bxdf::avg;
-use super::bxdf::fresnel::approx_conductor;
-use super::bxdf::microfacet::{Blinn, MicrofacetReflection};
+use super::bxdf::fresnel::{approx_conductor, FresnelGeneral};
+use super::bxdf::microfacet::{Fresnel, MicrofacetReflection};
+use super::bxdf::schlick::SchlickDist;
 use super::bxdf::specular::SpecularReflection;
 use super::metal::roughness_pair;
+use super::mirror::FilmParams;
 use super::{Builder, MaterialError};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;
@@ -21,6 +25,7 @@ pub struct ShinyMetal {
     pub ks: ColorTex,
     pub u: FloatTex,
     pub v: FloatTex,
+    pub film: FilmParams,
 }
 
 impl ShinyMetal {
@@ -31,23 +36,26 @@ impl ShinyMetal {
             ks: b.textures.color_param(&e.params, "Ks", Rgb::WHITE)?,
             u,
             v,
+            film: FilmParams::read(b, e)?,
         })
     }
 
     pub fn lobes(&self, si: &SurfaceInteraction) -> Lobes {
         let clamp = |c: Rgb| c.map(|v| v.clamp(0.0, 1.0));
         let (ks, kr) = (clamp(self.ks.eval(si)), clamp(self.kr.eval(si)));
-        let (sn, sk) = approx_conductor(ks);
-        let (rn, rk) = approx_conductor(kr);
+        let general = |c: Rgb| {
+            let (n, k) = approx_conductor(c);
+            FresnelGeneral::auto(n, k)
+        };
         let glossy = MicrofacetReflection {
             scale: Rgb::WHITE,
-            n: sn,
-            k: sk,
-            dist: Blinn::from_uv(self.u.eval(si), self.v.eval(si)),
+            fresnel: Fresnel::General(general(ks)),
+            dist: SchlickDist::unclamped(self.u.eval(si), self.v.eval(si)),
         };
         let mirror = SpecularReflection {
             kr: Rgb::WHITE,
-            conductor: Some((rn, rk)),
+            fresnel: Some(general(kr)),
+            film: self.film.eval(si),
         };
         let (wm, wg) = (avg(kr), avg(ks));
         let p_mirror = if wm + wg > 0.0 { wm / (wm + wg) } else { 0.5 };

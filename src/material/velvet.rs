@@ -1,7 +1,7 @@
-//! `velvet`: asperity scattering with `Kd` (default 0.3, clamped), `p1` (2), `p2` (10), `p3`
-//! and `thickness` (0.1, clamped to [0, 1]); p1–p3 are clamped to [0, 100]. LuxRender reads
-//! the third coefficient from the parameter named `p2` (default 2), and so do we, for
-//! identical renders: a `p3` parameter is reported unused, as LuxRender does.
+//! `velvet`: asperity scattering (see [`super::bxdf::asperity`]) with LuxRender 1.x's
+//! parameters: `Kd` (default 0.3, clamped to [0, 1]), the phase polynomial `p1` (-2), `p2`
+//! (20), `p3` (2), each clamped to [-100, 100], and the fuzz `thickness` (0.1, clamped to
+//! [0, 1]). (LuxRender's scene-format page gives Kd 1; its sources use 0.3.)
 
 use super::bsdf::Lobes;
 use super::bxdf::asperity::Asperity;
@@ -26,19 +26,15 @@ impl Velvet {
         let t = &mut b.textures;
         Ok(Velvet {
             kd: t.color_param(p, "Kd", Rgb::splat(0.3))?,
-            p1: t.float_param(p, "p1", 2.0)?,
-            p2: t.float_param(p, "p2", 10.0)?,
-            p3: if p.contains("p2") {
-                t.float_param(p, "p2", 2.0)?
-            } else {
-                FloatTex::constant(2.0)
-            },
+            p1: t.float_param(p, "p1", -2.0)?,
+            p2: t.float_param(p, "p2", 20.0)?,
+            p3: t.float_param(p, "p3", 2.0)?,
             thickness: t.float_param(p, "thickness", 0.1)?,
         })
     }
 
     pub fn lobes(&self, si: &SurfaceInteraction) -> Lobes {
-        let c = |v: f32| v.clamp(0.0, 100.0);
+        let c = |v: f32| v.clamp(-100.0, 100.0);
         Lobes::Velvet(Asperity {
             r: self.kd.eval(si).map(|v| v.clamp(0.0, 1.0)),
             a1: c(self.p1.eval(si)),

@@ -1,5 +1,6 @@
 //! [`World::build`]: turns a SceneDescription into a World in three steps — geometry
-//! ([`super::geometry`]), the materials the built shapes use, then the lights (built by
+//! ([`super::geometry`]), the materials the built shapes use (bound to the shapes' volumes
+//! where a glass2 needs them; material warnings join the build's), then the lights (built by
 //! [`crate::light`]) and their selection — building only what is referenced.
 
 use super::{geometry, World};
@@ -45,7 +46,14 @@ impl World {
         let mctx = MaterialCtx {
             base_dir: base_dir.to_path_buf(),
         };
-        let materials = MaterialSet::build(desc, &used, &mctx)?;
+        let mut materials = MaterialSet::build(desc, &used, &mctx)?;
+        // glass2 takes its index from each shape's volumes.
+        for (prim, &(interior, exterior)) in prims.iter_mut().zip(&built.media) {
+            if let Some(m) = prim.material {
+                prim.material = Some(materials.bind_media(desc, m, interior, exterior)?);
+            }
+        }
+        warnings.append(&mut materials.warnings);
 
         // Lights, then the area lights on the built shapes.
         let mut textures = TextureSet::new(
@@ -106,7 +114,11 @@ impl World {
             );
         }
         warnings.append(&mut textures.warnings);
-        report_world_unused(desc, &used, warnings);
+        // Every material built, including the components of mix, glossycoating, ...
+        let built_materials: Vec<usize> = (0..desc.materials.len())
+            .filter(|&i| materials.is_built(i))
+            .collect();
+        report_world_unused(desc, &built_materials, warnings);
         tracing::info!(
             shapes = geometry.shape_count(),
             objects = built.objects,
@@ -116,7 +128,9 @@ impl World {
             lights = lights.len(),
             "world built"
         );
+        let has_null = prims.iter().any(|p| materials.get(p.material).is_null());
         Ok(World {
+            has_null,
             groups,
             geometry,
             materials,

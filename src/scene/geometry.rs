@@ -1,6 +1,7 @@
 //! The geometry half of [`super::World::build`]: world shapes, then the objects that
 //! instances use (each object built once, then instanced), into one [`Geometry`] with its BVH.
-//! Every primitive gets a [`PrimInfo`] (its material; its light once area lights exist), and
+//! Every primitive gets a [`PrimInfo`] (its material; its light once area lights exist) and
+//! the names of its Interior/Exterior volumes (glass2 takes its index from them), and
 //! world shapes with an `AreaLightSource` are remembered as [`PendingArea`] until the
 //! geometry can say their area.
 
@@ -19,10 +20,19 @@ pub(super) struct PendingArea<'a> {
     pub group: &'a str,
 }
 
+/// Interior and Exterior volume names of a primitive.
+pub(super) type Media<'a> = (Option<&'a str>, Option<&'a str>);
+
+fn media_of(s: &crate::lxs::ShapeDesc) -> Media<'_> {
+    (s.interior.as_deref(), s.exterior.as_deref())
+}
+
 /// The built geometry and what the rest of the world build needs from it.
 pub(super) struct BuiltGeometry<'a> {
     pub geometry: Geometry,
     pub prims: Vec<PrimInfo>,
+    /// Interior and Exterior volume names of each primitive (same order as `prims`).
+    pub media: Vec<Media<'a>>,
     pub pending: Vec<PendingArea<'a>>,
     /// Objects built for instancing.
     pub objects: usize,
@@ -36,6 +46,7 @@ pub(super) fn build<'a>(
 ) -> Result<BuiltGeometry<'a>, BuildError> {
     let mut gb = GeometryBuilder::new();
     let mut prims: Vec<PrimInfo> = Vec::new();
+    let mut media = Vec::new();
     let mut pending = Vec::new();
     for shape in desc.shapes.iter().filter(|s| !s.portal) {
         let prim = prims.len() as u32;
@@ -44,6 +55,7 @@ pub(super) fn build<'a>(
             material: shape.material,
             light: None,
         });
+        media.push(media_of(shape));
         if let Some(al) = &shape.area_light {
             pending.push(PendingArea {
                 prim,
@@ -63,7 +75,7 @@ pub(super) fn build<'a>(
                     inst.object,
                     &inst.loc,
                     &mut gb,
-                    &mut prims,
+                    (&mut prims, &mut media),
                     ctx,
                     warnings,
                 )?;
@@ -76,18 +88,19 @@ pub(super) fn build<'a>(
     Ok(BuiltGeometry {
         geometry: gb.build(),
         prims,
+        media,
         pending,
         objects: objects.len(),
     })
 }
 
 /// Builds object `index` (on its first instance), giving each of its shapes a primitive.
-fn add_object(
-    desc: &SceneDescription,
+fn add_object<'a>(
+    desc: &'a SceneDescription,
     index: usize,
     loc: &crate::lxs::Loc,
     gb: &mut GeometryBuilder,
-    prims: &mut Vec<PrimInfo>,
+    (prims, media): (&mut Vec<PrimInfo>, &mut Vec<Media<'a>>),
     ctx: &ShapeCtx,
     warnings: &mut Vec<Diagnostic>,
 ) -> Result<ObjectId, BuildError> {
@@ -109,6 +122,7 @@ fn add_object(
                 material: s.material,
                 light: None,
             });
+            media.push(media_of(s));
             prims.len() as u32 - 1
         })
         .collect();

@@ -47,6 +47,8 @@ pub struct World {
     /// World shape of each area light (`AreaLight::shape` indexes this).
     emitters: Vec<ShapeId>,
     selector: LightSelector,
+    /// Whether some primitive has the null material (shadow rays then cross null surfaces).
+    has_null: bool,
 }
 
 impl World {
@@ -76,14 +78,33 @@ impl World {
         self.geometry.intersect(ray)
     }
 
-    /// Whether nothing blocks the segment from `from` to the light sample.
+    /// Whether nothing blocks the segment from `from` to the light sample. Surfaces with the
+    /// null material do not block light (LuxRender's null is invisible to every ray).
     pub fn unoccluded(&self, from: &Interaction, ls: &LightSample) -> bool {
         let ray = if ls.infinite {
             from.spawn_ray(ls.wi)
         } else {
             from.spawn_ray_to(&ls.p_light)
         };
-        !self.geometry.intersect_p(&ray)
+        if !self.has_null {
+            return !self.geometry.intersect_p(&ray);
+        }
+        let mut ray = ray;
+        // The same bound as the integrators' pass-through of null surfaces.
+        for _ in 0..64 {
+            let Some(si) = self.geometry.intersect(&ray) else {
+                return true;
+            };
+            if !self.material(si.prim).is_null() {
+                return false;
+            }
+            ray = if ls.infinite {
+                si.it.spawn_ray(ls.wi)
+            } else {
+                si.it.spawn_ray_to(&ls.p_light)
+            };
+        }
+        false
     }
 
     /// The area light of a primitive, with its light index.

@@ -37,12 +37,37 @@ const FLOAT_PARAMS: &[&str] = &[
     "opacity3",
     "opacity4",
     "displacementmap",
+    "backface_index",
+    "backface_d",
+    "backface_uroughness",
+    "backface_vroughness",
 ];
 
 /// Parameters that LuxRender reads as color textures.
 const COLOR_PARAMS: &[&str] = &[
-    "Kd", "Ks", "Kr", "Kt", "Ka", "Ks_bf", "Ka_bf", "Kt_bf", "Ks1", "Ks2", "Ks3", "n", "k", "L",
-    "g", "Kd_bf", "sheen",
+    "Kd",
+    "Ks",
+    "Kr",
+    "Kt",
+    "Ka",
+    "Ks_bf",
+    "Ka_bf",
+    "Kt_bf",
+    "Ks1",
+    "Ks2",
+    "Ks3",
+    "n",
+    "k",
+    "L",
+    "g",
+    "Kd_bf",
+    "sheen",
+    "backface_Ks",
+    "backface_Ka",
+    "warp_Kd",
+    "warp_Ks",
+    "weft_Kd",
+    "weft_Ks",
 ];
 
 /// Texture parameters whose namespace is the value type of the texture being defined.

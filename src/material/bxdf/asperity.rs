@@ -1,7 +1,8 @@
 //! Asperity scattering (Koenderink & Pont, "The secret of velvety skin"), LuxRender's velvet:
 //! a thin layer of scatterers with a Legendre phase function `1 + A1 P1 + A2 P2 + A3 P3` of the
-//! angle between `-wo` and `wi`, giving `f = clamp(p δ / (4π cos_o cos_i), 0, 1) R` with layer
-//! thickness δ. Cosine-sampled.
+//! angle between `-wo` and `wi`, giving `f = clamp(p δ / (4π |cos_i|), 0, 1) R / |cos_o|` with
+//! layer thickness δ (LuxRender clamps its value, which carries the cosine of `wo`, to [0, 1]).
+//! Cosine-sampled.
 
 use super::diffuse::Diffuse;
 use super::{same_hemisphere, LocalSample};
@@ -29,8 +30,12 @@ impl Asperity {
             + self.a1 * c
             + self.a2 * 0.5 * (b * c - 1.0)
             + self.a3 * 0.5 * (5.0 * c * c * c - b);
-        let p = phase / (4.0 * PI) * self.thickness / (wo.z * wi.z);
-        self.r * p.clamp(0.0, 1.0)
+        let (co, ci) = (wo.z.abs(), wi.z.abs());
+        if co == 0.0 || ci == 0.0 {
+            return Rgb::BLACK;
+        }
+        let p = (phase / (4.0 * PI) * self.thickness / ci).clamp(0.0, 1.0);
+        self.r * (p / co)
     }
 
     pub fn pdf(&self, wo: Vec3A, wi: Vec3A) -> f32 {

@@ -47,8 +47,8 @@ impl GlossyTranslucentLobes {
         }
         let h = Vec3A::new(wi.x + wo.x, wi.y + wo.y, wi.z - wo.z).normalize_or_zero();
         let u = wi.dot(h).abs();
-        let s1 = schlick(u, self.front.ks);
-        let s2 = schlick(u, self.back.ks);
+        let s1 = schlick(u, self.front.coat.ks);
+        let s2 = schlick(u, self.back.coat.ks);
         let denom = Rgb::WHITE - (s1 + s2) * 0.5;
         let mut s = (Rgb::WHITE - s1) * (Rgb::WHITE - s2);
         s = Rgb::new(
@@ -56,10 +56,10 @@ impl GlossyTranslucentLobes {
             safe_div(s.g, denom.g),
             safe_div(s.b, denom.b),
         );
-        let (df, db) = (self.front.depth, self.back.depth);
+        let (df, db) = (self.front.coat.depth, self.back.coat.depth);
         if df > 0.0 || db > 0.0 {
             let (cf, cb) = if wi.z > 0.0 { (ci, co) } else { (co, ci) };
-            let (af, ab) = (self.front.ka, self.back.ka);
+            let (af, ab) = (self.front.coat.ka, self.back.coat.ka);
             s *= Rgb::new(
                 (-af.r * df / cf - ab.r * db / cb).exp(),
                 (-af.g * df / cf - ab.g * db / cb).exp(),

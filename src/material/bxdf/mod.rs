@@ -7,11 +7,16 @@ pub mod asperity;
 pub mod carpaint;
 pub mod diffuse;
 pub mod fresnel;
+pub mod fresnel_blend;
 pub mod glossy_translucent;
+pub mod irawan;
 pub mod microfacet;
+pub mod perlin;
 pub mod rough_dielectric;
+pub mod scatter;
 pub mod schlick;
 pub mod specular;
+pub mod thin_film;
 pub mod translucent;
 
 use crate::spectrum::Rgb;

@@ -1,10 +1,10 @@
-//! Rough dielectric (LuxRender's roughglass) with a Blinn distribution: microfacet reflection
-//! and refraction after Walter et al. 2007. Reflection is chosen with probability proportional
+//! Rough dielectric (LuxRender's roughglass) with LuxRender 1.x's Schlick distribution
+//! ([`SchlickDist`]): microfacet reflection and refraction after Walter et al. 2007. Reflection is chosen with probability proportional
 //! to `F·avg(Kr)` against `(1 - F)·avg(Kt)` at the sampled half vector; `pdf` recomputes the
 //! same choice from the half vector of the pair, so sampling and evaluation agree.
 
 use super::fresnel;
-use super::microfacet::Blinn;
+use super::schlick::SchlickDist;
 use super::{avg, reflect, refract, same_hemisphere, LocalSample};
 use crate::spectrum::Rgb;
 use glam::{Vec2, Vec3A};
@@ -14,7 +14,7 @@ pub struct RoughDielectric {
     pub kr: Rgb,
     pub kt: Rgb,
     pub eta: f32,
-    pub dist: Blinn,
+    pub dist: SchlickDist,
 }
 
 impl RoughDielectric {
@@ -68,7 +68,7 @@ impl RoughDielectric {
         let oh = wo.dot(h);
         let fr = fresnel::dielectric(oh.abs(), eo, ei);
         let d = self.dist.d(h);
-        let g = self.dist.g(wo, wi, h);
+        let g = self.dist.g(co, ci);
         if reflection {
             return self.kr * (fr * d * g / (4.0 * co * ci));
         }

@@ -1,7 +1,16 @@
-//! Perfectly specular lobes: mirror reflection (with an optional conductor Fresnel), smooth
-//! dielectric (glass, architectural glass) and the null pass-through.
+//! Perfectly specular lobes: mirror reflection (with an optional [`FresnelGeneral`] term and
+//! thin film), smooth dielectric (glass, glass2, architectural glass) and the null
+//! pass-through.
+//!
+//! Glass follows LuxRender's two components: reflection `Kr F` (times the thin-film factor)
+//! and transmission `Kt (1 - F)`, radiance scaled by `(eta_i / eta_t)²` when it bends.
+//! Architectural glass reflects on its front side only; light entering it passes straight
+//! through both faces of the sheet with `1 - F (1 + (1 - F)²)` and light leaving it (the back
+//! side) passes unchanged, as LuxRender's `ArchitecturalReflection`/`SpecularTransmission`.
+//! A lobe is picked with probability proportional to its average weight.
 
-use super::fresnel;
+use super::fresnel::{self, FresnelGeneral};
+use super::thin_film::ThinFilm;
 use super::{avg, refract, LocalSample};
 use crate::spectrum::Rgb;
 use glam::Vec3A;
@@ -10,27 +19,36 @@ fn mirror_dir(wo: Vec3A) -> Vec3A {
     Vec3A::new(-wo.x, -wo.y, wo.z)
 }
 
-/// Mirror reflection scaled by `kr` and, when given, a conductor Fresnel term.
+/// Mirror reflection scaled by `kr`, a Fresnel term when given and a thin film when given.
 #[derive(Clone, Copy, Debug)]
 pub struct SpecularReflection {
     pub kr: Rgb,
-    pub conductor: Option<(Rgb, Rgb)>,
+    pub fresnel: Option<FresnelGeneral>,
+    pub film: Option<ThinFilm>,
 }
 
 impl SpecularReflection {
+    /// The reflectance toward the mirror direction of `wo`.
+    pub fn reflectance(&self, wo: Vec3A) -> Rgb {
+        let mut r = self.kr;
+        if let Some(f) = &self.fresnel {
+            r *= f.eval(wo.z);
+        }
+        if let Some(film) = &self.film {
+            r *= film.factor(wo.z.abs());
+        }
+        r
+    }
+
     pub fn sample(&self, wo: Vec3A) -> Option<LocalSample> {
         let wi = mirror_dir(wo);
         let c = wi.z.abs();
         if c == 0.0 {
             return None;
         }
-        let fr = match self.conductor {
-            Some((n, k)) => fresnel::conductor(c, n, k),
-            None => Rgb::WHITE,
-        };
         Some(LocalSample {
             wi,
-            f: self.kr * fr / c,
+            f: self.reflectance(wo) / c,
             pdf: 1.0,
             specular: true,
         })
@@ -45,32 +63,51 @@ pub struct SpecularDielectric {
     pub kt: Rgb,
     pub eta: f32,
     pub architectural: bool,
+    pub film: Option<ThinFilm>,
 }
 
 impl SpecularDielectric {
+    /// (reflection, transmission) weights before `Kr`/`Kt` for `cos_o` (signed).
+    fn split(&self, cos_o: f32) -> (f32, f32) {
+        let entering = cos_o > 0.0;
+        if self.architectural {
+            if !entering {
+                return (0.0, 1.0);
+            }
+            let f = fresnel::dielectric(cos_o, 1.0, self.eta);
+            return (f, 1.0 - f * (1.0 + (1.0 - f) * (1.0 - f)));
+        }
+        let (eta_i, eta_t) = if entering {
+            (1.0, self.eta)
+        } else {
+            (self.eta, 1.0)
+        };
+        let f = fresnel::dielectric(cos_o.abs(), eta_i, eta_t);
+        (f, 1.0 - f)
+    }
+
     pub fn sample(&self, wo: Vec3A, u: f32) -> Option<LocalSample> {
         let cos_o = wo.z;
         if cos_o == 0.0 {
             return None;
         }
-        let entering = cos_o > 0.0;
-        let (eta_i, eta_t) = if entering || self.architectural {
-            (1.0, self.eta)
-        } else {
-            (self.eta, 1.0)
+        let (fr, ft) = self.split(cos_o);
+        let kr = match &self.film {
+            Some(film) => self.kr * film.factor(cos_o.abs()),
+            None => self.kr,
         };
-        let fr = fresnel::dielectric(cos_o.abs(), eta_i, eta_t);
-        let wr = fr * avg(self.kr);
-        let wt = (1.0 - fr) * avg(self.kt);
-        if wr + wt <= 0.0 {
+        let wr = fr * avg(kr);
+        let wt = ft * avg(self.kt);
+        let total = wr + wt;
+        if total.is_nan() || total <= 0.0 {
             return None;
         }
-        let p_reflect = wr / (wr + wt);
+        let p_reflect = wr / total;
         if u < p_reflect {
             let wi = mirror_dir(wo);
             return Some(LocalSample {
                 wi,
-                f: self.kr * (fr / wi.z.abs()),
+                f: kr * (fr / wi.z.abs()),
                 pdf: p_reflect,
                 specular: true,
             });
@@ -78,6 +115,12 @@ impl SpecularDielectric {
         let (wi, scale) = if self.architectural {
             (-wo, 1.0)
         } else {
+            let entering = cos_o > 0.0;
+            let (eta_i, eta_t) = if entering {
+                (1.0, self.eta)
+            } else {
+                (self.eta, 1.0)
+            };
             let n = if entering { Vec3A::Z } else { -Vec3A::Z };
             let wi = refract(wo, n, eta_i / eta_t)?;
             // Radiance is compressed entering a denser medium (non-symmetric scattering).
@@ -90,7 +133,7 @@ impl SpecularDielectric {
         }
         Some(LocalSample {
             wi,
-            f: self.kt * ((1.0 - fr) * scale / c),
+            f: self.kt * (ft * scale / c),
             pdf: 1.0 - p_reflect,
             specular: true,
         })
