@@ -6,8 +6,8 @@
 //! Each side is the chosen material's own BSDF, so light does not cross (as in LuxRender,
 //! transmission is not supported across the two sides).
 
+use super::bsdf::composite::Composite;
 use super::bsdf::Lobes;
-use super::composite::Composite;
 use super::{Builder, Material, MaterialError};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;

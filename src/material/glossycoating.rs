@@ -4,11 +4,11 @@
 //! `uroughness`/`vroughness` (0.1, clamped to [6e-3, 1]), `multibounce` (false); the defaults
 //! are LuxRender's sources' (its scene-format page says 0.5 for Ks). The base material's BSDF
 //! is built at each hit with its own bump map over this one's; see
-//! [`super::composite::coated`] for how the two combine.
+//! [`super::bsdf::composite::coated`] for how the two combine.
 
+use super::bsdf::composite::coated::Coated;
+use super::bsdf::composite::Composite;
 use super::bsdf::Lobes;
-use super::composite::coated::Coated;
-use super::composite::Composite;
 use super::glossy::CoatParams;
 use super::{Builder, Material, MaterialError};
 use crate::geometry::SurfaceInteraction;

@@ -2,11 +2,11 @@
 //! base, facing the side of the geometric normal first) to `namedmaterial4`, each optional,
 //! with `opacity1`–`opacity4` (float textures, default 1, clamped to [0, 1]): a layer lets
 //! `1 - opacity` of the light through unchanged, and a layer of opacity 0 is left out. A stack
-//! without layers is a null surface. See [`super::composite::layered`] for the stochastic
+//! without layers is a null surface. See [`super::bsdf::composite::layered`] for the stochastic
 //! estimator LuxRender uses (LuxRender calls the material experimental).
 
+use super::bsdf::composite::{layered, Composite};
 use super::bsdf::{Bsdf, Lobes};
-use super::composite::{layered, Composite};
 use super::{Builder, Material, MaterialError};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;

@@ -21,7 +21,6 @@ pub mod bxdf;
 pub mod carpaint;
 pub mod cloth;
 pub mod cloth_patterns;
-pub mod composite;
 pub mod compositing;
 pub mod doubleside;
 pub mod glass;

@@ -12,22 +12,24 @@
 //! reverse densities are available to bidirectional methods: `pdf(wi, wo)` is the density of
 //! sampling `wo` from `wi`.
 
-use super::bxdf::asperity::Asperity;
-use super::bxdf::carpaint::CarPaintLobes;
-use super::bxdf::diffuse::Diffuse;
-use super::bxdf::fresnel_blend::FresnelBlend;
-use super::bxdf::glossy_translucent::GlossyTranslucentLobes;
-use super::bxdf::irawan::ClothLobes;
-use super::bxdf::microfacet::MicrofacetReflection;
-use super::bxdf::rough_dielectric::RoughDielectric;
-use super::bxdf::scatter::SchlickScatter;
-use super::bxdf::schlick::{Coating, SchlickBrdf};
-use super::bxdf::specular::{pass_through, SpecularDielectric, SpecularReflection};
-use super::bxdf::translucent::Translucent;
-use super::bxdf::LocalSample;
-use super::composite::Composite;
+pub mod composite;
+
 use crate::geometry::{unit_or, SurfaceInteraction};
+use crate::material::bxdf::asperity::Asperity;
+use crate::material::bxdf::carpaint::CarPaintLobes;
+use crate::material::bxdf::diffuse::Diffuse;
+use crate::material::bxdf::fresnel_blend::FresnelBlend;
+use crate::material::bxdf::glossy_translucent::GlossyTranslucentLobes;
+use crate::material::bxdf::irawan::ClothLobes;
+use crate::material::bxdf::microfacet::MicrofacetReflection;
+use crate::material::bxdf::rough_dielectric::RoughDielectric;
+use crate::material::bxdf::scatter::SchlickScatter;
+use crate::material::bxdf::schlick::{Coating, SchlickBrdf};
+use crate::material::bxdf::specular::{pass_through, SpecularDielectric, SpecularReflection};
+use crate::material::bxdf::translucent::Translucent;
+use crate::material::bxdf::LocalSample;
 use crate::spectrum::Rgb;
+use composite::Composite;
 use glam::{Vec2, Vec3A};
 
 /// A sampled direction in world space. `f` has no cosine; for specular samples `pdf` is the

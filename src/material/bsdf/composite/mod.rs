@@ -10,7 +10,7 @@
 pub mod coated;
 pub mod layered;
 
-use super::bsdf::{Bsdf, BsdfSample};
+use super::{Bsdf, BsdfSample};
 use crate::spectrum::Rgb;
 use glam::{Vec2, Vec3A};
 
