@@ -23,6 +23,7 @@ pub mod add;
 pub mod band;
 pub mod bilerp;
 pub mod blackbody;
+pub mod blender;
 pub mod brick;
 pub mod cauchy;
 pub mod checkerboard;
@@ -242,7 +243,10 @@ pub(crate) fn build_node(set: &mut TextureSet, t: &TextureDesc) -> Result<TexNod
         "gaussian" => color_only(set, gaussian::build),
         "lampspectrum" => color_only(set, lampspectrum::build),
         "tabulateddata" => color_only(set, tabulateddata::build),
-        _ => Err(unknown(t)),
+        other => match blender::kind(other) {
+            Some(kind) => blender::build(set, t, kind),
+            None => Err(unknown(t)),
+        },
     }
 }
 

@@ -10,9 +10,9 @@
 //! derivatives are of the texture's float value (its first channel).
 
 use super::{
-    band, bilerp, brick, checkerboard, cloud, colordepth, dots, fbm, harlequin, hitpointalpha,
-    hitpointcolor, hitpointgrey, imagemap, marble, mix, multimix, normalmap, spectral, uv, uvmask,
-    windy, wrinkled,
+    band, bilerp, blender, brick, checkerboard, cloud, colordepth, dots, fbm, harlequin,
+    hitpointalpha, hitpointcolor, hitpointgrey, imagemap, marble, mix, multimix, normalmap,
+    spectral, uv, uvmask, windy, wrinkled,
 };
 use crate::geometry::SurfaceInteraction;
 use crate::spectrum::Rgb;
@@ -50,6 +50,7 @@ pub enum TexNode {
     ColorDepth(colordepth::ColorDepthTex),
     /// A colour converted from spectral data at build time; the data is kept.
     Spectral(spectral::SpectralTex),
+    Blender(Box<blender::BlenderTex>),
 }
 
 impl TexNode {
@@ -83,6 +84,7 @@ impl TexNode {
             TexNode::HitpointGrey(t) => Rgb::splat(t.value(si)),
             TexNode::ColorDepth(t) => t.eval(si),
             TexNode::Spectral(t) => t.rgb,
+            TexNode::Blender(t) => Rgb::splat(t.value(si)),
         }
     }
 
@@ -127,6 +129,7 @@ impl TexNode {
             TexNode::Checker2D(c) => c.duv(si, delta),
             TexNode::Checker3D(c) => c.duv(si, delta),
             TexNode::UvMask(t) => t.duv(si, delta),
+            TexNode::Blender(t) => t.duv(si, delta),
             TexNode::Dots(_)
             | TexNode::Brick(_)
             | TexNode::Uv(_)

@@ -3,6 +3,7 @@
 //! classes in [`classes`] (procedural and blending textures, hand-computed values), the
 //! spectral and fresnel ones in [`optics`].
 
+mod blender;
 mod classes;
 mod optics;
 
