@@ -397,6 +397,7 @@ fn to_world(t: &Transform, g: &LocalGeometry) -> LocalGeometry {
         uv: g.uv,
         dpdu: t.vector_f32(g.dpdu),
         dpdv: t.vector_f32(g.dpdv),
+        hit: g.hit,
     }
 }
 

@@ -1,7 +1,7 @@
 //! Local frames: an orthonormal basis around a normal, and the assembly of a complete
 //! [`SurfaceInteraction`] (geometric and shading frames) from what a shape computed.
 
-use super::interaction::{Interaction, Shading, SurfaceInteraction};
+use super::interaction::{HitData, Interaction, Shading, SurfaceInteraction};
 use glam::{Vec2, Vec3A};
 
 /// Two unit vectors completing `n` (unit) to a right-handed orthonormal basis (Duff et al.).
@@ -26,6 +26,8 @@ pub struct LocalGeometry {
     pub uv: Vec2,
     pub dpdu: Vec3A,
     pub dpdv: Vec3A,
+    /// Vertex colour, alpha and face index (defaults for shapes without them).
+    pub hit: HitData,
 }
 
 impl LocalGeometry {
@@ -59,6 +61,7 @@ impl LocalGeometry {
             shading,
             t,
             prim,
+            hit: self.hit,
         }
     }
 

@@ -22,6 +22,27 @@ pub struct Interaction {
     pub time: f32,
 }
 
+/// What a shape knows about a hit beyond its geometry, for the textures that read it
+/// (`hitpointcolor`, `hitpointalpha`, `hitpointgrey`, `harlequin`): the interpolated vertex
+/// colour and alpha of a mesh (white and 1 when the mesh has none, as LuxRender returns) and
+/// the index of the face within its shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HitData {
+    pub color: [f32; 3],
+    pub alpha: f32,
+    pub face: u32,
+}
+
+impl Default for HitData {
+    fn default() -> HitData {
+        HitData {
+            color: [1.0; 3],
+            alpha: 1.0,
+            face: 0,
+        }
+    }
+}
+
 /// The full record of a ray hit.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SurfaceInteraction {
@@ -36,6 +57,8 @@ pub struct SurfaceInteraction {
     pub t: f32,
     /// Index of the primitive in the scene's primitive table (material, area light, ...).
     pub prim: u32,
+    /// Vertex colour, alpha and face index at the hit.
+    pub hit: HitData,
 }
 
 /// Moves `p` out of its error box along the normal, on the side of `w`, then rounds away

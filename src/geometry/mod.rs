@@ -11,7 +11,7 @@ pub mod ray;
 pub mod transform;
 
 pub use glam::{Vec2, Vec3A};
-pub use interaction::{Interaction, Shading, SurfaceInteraction};
+pub use interaction::{HitData, Interaction, Shading, SurfaceInteraction};
 pub use ray::Ray;
 pub use transform::Transform;
 

@@ -64,12 +64,14 @@ pub struct CameraDesc {
     pub exterior: Option<String>,
 }
 
-/// Value type of a texture: LuxRender keeps float and color textures in separate namespaces.
+/// Value type of a texture: LuxRender keeps float, color and fresnel textures in separate
+/// namespaces. Fresnel textures give optical data (a complex index of refraction).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, PartialOrd, Ord)]
 #[serde(rename_all = "lowercase")]
 pub enum TextureType {
     Float,
     Color,
+    Fresnel,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

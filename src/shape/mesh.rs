@@ -1,10 +1,13 @@
 //! Triangle meshes as every mesh-like shape produces them (trianglemesh, mesh, plymesh,
 //! stlmesh, heightfield): vertices transformed into the target space at build time, optional
-//! per-vertex normals and uv, quads split along their shorter diagonal as LuxRender does.
+//! per-vertex normals, uv, colours and alphas (what `hitpointcolor`/`hitpointalpha` read,
+//! interpolated like LuxRender's `GetShadingInformation`), quads split along their shorter
+//! diagonal as LuxRender does.
 
 use super::{Build, BuildError};
 use crate::geometry::frame::{coordinate_system, LocalGeometry};
 use crate::geometry::transform::{error_floor, gamma, to_f32, to_f64};
+use crate::geometry::HitData;
 use glam::{Vec2, Vec3A};
 
 /// Vertex and face data as read from parameters or a file (object space).
@@ -13,6 +16,10 @@ pub struct MeshData {
     pub p: Vec<[f32; 3]>,
     pub n: Option<Vec<[f32; 3]>>,
     pub uv: Option<Vec<[f32; 2]>>,
+    /// Per-vertex colour (LuxRender's `float C`, three per vertex; PLY red/green/blue).
+    pub cols: Option<Vec<[f32; 3]>>,
+    /// Per-vertex alpha (LuxRender's `float A`; PLY alpha).
+    pub alphas: Option<Vec<f32>>,
     pub tris: Vec<[i64; 3]>,
     pub quads: Vec<[i64; 4]>,
 }
@@ -34,6 +41,9 @@ pub struct TriangleMesh {
     /// LuxRender does); the geometric normal is turned to agree with them.
     pub n: Option<Vec<Vec3A>>,
     pub uv: Option<Vec<Vec2>>,
+    /// Per-vertex colours and alphas, when the mesh has them.
+    pub cols: Option<Vec<[f32; 3]>>,
+    pub alphas: Option<Vec<f32>>,
     pub tris: Vec<[u32; 3]>,
     /// Unit geometric normal of each triangle, `flip` applied (before turning it toward the
     /// shading normal). Kept rather than recomputed: its square root and division sat on
@@ -106,12 +116,16 @@ impl TriangleMesh {
             }
             None => None,
         };
+        let cols = per_vertex(b, data.cols, nv, "colours (\"C\")");
+        let alphas = per_vertex(b, data.alphas, nv, "alphas (\"A\")");
         let flip = b.reverse() ^ b.to_space.swaps_handedness();
         let face_n = tris.iter().map(|t| face_normal(&p, *t, flip)).collect();
         Ok(TriangleMesh {
             p,
             n,
             uv,
+            cols,
+            alphas,
             tris,
             face_n,
             flip,
@@ -178,7 +192,26 @@ impl TriangleMesh {
             uv: b[0] * uv[0] + b[1] * uv[1] + b[2] * uv[2],
             dpdu,
             dpdv,
+            hit: self.hit_data(i, b),
         }
+    }
+
+    /// Interpolated vertex colour and alpha (white and 1 without them) and the face index.
+    fn hit_data(&self, i: usize, b: [f32; 3]) -> HitData {
+        let idx = self.tris[i].map(|k| k as usize);
+        let mut hit = HitData {
+            face: i as u32,
+            ..HitData::default()
+        };
+        if let Some(c) = &self.cols {
+            for (ch, out) in hit.color.iter_mut().enumerate() {
+                *out = b[0] * c[idx[0]][ch] + b[1] * c[idx[1]][ch] + b[2] * c[idx[2]][ch];
+            }
+        }
+        if let Some(a) = &self.alphas {
+            hit.alpha = b[0] * a[idx[0]] + b[1] * a[idx[1]] + b[2] * a[idx[2]];
+        }
+        hit
     }
 
     /// The uv of triangle `i`'s vertices (LuxRender's (0,0), (1,0), (1,1) without "uv").
@@ -215,6 +248,21 @@ fn face_normal(p: &[Vec3A], t: [u32; 3], flip: bool) -> Vec3A {
         -n
     } else {
         n
+    }
+}
+
+/// Per-vertex data kept when there is one value per vertex; otherwise dropped with a warning.
+fn per_vertex<T>(b: &Build, data: Option<Vec<T>>, nv: usize, what: &str) -> Option<Vec<T>> {
+    match data {
+        Some(v) if v.len() == nv => Some(v),
+        Some(v) => {
+            b.warn(&format!(
+                "{} vertex {what} for {nv} vertices: ignoring them",
+                v.len()
+            ));
+            None
+        }
+        None => None,
     }
 }
 

@@ -1,5 +1,6 @@
 //! `plymesh`: a PLY file (ASCII, binary little- or big-endian) with vertex positions, optional
-//! normals (`nx ny nz`) and texture coordinates (`s t`, else `u v`), triangles and quads
+//! normals (`nx ny nz`), texture coordinates (`s t`, else `u v`), vertex colours (`red green
+//! blue`, 8-bit values divided by 255) and alphas (`alpha`), triangles and quads
 //! (`vertex_indices`). Parameters as LuxRender's plymesh.cpp: `string filename` (relative to
 //! the scene directory), `bool smooth` (default false). As in LuxRender, when `smooth` is set
 //! or the file has no normal per vertex, vertex normals are the average of the adjacent faces'
@@ -313,8 +314,22 @@ fn read_vertices(r: &mut Reader, el: &Element, data: &mut MeshData) -> Result<()
         [_, _, Some(a), Some(b)] => Some([a, b]),
         _ => None,
     };
+    // Vertex colours as LuxRender's plymesh reads them: 8-bit values are divided by 255.
+    let rgb = match [find("red"), find("green"), find("blue")] {
+        [Some(a), Some(b), Some(c)] => Some([a, b, c]),
+        _ => None,
+    };
+    let alpha = find("alpha");
+    let unit = |k: usize, v: f64| -> f32 {
+        match el.props.get(k).map(|p| p.ty) {
+            Some(Scalar::U8) => (v / 255.0) as f32,
+            Some(Scalar::U16) => (v / 65535.0) as f32,
+            _ => v as f32,
+        }
+    };
     let mut vals = vec![0.0f64; el.props.len()];
     let (mut ps, mut ns, mut uvs) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut cols, mut alphas) = (Vec::new(), Vec::new());
     for _ in 0..el.count {
         for (k, p) in el.props.iter().enumerate() {
             if p.list.is_some() {
@@ -330,10 +345,18 @@ fn read_vertices(r: &mut Reader, el: &Element, data: &mut MeshData) -> Result<()
         if let Some([a, b]) = uv {
             uvs.push([vals[a] as f32, vals[b] as f32]);
         }
+        if let Some([a, b, c]) = rgb {
+            cols.push([unit(a, vals[a]), unit(b, vals[b]), unit(c, vals[c])]);
+        }
+        if let Some(a) = alpha {
+            alphas.push(unit(a, vals[a]));
+        }
     }
     data.p = ps;
     data.n = nrm.map(|_| ns);
     data.uv = uv.map(|_| uvs);
+    data.cols = rgb.map(|_| cols);
+    data.alphas = alpha.map(|_| alphas);
     Ok(())
 }
 

@@ -395,6 +395,7 @@ impl Quadric {
             uv,
             dpdu: crate::geometry::transform::to_f32(self.to_space.vector(dpdu)),
             dpdv: crate::geometry::transform::to_f32(self.to_space.vector(dpdv)),
+            hit: Default::default(),
         }
     }
 

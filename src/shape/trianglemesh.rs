@@ -1,6 +1,7 @@
 //! `trianglemesh` and `mesh` (also `waldtrianglemesh`, `barytrianglemesh`, `loopsubdiv`): all
 //! read by LuxRender's mesh.cpp. Parameters: `point P`, `integer triindices` (or `indices`),
-//! `integer quadindices`, `normal N`, `float uv` (or `st`), `string tritype`/`quadtype`/
+//! `integer quadindices`, `normal N`, `float uv` (or `st`), `float C` (vertex colours, three
+//! per vertex) and `float A` (vertex alphas), `string tritype`/`quadtype`/
 //! `acceltype` (LuxRender-internal choices, read and ignored), `nsubdivlevels`/`nlevels` and
 //! `displacementmap` (subdivision and displacement are not implemented: an error).
 
@@ -55,6 +56,10 @@ pub(crate) fn build(b: &Build) -> Result<TriangleMesh, BuildError> {
         None => None,
     };
     let n = ps.normals("N").map(|n| n.to_vec());
+    let cols = ps
+        .floats("C")
+        .map(|c| c.chunks_exact(3).map(|v| [v[0], v[1], v[2]]).collect());
+    let alphas = ps.floats("A").map(|a| a.to_vec());
     check_unsupported(b)?;
     TriangleMesh::build(
         b,
@@ -62,6 +67,8 @@ pub(crate) fn build(b: &Build) -> Result<TriangleMesh, BuildError> {
             p,
             n,
             uv,
+            cols,
+            alphas,
             tris,
             quads,
         },
@@ -87,13 +94,6 @@ pub(crate) fn check_unsupported(b: &Build) -> Result<(), BuildError> {
     for tangent in ["S", "tangents"] {
         if ps.get(tangent).is_some() {
             b.warn(&format!("\"{tangent}\" (tangents) is ignored"));
-        }
-    }
-    for vertex_attr in ["C", "A"] {
-        if ps.floats(vertex_attr).is_some() {
-            b.warn(&format!(
-                "per-vertex \"{vertex_attr}\" is ignored (vertex colours are not implemented)"
-            ));
         }
     }
     let levels = ps

@@ -95,6 +95,22 @@ fn combine(c: Rgb, t: &[DVec3; 7]) -> [f32; 3] {
     [acc.x as f32, acc.y as f32, acc.z as f32]
 }
 
+/// XYZ of a spectrum given as a function of wavelength (nm), as LuxRender integrates it
+/// (`683 Σ s(λ) cmf(λ)`, 380–720 nm in 1 nm steps).
+pub fn spectrum_xyz(s: impl Fn(f32) -> f64) -> [f64; 3] {
+    integrate(s).to_array()
+}
+
+/// XYZ of a reflectance spectrum lit by the white illuminant (LuxRender's
+/// `RGBIllumSPD(1, 1, 1)`): what a white light reflected by it gives on the film.
+pub fn reflectance_xyz(r: impl Fn(f32) -> f64) -> [f64; 3] {
+    integrate(|nm| {
+        let white = smits::sample(&smits::WHITE, nm) as f64 * smits::ILLUM_SCALE as f64;
+        white * r(nm)
+    })
+    .to_array()
+}
+
 /// Film XYZ of a radiance RGB (see the module documentation).
 pub fn rgb_to_xyz(c: Rgb) -> [f32; 3] {
     combine(c, basis_xyz())
@@ -154,7 +170,7 @@ pub fn xyz_to_rgb(xyz: [f32; 3]) -> Rgb {
 }
 
 /// Planck's law as LuxRender's `BlackbodySPD` evaluates it (arbitrary units), `nm` in nm.
-fn planck(nm: f64, temperature: f64) -> f64 {
+pub(crate) fn planck(nm: f64, temperature: f64) -> f64 {
     let w = nm * 1e-9;
     0.4e-9 * (3.74183e-16 * w.powi(-5)) / ((1.4388e-2 / (w * temperature)).exp() - 1.0)
 }

@@ -1,4 +1,4 @@
-//! `add` texture: `tex1 + tex2` (both default 1).
+//! `add` texture: `tex1 + tex2` (both default 1). Its bump derivatives are the sum of theirs.
 
 use super::{TexNode, TextureError, TextureSet};
 use crate::lxs::TextureDesc;

@@ -1,9 +1,10 @@
-//! Image files for `imagemap`: PNG, JPEG, TGA and HDR through the `image` crate, OpenEXR through
-//! the `exr` crate, as linear RGBA f32 texels (row 0 at the top of the image). 8-bit images are
-//! divided by 255; LuxRender's `gamma` is applied to the colour channels of every format at
-//! load time (`value^gamma`; scenes give `gamma 1` for linear EXR/HDR files). Each
-//! (file, gamma) is loaded once per [`ImageCache`].
+//! Image files for `imagemap` and `normalmap`: PNG, JPEG, TGA and HDR through the `image`
+//! crate, OpenEXR through the `exr` crate, as RGBA f32 texels (row 0 at the top of the image).
+//! 8-bit images are divided by 255 (16-bit by 65535), as LuxRender stores them; the textures
+//! apply `gain` and `gamma` to the filtered value. Each file is loaded once per [`ImageCache`],
+//! and each filtered form of it (see [`super::mipmap`]) built once.
 
+use super::mipmap::{FilterType, MipMap, Wrap};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -26,12 +27,15 @@ impl ImageData {
     }
 }
 
+/// Loaded images and the lookup structures built from them.
 #[derive(Default)]
 pub struct ImageCache {
-    images: HashMap<(PathBuf, u32), Arc<ImageData>>,
+    images: HashMap<PathBuf, Arc<ImageData>>,
+    maps: HashMap<(PathBuf, FilterType, Wrap, u32, usize), Arc<MipMap>>,
 }
 
 impl ImageCache {
+    /// Number of distinct image files loaded.
     pub fn len(&self) -> usize {
         self.images.len()
     }
@@ -40,20 +44,12 @@ impl ImageCache {
         self.images.is_empty()
     }
 
-    /// The image at `path` with `gamma` applied, loading it on first use.
-    pub fn get(&mut self, path: &Path, gamma: f32) -> Result<Arc<ImageData>, String> {
-        let key = (path.to_path_buf(), gamma.to_bits());
-        if let Some(img) = self.images.get(&key) {
+    /// The image at `path`, loading it on first use.
+    pub fn get(&mut self, path: &Path) -> Result<Arc<ImageData>, String> {
+        if let Some(img) = self.images.get(path) {
             return Ok(img.clone());
         }
-        let mut img = load(path)?;
-        if gamma != 1.0 {
-            for t in &mut img.texels {
-                for c in t.iter_mut().take(3) {
-                    *c = c.max(0.0).powf(gamma);
-                }
-            }
-        }
+        let img = load(path)?;
         tracing::info!(
             "loaded image {} ({}x{})",
             path.display(),
@@ -61,8 +57,43 @@ impl ImageCache {
             img.height
         );
         let img = Arc::new(img);
-        self.images.insert(key, img.clone());
+        self.images.insert(path.to_path_buf(), img.clone());
         Ok(img)
+    }
+
+    /// The image at `path` prepared for lookups with `filter` and `wrap` (without its
+    /// `discard` finest pyramid levels), built once.
+    pub fn mipmap(
+        &mut self,
+        path: &Path,
+        filter: FilterType,
+        wrap: Wrap,
+        max_anisotropy: f32,
+        discard: usize,
+    ) -> Result<Arc<MipMap>, String> {
+        let key = (
+            path.to_path_buf(),
+            filter,
+            wrap,
+            max_anisotropy.to_bits(),
+            discard,
+        );
+        if let Some(m) = self.maps.get(&key) {
+            return Ok(m.clone());
+        }
+        let img = self.get(path)?;
+        let mut m = MipMap::new(
+            img.width,
+            img.height,
+            &img.texels,
+            filter,
+            wrap,
+            max_anisotropy,
+        );
+        m.discard_levels(discard);
+        let m = Arc::new(m);
+        self.maps.insert(key, m.clone());
+        Ok(m)
     }
 }
 

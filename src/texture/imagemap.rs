@@ -1,12 +1,19 @@
-//! `imagemap` texture: `filename` (relative to the scene directory), `gamma` (default 2.2),
-//! `gain` (default 1), `filtertype` (`bilinear` default, `nearest`; `mipmap_trilinear`,
-//! `mipmap_ewa` and `ewa` fall back to bilinear with a warning), `wrap` (`repeat` default,
-//! `black`, `clamp`), `channel` for float textures (`mean` default, `red`, `green`, `blue`,
-//! `alpha`, `colored_mean`) and a 2D mapping. t = 0 is the top row of the image, as in
-//! LuxRender (Blender exporters write `vscale -1` to flip their bottom-up v).
+//! `imagemap` texture: an image over a 2D mapping. Parameters as LuxRender 1.x reads them:
+//! `filename` (relative to the scene directory), `filtertype` (`bilinear` default, `nearest`,
+//! `mipmap_trilinear`, `mipmap_ewa`; see [`super::mipmap`]), `maxanisotropy` (8),
+//! `discardmipmaps` (0: finest levels dropped from the pyramid), `wrap` (`repeat` default,
+//! `black`, `white`, `clamp`), `gain` (1), `gamma` (2.2) and, for float textures, `channel`
+//! (`mean` default, `red`, `green`, `blue`, `alpha`, `colored_mean` = luminance Y). As in
+//! LuxRender the value is `(gain · filtered)^gamma` (alpha is not raised to gamma), the float
+//! channel being taken before gain and gamma. t = 0 is the top row of the image (Blender
+//! exporters write `vscale -1` to flip their bottom-up v).
+//!
+//! The bump derivative is LuxRender's: the image's slope at (s, t)
+//! ([`MipMap::differentials`], through gain and gamma) times the mapping's (s, t)
+//! derivatives — so relief keeps its strength at any uscale/vscale.
 
-use super::image_io::ImageData;
 use super::mapping::Mapping2D;
+use super::mipmap::{FilterType, MipMap, Texel, Wrap};
 use super::{param_loc, TexNode, TextureError, TextureSet};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::{TextureDesc, TextureType};
@@ -14,169 +21,212 @@ use crate::spectrum::Rgb;
 use glam::Vec2;
 use std::sync::Arc;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Filter {
-    Bilinear,
-    Nearest,
-}
+pub const DEFAULT_GAMMA: f32 = 2.2;
+pub const DEFAULT_MAX_ANISOTROPY: f32 = 8.0;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Wrap {
-    Repeat,
-    Black,
-    Clamp,
-}
-
-/// What a texel contributes: its colour, or one float channel (splatted).
+/// What a texel contributes: its colour, or one float channel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Channel {
     Color,
     Mean,
+    /// Luminance (LuxRender's `colored_mean`).
+    WeightedMean,
     Red,
     Green,
     Blue,
     Alpha,
 }
 
+impl Channel {
+    /// The float value of a texel (colour textures: the mean, as LuxRender's `Filter`).
+    pub fn of(self, t: Texel) -> f32 {
+        match self {
+            Channel::Color | Channel::Mean => (t[0] + t[1] + t[2]) / 3.0,
+            Channel::WeightedMean => 0.212_671 * t[0] + 0.715_160 * t[1] + 0.072_169 * t[2],
+            Channel::Red => t[0],
+            Channel::Green => t[1],
+            Channel::Blue => t[2],
+            Channel::Alpha => t[3],
+        }
+    }
+}
+
+/// An image lookup with LuxRender's gain and gamma.
+#[derive(Debug)]
+pub struct ImageLookup {
+    pub map: Arc<MipMap>,
+    pub gain: f32,
+    pub gamma: f32,
+    pub channel: Channel,
+}
+
+impl ImageLookup {
+    #[inline]
+    fn tone(&self, v: f32) -> f32 {
+        let g = self.gain * v;
+        if self.gamma == 1.0 {
+            g
+        } else {
+            g.max(0.0).powf(self.gamma)
+        }
+    }
+
+    /// The value at (s, t).
+    pub fn lookup(&self, st: Vec2) -> Rgb {
+        let t = self.map.lookup(st.x, st.y);
+        match self.channel {
+            Channel::Color => Rgb::new(self.tone(t[0]), self.tone(t[1]), self.tone(t[2])),
+            c => Rgb::splat(self.tone(c.of(t))),
+        }
+    }
+
+    /// The slope of the float value at (s, t) (LuxRender's `GetDifferentials` with gain and
+    /// gamma).
+    pub fn slope(&self, st: Vec2) -> Vec2 {
+        let ch = self.channel;
+        let (ds, dt) = self.map.differentials(st.x, st.y, |t| ch.of(t));
+        let mut d = Vec2::new(ds, dt) * self.gain;
+        if self.gamma != 1.0 {
+            let raw = ch.of(self.map.lookup(st.x, st.y));
+            d *= self.gamma * raw.max(0.0).powf(self.gamma - 1.0);
+        }
+        if d.is_finite() {
+            d
+        } else {
+            Vec2::ZERO
+        }
+    }
+}
+
 #[derive(Debug)]
 pub struct ImageTex {
-    pub image: Arc<ImageData>,
+    pub image: ImageLookup,
     pub mapping: Mapping2D,
-    pub filter: Filter,
-    pub wrap: Wrap,
-    pub gain: f32,
-    pub channel: Channel,
 }
 
 impl ImageTex {
     pub fn eval(&self, si: &SurfaceInteraction) -> Rgb {
-        let st = self.mapping.map(si);
-        self.lookup(st)
+        self.image.lookup(self.mapping.map(si))
     }
 
-    /// Filtered value at texture coordinates (s, t).
-    pub fn lookup(&self, st: Vec2) -> Rgb {
-        let (w, h) = (self.image.width as f32, self.image.height as f32);
-        let x = st.x * w - 0.5;
-        let y = st.y * h - 0.5;
-        let t = match self.filter {
-            Filter::Nearest => self.texel((x + 0.5).floor() as i64, (y + 0.5).floor() as i64),
-            Filter::Bilinear => {
-                let (x0, y0) = (x.floor(), y.floor());
-                let (fx, fy) = (x - x0, y - y0);
-                let (x0, y0) = (x0 as i64, y0 as i64);
-                let mut acc = [0.0f32; 4];
-                for (dx, dy, wgt) in [
-                    (0, 0, (1.0 - fx) * (1.0 - fy)),
-                    (1, 0, fx * (1.0 - fy)),
-                    (0, 1, (1.0 - fx) * fy),
-                    (1, 1, fx * fy),
-                ] {
-                    let v = self.texel(x0 + dx, y0 + dy);
-                    for i in 0..4 {
-                        acc[i] += v[i] * wgt;
-                    }
-                }
-                acc
-            }
-        };
-        self.value(t) * self.gain
-    }
-
-    fn value(&self, t: [f32; 4]) -> Rgb {
-        match self.channel {
-            Channel::Color => Rgb::new(t[0], t[1], t[2]),
-            Channel::Mean => Rgb::splat((t[0] + t[1] + t[2]) / 3.0),
-            Channel::Red => Rgb::splat(t[0]),
-            Channel::Green => Rgb::splat(t[1]),
-            Channel::Blue => Rgb::splat(t[2]),
-            Channel::Alpha => Rgb::splat(t[3]),
-        }
-    }
-
-    fn texel(&self, x: i64, y: i64) -> [f32; 4] {
-        let (w, h) = (self.image.width as i64, self.image.height as i64);
-        let (x, y) = match self.wrap {
-            Wrap::Repeat => (x.rem_euclid(w), y.rem_euclid(h)),
-            Wrap::Clamp => (x.clamp(0, w - 1), y.clamp(0, h - 1)),
-            Wrap::Black => {
-                if x < 0 || y < 0 || x >= w || y >= h {
-                    return [0.0; 4];
-                }
-                (x, y)
-            }
-        };
-        self.image.texel(x as usize, y as usize)
+    pub fn duv(&self, si: &SurfaceInteraction) -> Vec2 {
+        let m = self.mapping.map_duv(si);
+        let d = self.image.slope(m.st);
+        Vec2::new(d.dot(m.d_du), d.dot(m.d_dv))
     }
 }
 
-pub fn build(set: &mut TextureSet, t: &TextureDesc) -> Result<TexNode, TextureError> {
+/// The image of an `imagemap` or `normalmap` statement: file, filter, wrap, gain, gamma and
+/// channel read from its parameters (`default_gamma` differs between the two).
+pub fn image_lookup(
+    set: &mut TextureSet,
+    t: &TextureDesc,
+    default_gamma: f32,
+    channel: Channel,
+) -> Result<ImageLookup, TextureError> {
     let p = &t.entity.params;
     let loc = &t.entity.loc;
     let Some(name) = p.string("filename").map(str::to_string) else {
         return Err(TextureError::BadParam {
             loc: loc.clone(),
-            message: "imagemap needs a \"string filename\"".into(),
+            message: format!("{} needs a \"string filename\"", t.entity.kind),
         });
     };
-    let gamma = p.float_or("gamma", 2.2);
+    let gamma = p.float_or("gamma", default_gamma);
     let gain = p.float_or("gain", 1.0);
+    if !(gamma.is_finite() && gain.is_finite()) {
+        return Err(TextureError::param(
+            t,
+            "gamma",
+            "gain and gamma must be finite",
+        ));
+    }
     let filter = match p.string_or("filtertype", "bilinear") {
-        "bilinear" => Filter::Bilinear,
-        "nearest" => Filter::Nearest,
+        "bilinear" => FilterType::Bilinear,
+        "nearest" => FilterType::Nearest,
+        "mipmap_trilinear" => FilterType::Trilinear,
+        "mipmap_ewa" | "ewa" => FilterType::Ewa,
         other => {
             let other = other.to_string();
             set.warn(
                 &param_loc(p, "filtertype", loc),
-                format!("imagemap filtertype \"{other}\" is not supported: using bilinear"),
+                format!(
+                    "unknown filtertype \"{other}\" (bilinear, nearest, mipmap_trilinear, \
+                     mipmap_ewa): bilinear, as LuxRender uses"
+                ),
             );
-            Filter::Bilinear
+            FilterType::Bilinear
         }
     };
+    // The 0.x option that chose trilinear over EWA.
+    let filter = match (filter, p.bool("trilinear")) {
+        (FilterType::Ewa, Some(true)) => FilterType::Trilinear,
+        (f, _) => f,
+    };
+    let max_aniso = p.float_or("maxanisotropy", DEFAULT_MAX_ANISOTROPY);
+    if !(max_aniso.is_finite() && max_aniso > 0.0) {
+        return Err(TextureError::param(
+            t,
+            "maxanisotropy",
+            format!("maxanisotropy must be positive, got {max_aniso}"),
+        ));
+    }
+    let discard = p.int_or("discardmipmaps", 0).clamp(0, 64) as usize;
     // LuxRender 0.x spelled the black wrap mode "black"; "zero" is accepted too.
     let wrap = match p.string_or("wrap", "repeat") {
         "repeat" => Wrap::Repeat,
         "black" | "zero" => Wrap::Black,
+        "white" => Wrap::White,
         "clamp" => Wrap::Clamp,
         other => {
             return Err(TextureError::BadParam {
                 loc: param_loc(p, "wrap", loc),
-                message: format!("unknown imagemap wrap \"{other}\" (repeat, black, clamp)"),
+                message: format!("unknown wrap \"{other}\" (repeat, black, white, clamp)"),
             })
         }
     };
+    let path = set.ctx.base_dir.join(&name);
+    let map = set
+        .images
+        .mipmap(&path, filter, wrap, max_aniso, discard)
+        .map_err(|message| TextureError::Image {
+            loc: param_loc(p, "filename", loc),
+            path: path.display().to_string(),
+            message,
+        })?;
+    Ok(ImageLookup {
+        map,
+        gain,
+        gamma,
+        channel,
+    })
+}
+
+pub fn build(set: &mut TextureSet, t: &TextureDesc) -> Result<TexNode, TextureError> {
+    let p = &t.entity.params;
     let channel = match t.value_type {
-        TextureType::Color => Channel::Color,
         TextureType::Float => match p.string_or("channel", "mean") {
-            "mean" | "colored_mean" => Channel::Mean,
+            "mean" => Channel::Mean,
+            "colored_mean" => Channel::WeightedMean,
             "red" => Channel::Red,
             "green" => Channel::Green,
             "blue" => Channel::Blue,
             "alpha" => Channel::Alpha,
             other => {
                 return Err(TextureError::BadParam {
-                    loc: param_loc(p, "channel", loc),
-                    message: format!("unknown imagemap channel \"{other}\""),
+                    loc: param_loc(p, "channel", &t.entity.loc),
+                    message: format!(
+                        "unknown imagemap channel \"{other}\" (mean, colored_mean, red, green, \
+                         blue, alpha)"
+                    ),
                 })
             }
         },
+        _ => Channel::Color,
     };
-    let mapping = Mapping2D::from_params(t)?;
-    let path = set.ctx.base_dir.join(&name);
-    let image = set
-        .images
-        .get(&path, gamma)
-        .map_err(|message| TextureError::Image {
-            loc: param_loc(p, "filename", loc),
-            path: path.display().to_string(),
-            message,
-        })?;
+    let image = image_lookup(set, t, DEFAULT_GAMMA, channel)?;
     Ok(TexNode::Image(ImageTex {
         image,
-        mapping,
-        filter,
-        wrap,
-        gain,
-        channel,
+        mapping: Mapping2D::from_params(t)?,
     }))
 }

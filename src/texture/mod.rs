@@ -1,29 +1,79 @@
-//! Textures: constant, imagemap, scale, mix, add, subtract, checkerboard (2D and 3D), uv and
-//! blackbody, with LuxRender's parameter names and defaults (one file per texture).
+//! Textures: every texture class of LuxRender 1.x, with its parameter names, defaults and
+//! pattern functions (one file per texture, the Blender ones under [`blender`]).
+//!
+//! ```text
+//! TextureDesc ("class", params) --TextureSet::named (set.rs: on demand, cached, cycles refused)
+//!     --build_node / build_fresnel (here: dispatch on the class name only)
+//!     --<class>.rs::build (reads its own parameters) --> TexNode / FresnelNode
+//! hit (SurfaceInteraction) --TexNode::eval--> Rgb;  --TexNode::duv--> bump derivatives
+//! ```
 //!
 //! A [`TextureSet`] builds textures on demand from the [`SceneDescription`]: only names a
-//! material (or another texture) references are built, and an image is loaded only when an
-//! `imagemap` that uses it is built (each file once, shared). Float and colour textures live
-//! in separate namespaces as in LuxRender; both evaluate through the same node tree, a float
-//! texture being a node whose three channels are equal ([`FloatTex::eval`] reads one).
+//! material, light or other texture references are built, and an image is loaded only when a
+//! texture that uses it is built (each file once, shared). Float, colour and fresnel textures
+//! live in separate namespaces as in LuxRender. Float and colour textures evaluate through one
+//! node tree ([`TexNode`], node.rs): a float texture is a node whose three channels are equal
+//! ([`FloatTex::eval`] reads one). Fresnel textures (optical constants n, k) are their own tree
+//! ([`FresnelNode`], fresnel.rs). The renderer is RGB: spectral data (lamp and gaussian
+//! spectra, tabulated data, n/k tables, Cauchy and Sellmeier laws) is converted once, at build
+//! time, and kept beside the converted value ([`crate::spectrum::spd`]) for spectral rendering.
+//! After a texture is built, its parameters that no code read are reported as located warnings.
 
 pub mod add;
+pub mod band;
+pub mod bilerp;
 pub mod blackbody;
+pub mod blender;
+pub mod brick;
+pub mod cauchy;
 pub mod checkerboard;
+pub mod cloud;
+pub mod colordepth;
 pub mod constant;
+pub mod dots;
+pub mod equalenergy;
+pub mod fbm;
+pub mod fresnel;
+pub mod fresnelcolor;
+pub mod fresnelname;
+pub mod gaussian;
+pub mod harlequin;
+pub mod hitpointalpha;
+pub mod hitpointcolor;
+pub mod hitpointgrey;
 pub mod image_io;
 pub mod imagemap;
+pub mod lampspectrum;
+pub mod luxpop;
 pub mod mapping;
+pub mod marble;
+pub mod mipmap;
 pub mod mix;
+pub mod multimix;
+pub mod node;
+pub mod noise;
+pub mod normalmap;
 pub mod scale;
+pub mod sellmeier;
+pub mod set;
+pub mod sopra;
+pub mod spectral;
 pub mod subtract;
+pub mod tabulateddata;
 pub mod uv;
+pub mod uvmask;
+pub mod windy;
+pub mod wrinkled;
+
+pub use fresnel::{Fresnel, FresnelData, FresnelNode, FresnelTex};
+pub use node::TexNode;
+pub use set::TextureSet;
 
 use crate::geometry::SurfaceInteraction;
-use crate::lxs::{Diagnostic, Loc, ParamSet, SceneDescription, TextureDesc, TextureType};
+use crate::lxs::{Loc, ParamSet, TextureDesc, TextureType};
 use crate::plugin::BuildError;
 use crate::spectrum::Rgb;
-use std::collections::HashMap;
+use glam::Vec2;
 use std::path::PathBuf;
 use std::sync::Arc;
 use thiserror::Error;
@@ -45,6 +95,16 @@ pub enum TextureError {
     },
     #[error("{loc}: {message}")]
     BadParam { loc: Loc, message: String },
+}
+
+impl TextureError {
+    /// A parameter error located at parameter `name` of `t` (the statement when absent).
+    pub fn param(t: &TextureDesc, name: &str, message: impl Into<String>) -> TextureError {
+        TextureError::BadParam {
+            loc: param_loc(&t.entity.params, name, &t.entity.loc),
+            message: message.into(),
+        }
+    }
 }
 
 impl From<TextureError> for BuildError {
@@ -69,46 +129,8 @@ impl From<TextureError> for BuildError {
 /// Where texture files are found.
 #[derive(Clone, Debug, Default)]
 pub struct TextureCtx {
-    /// Directory of the scene's root file: relative image names resolve against it.
+    /// Directory of the scene's root file: relative file names resolve against it.
     pub base_dir: PathBuf,
-}
-
-/// One node of a texture tree. Each variant is implemented in the file of its texture.
-#[derive(Debug)]
-pub enum TexNode {
-    Const(Rgb),
-    Image(imagemap::ImageTex),
-    Scale(Arc<TexNode>, Arc<TexNode>),
-    Mix(mix::MixTex),
-    Add(Arc<TexNode>, Arc<TexNode>),
-    Subtract(Arc<TexNode>, Arc<TexNode>),
-    Checker2D(checkerboard::Checker2D),
-    Checker3D(checkerboard::Checker3D),
-    Uv(uv::UvTex),
-}
-
-impl TexNode {
-    pub fn eval(&self, si: &SurfaceInteraction) -> Rgb {
-        match self {
-            TexNode::Const(c) => *c,
-            TexNode::Image(t) => t.eval(si),
-            TexNode::Scale(a, b) => a.eval(si) * b.eval(si),
-            TexNode::Mix(m) => m.eval(si),
-            TexNode::Add(a, b) => a.eval(si) + b.eval(si),
-            TexNode::Subtract(a, b) => a.eval(si) - b.eval(si),
-            TexNode::Checker2D(c) => c.eval(si),
-            TexNode::Checker3D(c) => c.eval(si),
-            TexNode::Uv(u) => u.eval(si),
-        }
-    }
-
-    /// The constant value when the node does not vary.
-    pub fn as_const(&self) -> Option<Rgb> {
-        match self {
-            TexNode::Const(c) => Some(*c),
-            _ => None,
-        }
-    }
 }
 
 /// A colour-valued texture.
@@ -123,6 +145,7 @@ impl ColorTex {
     pub fn constant(c: Rgb) -> ColorTex {
         ColorTex(Arc::new(TexNode::Const(c)))
     }
+    #[inline]
     pub fn eval(&self, si: &SurfaceInteraction) -> Rgb {
         self.0.eval(si)
     }
@@ -135,11 +158,18 @@ impl FloatTex {
     pub fn constant(v: f32) -> FloatTex {
         FloatTex(Arc::new(TexNode::Const(Rgb::splat(v))))
     }
+    #[inline]
     pub fn eval(&self, si: &SurfaceInteraction) -> f32 {
-        self.0.eval(si).r
+        self.0.value(si)
     }
     pub fn as_const(&self) -> Option<f32> {
         self.0.as_const().map(|c| c.r)
+    }
+    /// The texture's derivatives with respect to the surface (u, v) at a hit, as LuxRender's
+    /// `GetDuv` computes them for bump mapping; `delta` is the material's
+    /// `bumpmapsampledistance` (the world-space step of the textures that difference).
+    pub fn duv(&self, si: &SurfaceInteraction, delta: f32) -> Vec2 {
+        self.0.duv(si, delta)
     }
 }
 
@@ -154,190 +184,91 @@ pub fn param_loc(params: &ParamSet, name: &str, fallback: &Loc) -> Loc {
         .unwrap_or_else(|| fallback.clone())
 }
 
-fn type_name(ty: TextureType) -> &'static str {
+/// "float", "color" or "fresnel".
+pub fn type_name(ty: TextureType) -> &'static str {
     match ty {
         TextureType::Float => "float",
         TextureType::Color => "color",
+        TextureType::Fresnel => "fresnel",
     }
 }
 
-/// Builds referenced textures on demand and caches them (and their images).
-pub struct TextureSet<'a> {
-    desc: &'a SceneDescription,
-    ctx: TextureCtx,
-    built: HashMap<(TextureType, String), Arc<TexNode>>,
-    building: Vec<(TextureType, String)>,
-    images: image_io::ImageCache,
-    /// Non-fatal problems (unsupported options that fell back), with their location.
-    pub warnings: Vec<Diagnostic>,
+fn unknown(t: &TextureDesc) -> TextureError {
+    TextureError::UnknownClass {
+        loc: t.entity.loc.clone(),
+        ty: type_name(t.value_type).to_string(),
+        class: t.entity.kind.clone(),
+    }
 }
 
-impl<'a> TextureSet<'a> {
-    pub fn new(desc: &'a SceneDescription, ctx: TextureCtx) -> TextureSet<'a> {
-        TextureSet {
-            desc,
-            ctx,
-            built: HashMap::new(),
-            building: Vec::new(),
-            images: image_io::ImageCache::default(),
-            warnings: Vec::new(),
-        }
-    }
-
-    /// Number of distinct image files loaded so far.
-    pub fn images_loaded(&self) -> usize {
-        self.images.len()
-    }
-
-    /// Names of the textures built so far.
-    pub fn built_names(&self) -> Vec<String> {
-        let mut v: Vec<String> = self.built.keys().map(|k| k.1.clone()).collect();
-        v.sort();
-        v
-    }
-
-    pub(crate) fn warn(&mut self, loc: &Loc, message: String) {
-        tracing::warn!("{loc}: {message}");
-        self.warnings.push(Diagnostic {
-            loc: loc.clone(),
-            message,
-        });
-    }
-
-    /// A colour parameter: a `texture` reference, a constant `color`, a `float` (grey), or the
-    /// default.
-    pub fn color_param(
-        &mut self,
-        params: &ParamSet,
-        name: &str,
-        default: Rgb,
-    ) -> Result<ColorTex, TextureError> {
-        Ok(ColorTex(self.node_param(
-            TextureType::Color,
-            params,
-            name,
-            default,
-        )?))
-    }
-
-    /// A float parameter: a `texture` reference, a constant `float`, or the default.
-    pub fn float_param(
-        &mut self,
-        params: &ParamSet,
-        name: &str,
-        default: f32,
-    ) -> Result<FloatTex, TextureError> {
-        Ok(FloatTex(self.node_param(
-            TextureType::Float,
-            params,
-            name,
-            Rgb::splat(default),
-        )?))
-    }
-
-    /// An optional float texture parameter (`bumpmap`): `None` when absent.
-    pub fn optional_float(
-        &mut self,
-        params: &ParamSet,
-        name: &str,
-    ) -> Result<Option<FloatTex>, TextureError> {
-        if !params.contains(name) {
-            return Ok(None);
-        }
-        self.float_param(params, name, 0.0).map(Some)
-    }
-
-    pub(crate) fn node_param(
-        &mut self,
-        ty: TextureType,
-        params: &ParamSet,
-        name: &str,
-        default: Rgb,
-    ) -> Result<Arc<TexNode>, TextureError> {
-        if let Some(tex) = params.texture(name) {
-            let tex = tex.to_string();
-            let loc = param_loc(params, name, &Loc::default());
-            return self.named(ty, &tex, &loc);
-        }
-        if ty == TextureType::Color {
-            if let Some(c) = params.color(name) {
-                return Ok(Arc::new(TexNode::Const(Rgb::from_array(c))));
+/// Builds a float or colour texture: dispatch on the class name.
+pub(crate) fn build_node(set: &mut TextureSet, t: &TextureDesc) -> Result<TexNode, TextureError> {
+    let color_only =
+        |set: &mut TextureSet,
+         f: fn(&mut TextureSet, &TextureDesc) -> Result<TexNode, TextureError>| {
+            if t.value_type == TextureType::Color {
+                f(set, t)
+            } else {
+                Err(unknown(t))
             }
-        }
-        if let Some(v) = params.float(name) {
-            return Ok(Arc::new(TexNode::Const(Rgb::splat(v))));
-        }
-        Ok(Arc::new(TexNode::Const(default)))
-    }
-
-    /// The texture `name` of type `ty`, built on first use.
-    pub fn named(
-        &mut self,
-        ty: TextureType,
-        name: &str,
-        loc: &Loc,
-    ) -> Result<Arc<TexNode>, TextureError> {
-        let key = (ty, name.to_string());
-        if let Some(n) = self.built.get(&key) {
-            return Ok(n.clone());
-        }
-        if self.building.contains(&key) {
-            return Err(TextureError::Cycle {
-                loc: loc.clone(),
-                name: name.to_string(),
-            });
-        }
-        let desc = self.desc;
-        let Some(tdesc) = desc.texture(ty, name) else {
-            return Err(TextureError::Missing {
-                loc: loc.clone(),
-                ty: type_name(ty).to_string(),
-                name: name.to_string(),
-            });
         };
-        self.building.push(key.clone());
-        let node = self.build(tdesc);
-        self.building.pop();
-        let node = Arc::new(node?);
-        tracing::debug!(
-            "built {} texture \"{name}\" ({})",
-            type_name(ty),
-            tdesc.entity.kind
-        );
-        self.built.insert(key, node.clone());
-        Ok(node)
+    match t.entity.kind.as_str() {
+        "constant" => constant::build(set, t),
+        "imagemap" => imagemap::build(set, t),
+        "normalmap" => normalmap::build(set, t),
+        "scale" => scale::build(set, t),
+        "mix" => mix::build(set, t),
+        "add" => add::build(set, t),
+        "subtract" => subtract::build(set, t),
+        "band" => band::build(set, t),
+        "bilerp" => bilerp::build(set, t),
+        "multimix" => multimix::build(set, t),
+        "checkerboard" => checkerboard::build(set, t),
+        "dots" => dots::build(set, t),
+        "brick" => brick::build(set, t),
+        "uvmask" => uvmask::build(set, t),
+        "fbm" => fbm::build(set, t),
+        "wrinkled" => wrinkled::build(set, t),
+        "windy" => windy::build(set, t),
+        "marble" => marble::build(set, t),
+        "cloud" => cloud::build(set, t),
+        "hitpointalpha" => hitpointalpha::build(set, t),
+        "hitpointgrey" => hitpointgrey::build(set, t),
+        "uv" => color_only(set, uv::build),
+        "harlequin" => color_only(set, harlequin::build),
+        "hitpointcolor" => color_only(set, hitpointcolor::build),
+        "colordepth" => color_only(set, colordepth::build),
+        "blackbody" => color_only(set, blackbody::build),
+        "equalenergy" => color_only(set, equalenergy::build),
+        "gaussian" => color_only(set, gaussian::build),
+        "lampspectrum" => color_only(set, lampspectrum::build),
+        "tabulateddata" => color_only(set, tabulateddata::build),
+        other => match blender::kind(other) {
+            Some(kind) => blender::build(set, t, kind),
+            None => Err(unknown(t)),
+        },
     }
+}
 
-    fn build(&mut self, t: &TextureDesc) -> Result<TexNode, TextureError> {
-        match t.entity.kind.as_str() {
-            "constant" => constant::build(self, t),
-            "imagemap" => imagemap::build(self, t),
-            "scale" => scale::build(self, t),
-            "mix" => mix::build(self, t),
-            "add" => add::build(self, t),
-            "subtract" => subtract::build(self, t),
-            "checkerboard" => checkerboard::build(self, t),
-            "uv" => uv::build(self, t),
-            "blackbody" => blackbody::build(self, t),
-            other => Err(TextureError::UnknownClass {
-                loc: t.entity.loc.clone(),
-                ty: type_name(t.value_type).to_string(),
-                class: other.to_string(),
-            }),
-        }
-    }
-
-    /// The two operands `tex1`/`tex2` of a binary texture, typed like the texture itself.
-    pub(crate) fn operands(
-        &mut self,
-        t: &TextureDesc,
-        d1: f32,
-        d2: f32,
-    ) -> Result<(Arc<TexNode>, Arc<TexNode>), TextureError> {
-        let p = &t.entity.params;
-        let a = self.node_param(t.value_type, p, "tex1", Rgb::splat(d1))?;
-        let b = self.node_param(t.value_type, p, "tex2", Rgb::splat(d2))?;
-        Ok((a, b))
+/// Builds a fresnel texture: dispatch on the class name.
+pub(crate) fn build_fresnel(
+    set: &mut TextureSet,
+    t: &TextureDesc,
+) -> Result<FresnelNode, TextureError> {
+    match t.entity.kind.as_str() {
+        "constant" => constant::build_fresnel(set, t),
+        "mix" => mix::build_fresnel(set, t),
+        "scale" => scale::build_fresnel(set, t),
+        "band" => band::build_fresnel(set, t),
+        "bilerp" => bilerp::build_fresnel(set, t),
+        "multimix" => multimix::build_fresnel(set, t),
+        "fresnelcolor" => fresnelcolor::build(set, t),
+        "fresnelname" => fresnelname::build(set, t),
+        "sopra" => sopra::build(set, t),
+        "luxpop" => luxpop::build(set, t),
+        "cauchy" => cauchy::build(set, t),
+        "sellmeier" => sellmeier::build(set, t),
+        _ => Err(unknown(t)),
     }
 }
 

@@ -1,4 +1,5 @@
-//! `subtract` texture: `tex1 - tex2` (both default 1).
+//! `subtract` texture: `tex1 − tex2` (both default 1). Its bump derivatives are the difference
+//! of theirs.
 
 use super::{TexNode, TextureError, TextureSet};
 use crate::lxs::TextureDesc;

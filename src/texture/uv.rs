@@ -1,4 +1,5 @@
-//! `uv` texture: the fractional part of the mapped (s, t) as red and green.
+//! `uv` texture (colour): the fractional part of the 2D-mapped (s, t) as red and green, blue 0.
+//! Its bump derivative is LuxRender's generic finite difference.
 
 use super::mapping::Mapping2D;
 use super::{TexNode, TextureError, TextureSet};

@@ -1,6 +1,6 @@
-//! Name-level knowledge the description builder needs: which texture namespace (float or
-//! color) a `"texture NAME"` parameter refers to, and the legacy plugin names of old exporters
-//! with their modern equivalents.
+//! Name-level knowledge the description builder needs: which texture namespace (float, color
+//! or fresnel) a `"texture NAME"` parameter refers to, and the legacy plugin names of old
+//! exporters with their modern equivalents.
 
 use crate::lxs::description::TextureType;
 
@@ -70,8 +70,27 @@ const COLOR_PARAMS: &[&str] = &[
     "weft_Ks",
 ];
 
-/// Texture parameters whose namespace is the value type of the texture being defined.
-const SAME_TYPE_PARAMS: &[&str] = &["tex1", "tex2", "inside", "outside", "tex"];
+/// Parameters that LuxRender reads as fresnel textures (metal2's and the volumes' `fresnel`).
+const FRESNEL_PARAMS: &[&str] = &["fresnel"];
+
+/// Texture parameters whose namespace is the value type of the texture being defined
+/// (`v00`..`v11` only for fresnel bilerp: its float and color variants take constants).
+const SAME_TYPE_PARAMS: &[&str] = &[
+    "tex1",
+    "tex2",
+    "inside",
+    "outside",
+    "tex",
+    "bricktex",
+    "mortartex",
+    "brickmodtex",
+    "innertex",
+    "outertex",
+    "v00",
+    "v01",
+    "v10",
+    "v11",
+];
 
 /// The namespace a texture reference named `param` looks in, when known. `own` is the value
 /// type of the texture being defined (None inside materials and lights).
@@ -85,6 +104,8 @@ pub fn namespace(param: &str, own: Option<TextureType>) -> Option<TextureType> {
         Some(TextureType::Float)
     } else if COLOR_PARAMS.contains(&param) {
         Some(TextureType::Color)
+    } else if FRESNEL_PARAMS.contains(&param) {
+        Some(TextureType::Fresnel)
     } else {
         None
     }
@@ -139,6 +160,11 @@ mod tests {
             Some(TextureType::Float)
         );
         assert_eq!(namespace("whatever", None), None);
+        assert_eq!(namespace("fresnel", None), Some(TextureType::Fresnel));
+        assert_eq!(
+            namespace("tex2", Some(TextureType::Fresnel)),
+            Some(TextureType::Fresnel)
+        );
         assert_eq!(
             modern_equivalent(Family::Film, "multiimage"),
             Some("fleximage")

@@ -37,6 +37,7 @@ pub struct GraphicsState {
     pub current_light: Option<String>,
     pub float_textures: Names,
     pub color_textures: Names,
+    pub fresnel_textures: Names,
     pub named_materials: Names,
     pub named_volumes: Names,
 }
@@ -46,6 +47,7 @@ impl GraphicsState {
         match ty {
             TextureType::Float => &self.float_textures,
             TextureType::Color => &self.color_textures,
+            TextureType::Fresnel => &self.fresnel_textures,
         }
     }
 
@@ -53,6 +55,7 @@ impl GraphicsState {
         match ty {
             TextureType::Float => Rc::make_mut(&mut self.float_textures),
             TextureType::Color => Rc::make_mut(&mut self.color_textures),
+            TextureType::Fresnel => Rc::make_mut(&mut self.fresnel_textures),
         }
     }
 }

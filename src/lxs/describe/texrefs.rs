@@ -43,7 +43,9 @@ pub fn resolve(
         let ns = refs::namespace(&p.name, own);
         let found = match ns {
             Some(ty) => lookup(ty),
-            None => lookup(TextureType::Float).or_else(|| lookup(TextureType::Color)),
+            None => lookup(TextureType::Float)
+                .or_else(|| lookup(TextureType::Color))
+                .or_else(|| lookup(TextureType::Fresnel)),
         };
         match found {
             Some((ty, texture)) => out.push(Binding {
@@ -55,12 +57,15 @@ pub fn resolve(
                 let what = match ns {
                     Some(TextureType::Float) => "float texture",
                     Some(TextureType::Color) => "color texture",
+                    Some(TextureType::Fresnel) => "fresnel texture",
                     None => "texture",
                 };
-                // The same name in the other namespace: say so rather than suggest it.
+                // The same name in another namespace: say so rather than suggest it.
                 let other = match ns {
-                    Some(TextureType::Float) => lookup(TextureType::Color).map(|_| "color"),
-                    Some(TextureType::Color) => lookup(TextureType::Float).map(|_| "float"),
+                    Some(own) => [TextureType::Float, TextureType::Color, TextureType::Fresnel]
+                        .into_iter()
+                        .filter(|&t| t != own)
+                        .find_map(|t| lookup(t).map(|_| type_word(t))),
                     None => None,
                 };
                 let message = match other {
@@ -71,6 +76,7 @@ pub fn resolve(
                         let mut known: Vec<&str> =
                             gs.float_textures.keys().map(String::as_str).collect();
                         known.extend(gs.color_textures.keys().map(String::as_str));
+                        known.extend(gs.fresnel_textures.keys().map(String::as_str));
                         suggest(what, tex, known).message
                     }
                 };
@@ -83,6 +89,14 @@ pub fn resolve(
         }
     }
     Ok(out)
+}
+
+fn type_word(t: TextureType) -> &'static str {
+    match t {
+        TextureType::Float => "float",
+        TextureType::Color => "color",
+        TextureType::Fresnel => "fresnel",
+    }
 }
 
 fn params_of(desc: &mut SceneDescription, owner: Owner) -> Option<&mut ParamSet> {

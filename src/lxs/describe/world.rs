@@ -63,18 +63,12 @@ impl DescriptionBuilder {
         let ty = match value_type {
             "float" => TextureType::Float,
             "color" => TextureType::Color,
-            "fresnel" => {
-                return Err(LxsError::new(
-                    LxsErrorKind::Unsupported,
-                    e.loc,
-                    format!("fresnel texture \"{name}\": fresnel textures are not supported"),
-                ))
-            }
+            "fresnel" => TextureType::Fresnel,
             other => {
                 return Err(LxsError::new(
                     LxsErrorKind::WrongValueType,
                     e.loc,
-                    format!("Texture \"{name}\": value type must be \"float\" or \"color\", found \"{other}\""),
+                    format!("Texture \"{name}\": value type must be \"float\", \"color\" or \"fresnel\", found \"{other}\""),
                 ))
             }
         };
