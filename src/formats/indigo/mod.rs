@@ -1,0 +1,7 @@
+//! Indigo scenes (`.igs`) and meshes (`.igmesh`).
+
+pub mod ctx;
+pub mod igmesh;
+pub mod mesh;
+pub mod node;
+pub mod xml;
