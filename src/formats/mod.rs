@@ -121,6 +121,17 @@ pub fn load(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, SceneE
     }
 }
 
+/// Imports the scene for inspection (`luxfarm parse`): as [`load`], except that external
+/// files an importer reads at import time and cannot find (Indigo meshes and includes) are
+/// located warnings instead of an error, as parsing a .lxs does not open the PLY files it
+/// names. Rendering needs [`load`], which fails on them.
+pub fn inspect(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, SceneError> {
+    match detect(path)? {
+        SceneFormat::Indigo => indigo::inspect(path, opts),
+        _ => load(path, opts),
+    }
+}
+
 fn file_loc(path: &Path) -> Loc {
     Loc {
         file: path.to_string_lossy().as_ref().into(),

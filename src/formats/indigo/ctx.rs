@@ -252,15 +252,21 @@ impl Ctx {
         }
     }
 
-    /// A path written in the scene, as a LuxRender parameter: relative to the root scene's
-    /// directory, confined like every file the scene reads.
-    pub fn scene_relative(
-        &self,
-        written: &str,
-        dir: &Path,
-        loc: &Loc,
-    ) -> Result<String, LxsError> {
-        let full = self.resolve(written, dir, loc)?;
+    /// A path written in the scene, as a LuxRender parameter (relative to the root scene's
+    /// directory, confined like every file the scene reads). Indigo takes such paths (textures,
+    /// nk data, environment maps, IES files) relative to the scene's directory; a path that
+    /// exists only relative to `dir`, the directory of the included file that names it, is
+    /// taken from there.
+    pub fn scene_relative(&self, written: &str, dir: &Path, loc: &Loc) -> Result<String, LxsError> {
+        let from_root = self.resolve(written, &self.root_dir, loc)?;
+        let full = if from_root.exists() {
+            from_root
+        } else {
+            match self.resolve(written, dir, loc) {
+                Ok(p) if p.exists() => p,
+                _ => from_root,
+            }
+        };
         let rel = full
             .strip_prefix(&self.root_dir)
             .map(Path::to_path_buf)

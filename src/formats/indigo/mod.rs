@@ -114,6 +114,19 @@ pub fn import(path: &Path, opts: &ParseOptions) -> Result<Import, LxsError> {
     })
 }
 
+/// Imports the Indigo scene at `path` for inspection: missing external files become located
+/// warnings.
+pub fn inspect(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, LxsError> {
+    let mut imp = import(path, opts)?;
+    for m in imp.missing {
+        imp.desc.warnings.push(crate::lxs::Diagnostic {
+            loc: m.loc,
+            message: format!("{} file {} not found: the scene cannot be rendered without it", m.what, m.path),
+        });
+    }
+    Ok(imp.desc)
+}
+
 /// Imports the Indigo scene at `path`; fails naming every external file that is missing.
 pub fn load(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, LxsError> {
     let imp = import(path, opts)?;
