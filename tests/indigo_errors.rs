@@ -5,7 +5,8 @@ use luxfarm::formats;
 use luxfarm::lxs::{LxsError, LxsErrorKind, ParseOptions, SceneDescription};
 use std::path::Path;
 
-const HEAD: &str = "<scene><camera><pos>0 -3 0</pos><forwards>0 1 0</forwards><up>0 0 1</up></camera>\
+const HEAD: &str =
+    "<scene><camera><pos>0 -3 0</pos><forwards>0 1 0</forwards><up>0 0 1</up></camera>\
     <material><name>m</name><diffuse/></material>\n";
 
 fn write(dir: &Path, name: &str, text: &[u8]) -> std::path::PathBuf {
@@ -14,7 +15,10 @@ fn write(dir: &Path, name: &str, text: &[u8]) -> std::path::PathBuf {
     p
 }
 
-fn load_text(text: &str, opts: &ParseOptions) -> (tempfile::TempDir, Result<SceneDescription, LxsError>) {
+fn load_text(
+    text: &str,
+    opts: &ParseOptions,
+) -> (tempfile::TempDir, Result<SceneDescription, LxsError>) {
     let dir = tempfile::tempdir().unwrap();
     let p = write(dir.path(), "s.igs", text.as_bytes());
     let r = formats::load(&p, opts);
@@ -45,9 +49,18 @@ fn malformed_xml_and_wrong_roots() {
 
 #[test]
 fn bad_values_and_references_are_located() {
-    let e = err(&format!("{HEAD}<renderer_settings>\n<width>wide</width></renderer_settings></scene>"));
-    assert_eq!((e.kind, e.loc.line), (LxsErrorKind::InvalidNumber, 3), "{e}");
-    let e = err(&format!("{HEAD}{}<model>\n<pos>0 0 0</pos><mesh_name>nope</mesh_name></model></scene>", quad_mesh("")));
+    let e = err(&format!(
+        "{HEAD}<renderer_settings>\n<width>wide</width></renderer_settings></scene>"
+    ));
+    assert_eq!(
+        (e.kind, e.loc.line),
+        (LxsErrorKind::InvalidNumber, 3),
+        "{e}"
+    );
+    let e = err(&format!(
+        "{HEAD}{}<model>\n<pos>0 0 0</pos><mesh_name>nope</mesh_name></model></scene>",
+        quad_mesh("")
+    ));
     assert_eq!((e.kind, e.loc.line), (LxsErrorKind::Undefined, 3), "{e}");
     let e = err(&format!(
         "{HEAD}<mesh><name>q</name><embedded><vertex pos=\"0 0 0\"/>\n<triangle_set><material_name>m</material_name>\n<tri>0 1 2</tri></triangle_set></embedded></mesh></scene>"
@@ -55,7 +68,9 @@ fn bad_values_and_references_are_located() {
     assert_eq!((e.kind, e.loc.line), (LxsErrorKind::InvalidValue, 4), "{e}");
     let e = err(&format!("{HEAD}{}<model><pos>0 0 0</pos><mesh_name>q</mesh_name></model>\n<sphere><center>0 0 0</center><radius>1</radius><material_name>x</material_name></sphere></scene>", quad_mesh("")));
     assert_eq!((e.kind, e.loc.line), (LxsErrorKind::Undefined, 4), "{e}");
-    let e = err(&format!("{HEAD}<mesh><name>q</name><external>\n<path>a.3ds</path></external></mesh></scene>"));
+    let e = err(&format!(
+        "{HEAD}<mesh><name>q</name><external>\n<path>a.3ds</path></external></mesh></scene>"
+    ));
     assert_eq!((e.kind, e.loc.line), (LxsErrorKind::Unsupported, 3), "{e}");
 }
 
@@ -66,7 +81,10 @@ fn damaged_igmesh_files_name_the_file_and_the_element() {
         Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../shared/scenes/formats/indigo/igmesh/tilted_prism.igmesh")
             .canonicalize()
-            .unwrap_or_else(|_| Path::new("/work/shared/scenes/formats/indigo/igmesh/tilted_prism.igmesh").to_path_buf()),
+            .unwrap_or_else(|_| {
+                Path::new("/work/shared/scenes/formats/indigo/igmesh/tilted_prism.igmesh")
+                    .to_path_buf()
+            }),
     )
     .unwrap();
     // Truncated.
@@ -92,7 +110,10 @@ fn limits_for_untrusted_uploads() {
         confine_to_root: true,
         ..ParseOptions::default()
     };
-    let (_d, r) = load_text(&format!("{HEAD}<include>\n<pathname>../../etc/passwd</pathname></include></scene>"), &confined);
+    let (_d, r) = load_text(
+        &format!("{HEAD}<include>\n<pathname>../../etc/passwd</pathname></include></scene>"),
+        &confined,
+    );
     assert_eq!(r.unwrap_err().kind, LxsErrorKind::IncludeOutsideRoot);
     let (_d, r) = load_text(&format!("{HEAD}<mesh><name>q</name><external><path>/etc/hosts.obj</path></external></mesh></scene>"), &confined);
     assert_eq!(r.unwrap_err().kind, LxsErrorKind::IncludeOutsideRoot);
@@ -106,12 +127,26 @@ fn limits_for_untrusted_uploads() {
         max_array_len: 4,
         ..ParseOptions::default()
     };
-    let (_d, r) = load_text(&format!("{HEAD}{}</scene>", quad_mesh("<vertex pos=\"1 1 1\"/><vertex pos=\"2 2 2\"/>")), &short);
+    let (_d, r) = load_text(
+        &format!(
+            "{HEAD}{}</scene>",
+            quad_mesh("<vertex pos=\"1 1 1\"/><vertex pos=\"2 2 2\"/>")
+        ),
+        &short,
+    );
     assert_eq!(r.unwrap_err().kind, LxsErrorKind::ArrayTooLong);
     // An include cycle.
     let dir = tempfile::tempdir().unwrap();
-    write(dir.path(), "a.igs", b"<scene><include><pathname>b.igs</pathname></include></scene>");
-    write(dir.path(), "b.igs", b"<scene>\n<include><pathname>a.igs</pathname></include></scene>");
+    write(
+        dir.path(),
+        "a.igs",
+        b"<scene><include><pathname>b.igs</pathname></include></scene>",
+    );
+    write(
+        dir.path(),
+        "b.igs",
+        b"<scene>\n<include><pathname>a.igs</pathname></include></scene>",
+    );
     let e = formats::load(&dir.path().join("a.igs"), &ParseOptions::default()).unwrap_err();
     assert_eq!(e.kind, LxsErrorKind::IncludeCycle);
     assert!(e.loc.file.ends_with("b.igs"));
@@ -127,8 +162,16 @@ fn what_indigo_accepts_is_accepted_with_warnings() {
     let (_d, r) = load_text(&text, &ParseOptions::default());
     let d = r.unwrap();
     assert_eq!(d.film.as_ref().unwrap().params.int("xresolution"), Some(40));
-    let dup = d.warnings.iter().find(|w| w.message.contains("duplicated <width>")).unwrap();
+    let dup = d
+        .warnings
+        .iter()
+        .find(|w| w.message.contains("duplicated <width>"))
+        .unwrap();
     assert_eq!(dup.loc.line, 4);
-    let unknown = d.warnings.iter().find(|w| w.message.contains("fluffy_clouds")).unwrap();
+    let unknown = d
+        .warnings
+        .iter()
+        .find(|w| w.message.contains("fluffy_clouds"))
+        .unwrap();
     assert_eq!(unknown.loc.line, 7);
 }

@@ -13,16 +13,81 @@ const LIMITS: igmesh::Limits = igmesh::Limits {
     max_decompressed: 1 << 30,
 };
 
-/// (file, version, vertices, triangles, quads, uv sets, uv pairs, material names).
-/// The uncompressed files' sizes check these counts independently: e.g. tilted_prism (v2) is
-/// 32 header bytes + 2 × (4 + 24·12) + 4 + (4 + 8·28) + 4 = 852 bytes, its size on disk.
-const SAMPLES: [(&str, u32, usize, usize, usize, u32, usize, usize); 6] = [
-    ("bug-2", 1, 734, 944, 0, 1, 496, 1),
-    ("tilted_prism", 2, 24, 8, 0, 0, 0, 1),
-    ("cuboid", 3, 24, 12, 0, 1, 24, 0),
-    ("cornell_box", 4, 102, 34, 0, 1, 102, 3),
-    ("single_quad", 4, 4, 0, 1, 1, 4, 1),
-    ("teapot", 4, 3918, 7656, 0, 1, 4608, 1),
+/// What a sample holds. The uncompressed files' sizes check these counts independently:
+/// e.g. tilted_prism (v2) is 32 header bytes + 2 × (4 + 24·12) + 4 + (4 + 8·28) + 4 = 852
+/// bytes, its size on disk.
+struct Sample {
+    name: &'static str,
+    version: u32,
+    vertices: usize,
+    tris: usize,
+    quads: usize,
+    uv_sets: u32,
+    uvs: usize,
+    materials: usize,
+}
+
+const SAMPLES: [Sample; 6] = [
+    Sample {
+        name: "bug-2",
+        version: 1,
+        vertices: 734,
+        tris: 944,
+        quads: 0,
+        uv_sets: 1,
+        uvs: 496,
+        materials: 1,
+    },
+    Sample {
+        name: "tilted_prism",
+        version: 2,
+        vertices: 24,
+        tris: 8,
+        quads: 0,
+        uv_sets: 0,
+        uvs: 0,
+        materials: 1,
+    },
+    Sample {
+        name: "cuboid",
+        version: 3,
+        vertices: 24,
+        tris: 12,
+        quads: 0,
+        uv_sets: 1,
+        uvs: 24,
+        materials: 0,
+    },
+    Sample {
+        name: "cornell_box",
+        version: 4,
+        vertices: 102,
+        tris: 34,
+        quads: 0,
+        uv_sets: 1,
+        uvs: 102,
+        materials: 3,
+    },
+    Sample {
+        name: "single_quad",
+        version: 4,
+        vertices: 4,
+        tris: 0,
+        quads: 1,
+        uv_sets: 1,
+        uvs: 4,
+        materials: 1,
+    },
+    Sample {
+        name: "teapot",
+        version: 4,
+        vertices: 3918,
+        tris: 7656,
+        quads: 0,
+        uv_sets: 1,
+        uvs: 4608,
+        materials: 1,
+    },
 ];
 
 fn sample(name: &str) -> std::path::PathBuf {
@@ -31,9 +96,15 @@ fn sample(name: &str) -> std::path::PathBuf {
 
 #[test]
 fn every_sample_loads_with_its_counts() {
-    for (name, version, v, t, q, sets, uvs, mats) in SAMPLES {
+    for smp in &SAMPLES {
+        let (name, version, v, t, q) = (smp.name, smp.version, smp.vertices, smp.tris, smp.quads);
+        let (sets, uvs, mats) = (smp.uv_sets, smp.uvs, smp.materials);
         let bytes = std::fs::read(sample(name)).unwrap();
-        assert_eq!(u32::from_le_bytes([bytes[4], bytes[5], bytes[6], bytes[7]]), version, "{name}");
+        assert_eq!(
+            u32::from_le_bytes([bytes[4], bytes[5], bytes[6], bytes[7]]),
+            version,
+            "{name}"
+        );
         let m = igmesh::read(&bytes, LIMITS).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(m.positions.len(), v, "{name} vertices");
         assert_eq!(m.normals.len(), v, "{name} normals");
@@ -47,7 +118,14 @@ fn every_sample_loads_with_its_counts() {
     }
     // The sizes of the uncompressed files follow from the counts.
     let size = |v: usize, uvs: usize, t: usize, q: Option<usize>, header: usize, layout: bool| {
-        header + 2 * (4 + 12 * v) + layout as usize * 4 + 4 + 8 * uvs + 4 + 28 * t + q.map_or(0, |q| 4 + 36 * q)
+        header
+            + 2 * (4 + 12 * v)
+            + layout as usize * 4
+            + 4
+            + 8 * uvs
+            + 4
+            + 28 * t
+            + q.map_or(0, |q| 4 + 36 * q)
     };
     let len = |n: &str| std::fs::metadata(sample(n)).unwrap().len() as usize;
     assert_eq!(len("tilted_prism"), size(24, 0, 8, Some(0), 32, false));
@@ -75,7 +153,9 @@ fn scene_for(name: &str, dir: &std::path::Path) -> std::path::PathBuf {
     let pos: Vec<f64> = (0..3).map(|k| c[k] - fwd[k] * 2.0 * size).collect();
     let up = if axis == 2 { "0 1 0" } else { "0 0 1" };
     let mats = m.material_names.len().max(1);
-    let list: String = (0..mats).map(|_| "<material_uid>1</material_uid>").collect();
+    let list: String = (0..mats)
+        .map(|_| "<material_uid>1</material_uid>")
+        .collect();
     let text = format!(
         "<scene><renderer_settings><width>24</width><height>24</height><metropolis>false</metropolis>\
          <bidirectional>false</bidirectional><max_depth>2</max_depth></renderer_settings>\
@@ -94,7 +174,7 @@ fn scene_for(name: &str, dir: &std::path::Path) -> std::path::PathBuf {
 
 #[test]
 fn every_sample_renders_inside_a_scene() {
-    for (name, ..) in SAMPLES {
+    for name in SAMPLES.iter().map(|s| s.name) {
         let dir = tempfile::tempdir().unwrap();
         let path = scene_for(name, dir.path());
         let desc = formats::load(&path, &ParseOptions::default()).unwrap_or_else(|e| panic!("{e}"));
@@ -110,6 +190,10 @@ fn every_sample_renders_inside_a_scene() {
         assert!(background > 0.0, "{name}: nothing lit");
         // The grey mesh is darker than the uniform background it occludes.
         let covered = y.iter().filter(|&&v| v < 0.9 * background).count();
-        assert!(covered * 20 >= y.len(), "{name}: the mesh covers {covered} of {} pixels", y.len());
+        assert!(
+            covered * 20 >= y.len(),
+            "{name}: the mesh covers {covered} of {} pixels",
+            y.len()
+        );
     }
 }

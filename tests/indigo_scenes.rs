@@ -16,7 +16,9 @@ fn cornell() -> PathBuf {
 }
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/indigo").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/indigo")
+        .join(name)
 }
 
 /// The lines of cornell_box.igs whose `<path>` names each of its four meshes.
@@ -61,11 +63,19 @@ fn cornell_with_meshes() -> (tempfile::TempDir, SceneDescription) {
     std::fs::copy(cornell(), dir.path().join("cornell_box.igs")).unwrap();
     let sample = |f: &str| scene_path(&format!("formats/indigo/igmesh/{f}"));
     for (i, (_, file)) in MESH_LINES.iter().enumerate() {
-        let src = ["single_quad.igmesh", "cuboid.igmesh", "cuboid.igmesh", "cornell_box.igmesh"][i];
+        let src = [
+            "single_quad.igmesh",
+            "cuboid.igmesh",
+            "cuboid.igmesh",
+            "cornell_box.igmesh",
+        ][i];
         std::fs::copy(sample(src), meshes.join(file)).unwrap();
     }
-    let desc = formats::load(&dir.path().join("cornell_box.igs"), &ParseOptions::default())
-        .expect("imports with its meshes");
+    let desc = formats::load(
+        &dir.path().join("cornell_box.igs"),
+        &ParseOptions::default(),
+    )
+    .expect("imports with its meshes");
     (dir, desc)
 }
 
@@ -95,12 +105,25 @@ fn cornell_box_camera_and_transforms_equal_the_lxs_twin() {
     let cam = desc.camera.as_ref().unwrap();
     let fov = cam.entity.params.float("fov").unwrap();
     assert!((fov - 39.146).abs() < 1e-3, "fov {fov}");
-    let twin_fov = twin.camera.as_ref().unwrap().entity.params.float("fov").unwrap();
+    let twin_fov = twin
+        .camera
+        .as_ref()
+        .unwrap()
+        .entity
+        .params
+        .float("fov")
+        .unwrap();
     assert!((fov - twin_fov).abs() < 1e-4, "{fov} vs {twin_fov}");
-    assert_eq!(desc.film.as_ref().unwrap().params.int("xresolution"), Some(500));
+    assert_eq!(
+        desc.film.as_ref().unwrap().params.int("xresolution"),
+        Some(500)
+    );
     // The twin's LookAt target is eye + forwards/1000 printed with 16 digits, which loses the
     // forwards vector's x and z components (3e-7 and 8e-8): equal to that precision.
-    let (a, b) = (cam.world_to_camera.start(), twin.camera.as_ref().unwrap().world_to_camera.start());
+    let (a, b) = (
+        cam.world_to_camera.start(),
+        twin.camera.as_ref().unwrap().world_to_camera.start(),
+    );
     assert!(close(&a, &b, 1e-6), "{a} vs {b}");
     let (mine, theirs) = (transforms(&desc), transforms(&twin));
     assert_eq!(mine.len(), 4, "light, two boxes, the box");
@@ -109,7 +132,11 @@ fn cornell_box_camera_and_transforms_equal_the_lxs_twin() {
         assert!(close(a, b, 1e-12), "{a} vs {b}");
     }
     // The emitter is an area light in the "Emitter" light group (layer 3 of the settings).
-    let lit: Vec<_> = desc.shapes.iter().filter(|s| s.area_light.is_some()).collect();
+    let lit: Vec<_> = desc
+        .shapes
+        .iter()
+        .filter(|s| s.area_light.is_some())
+        .collect();
     assert_eq!(lit.len(), 1);
     assert_eq!(lit[0].area_light.as_ref().unwrap().light_group, "Emitter");
     assert_eq!(
@@ -117,14 +144,21 @@ fn cornell_box_camera_and_transforms_equal_the_lxs_twin() {
         Some([10000.0; 3])
     );
     // The meshes are in the file list, so a farm bundle carries them.
-    assert_eq!(desc.files.iter().filter(|f| f.ends_with(".igmesh")).count(), 4);
+    assert_eq!(
+        desc.files.iter().filter(|f| f.ends_with(".igmesh")).count(),
+        4
+    );
 }
 
 #[test]
 fn igm_material_files_load() {
     let dir = tempfile::tempdir().unwrap();
     for f in ["Metal_Iridiscent.igm", "red-laser.igm"] {
-        std::fs::copy(scene_path(&format!("formats/indigo/igm/{f}")), dir.path().join(f)).unwrap();
+        std::fs::copy(
+            scene_path(&format!("formats/indigo/igm/{f}")),
+            dir.path().join(f),
+        )
+        .unwrap();
     }
     std::fs::write(
         dir.path().join("s.igs"),
@@ -138,12 +172,21 @@ fn igm_material_files_load() {
     .unwrap();
     let desc = formats::load(&dir.path().join("s.igs"), &ParseOptions::default()).unwrap();
     assert_eq!(desc.files.len(), 3);
-    let metal = desc.named_material("Metal Iridiscent").expect("metal material");
+    let metal = desc
+        .named_material("Metal Iridiscent")
+        .expect("metal material");
     assert_eq!(metal.entity.kind, "glossy");
     let laser = desc.named_material("red-laser").expect("laser material");
     assert_eq!(laser.entity.kind, "glossy");
     // Its emission is a tabulated spectrum peaking in the red: the area light is red.
-    let l = desc.shapes[0].area_light.as_ref().expect("emits").entity.params.color("L").unwrap();
+    let l = desc.shapes[0]
+        .area_light
+        .as_ref()
+        .expect("emits")
+        .entity
+        .params
+        .color("L")
+        .unwrap();
     assert!(l[0] > 4.0 * l[1] && l[0] > 4.0 * l[2], "{l:?}");
     // The ISL shader of the iridescent metal is reported where it is written.
     assert!(desc
@@ -171,7 +214,9 @@ fn small_indigo_scene_renders_as_its_hand_written_lxs_twin() {
     // The noise of the twin, per block, from four independent renders.
     let runs: Vec<Vec<f64>> = (1..=4).map(|s| blocks(&lxs, s)).collect();
     let n = runs[0].len();
-    let mean: Vec<f64> = (0..n).map(|b| runs.iter().map(|r| r[b]).sum::<f64>() / 4.0).collect();
+    let mean: Vec<f64> = (0..n)
+        .map(|b| runs.iter().map(|r| r[b]).sum::<f64>() / 4.0)
+        .collect();
     let sd: Vec<f64> = (0..n)
         .map(|b| (runs.iter().map(|r| (r[b] - mean[b]).powi(2)).sum::<f64>() / 3.0).sqrt())
         .collect();
@@ -255,18 +300,30 @@ fn material_parameters_reach_the_description() {
     let glass = &desc.named_material("glass").unwrap().entity;
     assert_eq!(glass.params.float("index"), Some(1.5));
     // The sphere's interior is the glass medium.
-    let sphere = desc.shapes.iter().find(|s| s.entity.kind == "sphere").unwrap();
+    let sphere = desc
+        .shapes
+        .iter()
+        .find(|s| s.entity.kind == "sphere")
+        .unwrap();
     assert_eq!(sphere.interior.as_deref(), Some("glass"));
     assert_eq!(desc.sampler.as_ref().unwrap().kind, "random");
     assert_eq!(desc.surface_integrator.as_ref().unwrap().kind, "path");
     assert_eq!(desc.film.as_ref().unwrap().params.int("haltspp"), Some(16));
     assert_eq!(
-        desc.film.as_ref().unwrap().params.get("tonemapkernel").map(|p| p.value.clone()),
+        desc.film
+            .as_ref()
+            .unwrap()
+            .params
+            .get("tonemapkernel")
+            .map(|p| p.value.clone()),
         Some(ParamValue::String(vec!["linear".into()]))
     );
     // Every element of the scene was understood: no "not supported" warning.
     assert!(
-        !desc.warnings.iter().any(|w| w.message.contains("not supported")),
+        !desc
+            .warnings
+            .iter()
+            .any(|w| w.message.contains("not supported")),
         "{:?}",
         desc.warnings
     );

@@ -46,7 +46,11 @@ pub fn axis_angle(e: &Elem, ctx: &Ctx) -> Result<DQuat, LxsError> {
     }
     let len = axis.length();
     if !(len > 0.0 && len.is_finite()) {
-        return Err(err(LxsErrorKind::InvalidValue, &e.loc, "rotation axis must be a non-zero vector"));
+        return Err(err(
+            LxsErrorKind::InvalidValue,
+            &e.loc,
+            "rotation axis must be a non-zero vector",
+        ));
     }
     Ok(DQuat::from_axis_angle(axis / len, angle))
 }
@@ -94,7 +98,10 @@ pub fn read(e: &Elem, width: u32, height: u32, ctx: &Ctx) -> Result<CameraOut, L
         if frames.is_empty() {
             frames.push((0.0, DVec3::from(pos), DQuat::IDENTITY));
         } else {
-            ctx.warn(&loc, "camera has both <pos> and keyframes: the keyframes are used");
+            ctx.warn(
+                &loc,
+                "camera has both <pos> and keyframes: the keyframes are used",
+            );
         }
     }
     if frames.is_empty() {
@@ -123,7 +130,9 @@ pub fn read(e: &Elem, width: u32, height: u32, ctx: &Ctx) -> Result<CameraOut, L
         if (a - aspect).abs() > 0.01 * aspect {
             ctx.warn(
                 &loc,
-                format!("aspect_ratio {a} differs from width/height {aspect:.4}: width/height is used"),
+                format!(
+                    "aspect_ratio {a} differs from width/height {aspect:.4}: width/height is used"
+                ),
             );
         }
     }
@@ -132,8 +141,16 @@ pub fn read(e: &Elem, width: u32, height: u32, ctx: &Ctx) -> Result<CameraOut, L
     let aperture = e.child_num_or(ctx, "aperture_radius", 0.0)?.max(0.0);
     let focus = positive(e, ctx, "focus_distance", 1e30)?;
     let duration = positive(e, ctx, "exposure_duration", 1.0 / 30.0)?;
-    let fstop = if aperture > 0.0 { lsd / (2.0 * aperture) } else { 8.0 };
-    let short_side = if aspect >= 1.0 { sensor_w / aspect } else { sensor_w };
+    let fstop = if aperture > 0.0 {
+        lsd / (2.0 * aperture)
+    } else {
+        8.0
+    };
+    let short_side = if aspect >= 1.0 {
+        sensor_w / aspect
+    } else {
+        sensor_w
+    };
 
     let mut ps = ParamSet::new();
     let kind = match e.child_str(ctx, "camera_type").unwrap_or("thin-lens-perspective") {
@@ -170,12 +187,18 @@ pub fn read(e: &Elem, width: u32, height: u32, ctx: &Ctx) -> Result<CameraOut, L
     }
     if let Some(wb) = e.child_str(ctx, "white_balance") {
         if !wb.eq_ignore_ascii_case("e") {
-            ctx.warn(&loc, format!("white balance {wb} is not applied by luxfarm"));
+            ctx.warn(
+                &loc,
+                format!("white balance {wb} is not applied by luxfarm"),
+            );
         }
     }
     if let Some(o) = e.child(ctx, "obstacle_map") {
         o.mark_all_used();
-        ctx.warn(&o.loc, "obstacle maps act on aperture diffraction, which luxfarm does not render: ignored");
+        ctx.warn(
+            &o.loc,
+            "obstacle maps act on aperture diffraction, which luxfarm does not render: ignored",
+        );
     }
     Ok(CameraOut {
         poses,
@@ -196,15 +219,26 @@ fn aperture_shape(e: &Elem, ctx: &Ctx, ps: &mut ParamSet) -> Result<(), LxsError
     if let Some(g) = a.child(ctx, "generated") {
         let blades = g.need(ctx, "num_blades")?.int(ctx)?;
         if blades < 3 {
-            return Err(err(LxsErrorKind::InvalidValue, &g.loc, format!("num_blades must be >= 3, got {blades}")));
+            return Err(err(
+                LxsErrorKind::InvalidValue,
+                &g.loc,
+                format!("num_blades must be >= 3, got {blades}"),
+            ));
         }
-        ps.push(p("blades", ParamValue::Integer(vec![blades.min(64) as i32]), &g.loc));
+        ps.push(p(
+            "blades",
+            ParamValue::Integer(vec![blades.min(64) as i32]),
+            &g.loc,
+        ));
         g.ignore(&["start_angle", "blade_offset", "blade_curvature_radius"]);
         ctx.warn(&g.loc, "aperture blade angle, offset and curvature have no LuxRender equivalent: straight blades used");
     }
     if let Some(i) = a.child(ctx, "image") {
         i.mark_all_used();
-        ctx.warn(&i.loc, "image aperture shapes are not supported: circular aperture used");
+        ctx.warn(
+            &i.loc,
+            "image aperture shapes are not supported: circular aperture used",
+        );
     }
     Ok(())
 }
@@ -223,12 +257,24 @@ fn lens_shift(
         return Ok(());
     }
     if kind != "perspective" {
-        ctx.warn(&e.loc, "lens shift applies to perspective cameras only: ignored");
+        ctx.warn(
+            &e.loc,
+            "lens shift applies to perspective cameras only: ignored",
+        );
         return Ok(());
     }
     let (sx, sy) = (right / (short_side / 2.0), up / (short_side / 2.0));
-    let (w, h) = if aspect >= 1.0 { (aspect, 1.0) } else { (1.0, 1.0 / aspect) };
-    let sw = vec![(-w + sx) as f32, (w + sx) as f32, (-h + sy) as f32, (h + sy) as f32];
+    let (w, h) = if aspect >= 1.0 {
+        (aspect, 1.0)
+    } else {
+        (1.0, 1.0 / aspect)
+    };
+    let sw = vec![
+        (-w + sx) as f32,
+        (w + sx) as f32,
+        (-h + sy) as f32,
+        (h + sy) as f32,
+    ];
     ps.push(p("screenwindow", ParamValue::Float(sw), &e.loc));
     Ok(())
 }
@@ -251,7 +297,10 @@ mod tests {
         let doc = "<camera><pos>0 -2 1</pos><up>0 0 1</up><forwards>0 1 0</forwards><sensor_width>0.036</sensor_width><lens_sensor_dist>0.02</lens_sensor_dist></camera>";
         let c = cam(doc, 800, 600).unwrap();
         let fov = c.entity.params.float("fov").unwrap() as f64;
-        let expect = 2.0 * (0.036 / (800.0 / 600.0) / 2.0 / 0.02f64).atan().to_degrees();
+        let expect = 2.0
+            * (0.036 / (800.0 / 600.0) / 2.0 / 0.02f64)
+                .atan()
+                .to_degrees();
         assert!((fov - expect).abs() < 1e-4);
         let c = cam(doc, 600, 800).unwrap();
         let fov = c.entity.params.float("fov").unwrap() as f64;
@@ -266,11 +315,17 @@ mod tests {
                    <keyframe><time>0</time><pos>0 0 0</pos></keyframe></camera>";
         let c = cam(doc, 200, 100).unwrap();
         assert_eq!(c.entity.kind, "orthographic");
-        assert_eq!(c.entity.params.floats("screenwindow").unwrap(), &[-2.0, 2.0, -1.0, 1.0]);
+        assert_eq!(
+            c.entity.params.floats("screenwindow").unwrap(),
+            &[-2.0, 2.0, -1.0, 1.0]
+        );
         assert_eq!(c.poses.len(), 2);
         assert_eq!(c.poses[0].time, 0.0);
         let t = c.poses[1].target;
-        assert!((t[0] - 0.0).abs() < 1e-9 && (t[1] - 0.0).abs() < 1e-9, "{t:?}");
+        assert!(
+            (t[0] - 0.0).abs() < 1e-9 && (t[1] - 0.0).abs() < 1e-9,
+            "{t:?}"
+        );
     }
 
     #[test]
@@ -281,9 +336,17 @@ mod tests {
         let c = cam(doc, 100, 100).unwrap();
         assert_eq!(c.entity.params.int("blades"), Some(6));
         assert_eq!(c.entity.params.float("lensradius"), Some(0.01));
-        assert_eq!(c.entity.params.floats("screenwindow").unwrap(), &[-1.0, 1.0, -0.5, 1.5]);
+        assert_eq!(
+            c.entity.params.floats("screenwindow").unwrap(),
+            &[-1.0, 1.0, -0.5, 1.5]
+        );
         assert!((c.exposure.fstop - 2.5).abs() < 1e-12);
-        assert!(cam("<camera><up>0 0 1</up><forwards>0 1 0</forwards></camera>", 10, 10).is_err());
+        assert!(cam(
+            "<camera><up>0 0 1</up><forwards>0 1 0</forwards></camera>",
+            10,
+            10
+        )
+        .is_err());
         let e = cam("<camera><pos>0 0 0</pos><up>0 0 1</up><forwards>0 1 0</forwards><camera_type>fisheye</camera_type></camera>", 10, 10).unwrap_err();
         assert_eq!(e.kind, LxsErrorKind::Unsupported);
     }

@@ -107,7 +107,11 @@ impl Ctx {
     /// A located warning (the same message at the same place is kept once).
     pub fn warn(&self, loc: &Loc, message: impl Into<String>) {
         let message = message.into();
-        if self.seen.borrow_mut().insert((loc.clone(), message.clone())) {
+        if self
+            .seen
+            .borrow_mut()
+            .insert((loc.clone(), message.clone()))
+        {
             self.warnings.borrow_mut().push(Diagnostic {
                 loc: loc.clone(),
                 message,
@@ -207,7 +211,11 @@ impl Ctx {
                 }
             }
         }
-        Ok(if absolute { rel.to_path_buf() } else { dir.join(rel) })
+        Ok(if absolute {
+            rel.to_path_buf()
+        } else {
+            dir.join(rel)
+        })
     }
 
     /// Reads the file `written` names (relative to `dir`) under the byte budget and records it
@@ -300,9 +308,16 @@ mod tests {
                 ..ParseOptions::default()
             },
         );
-        let p = confined.resolve("meshes\\a.igmesh", dir.path(), &loc()).unwrap();
+        let p = confined
+            .resolve("meshes\\a.igmesh", dir.path(), &loc())
+            .unwrap();
         assert_eq!(p, dir.path().join("meshes/a.igmesh"));
-        for bad in ["..\\outside.igmesh", "/etc/passwd", "C:\\x\\y.igmesh", "a/../../b"] {
+        for bad in [
+            "..\\outside.igmesh",
+            "/etc/passwd",
+            "C:\\x\\y.igmesh",
+            "a/../../b",
+        ] {
             let e = confined.resolve(bad, dir.path(), &loc()).unwrap_err();
             assert_eq!(e.kind, LxsErrorKind::IncludeOutsideRoot, "{bad}");
         }
@@ -321,9 +336,15 @@ mod tests {
                 ..ParseOptions::default()
             },
         );
-        assert!(ctx.read("nope.igmesh", dir.path(), &loc(), "mesh").unwrap().is_none());
+        assert!(ctx
+            .read("nope.igmesh", dir.path(), &loc(), "mesh")
+            .unwrap()
+            .is_none());
         assert_eq!(ctx.take_missing().len(), 1);
-        assert!(ctx.read("a.bin", dir.path(), &loc(), "mesh").unwrap().is_some());
+        assert!(ctx
+            .read("a.bin", dir.path(), &loc(), "mesh")
+            .unwrap()
+            .is_some());
         let e = ctx.read("a.bin", dir.path(), &loc(), "mesh").unwrap_err();
         assert_eq!(e.kind, LxsErrorKind::InputTooLarge);
         assert_eq!(ctx.take_files().len(), 1);

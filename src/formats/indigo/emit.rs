@@ -42,7 +42,11 @@ struct Emitter<'a> {
     ctx: &'a Ctx,
 }
 
-fn keys_transform(b: &mut dyn SceneBuilder, keys: &[(f32, DMat4)], loc: &Loc) -> Result<(), LxsError> {
+fn keys_transform(
+    b: &mut dyn SceneBuilder,
+    keys: &[(f32, DMat4)],
+    loc: &Loc,
+) -> Result<(), LxsError> {
     match keys {
         [(_, m)] => b.transform(m.to_cols_array(), loc),
         _ => {
@@ -74,7 +78,8 @@ impl Emitter<'_> {
                 let p = c.poses[0];
                 self.b.look_at(p.eye, p.target, p.up, loc)?;
             } else {
-                self.b.motion_begin(c.poses.iter().map(|p| p.time).collect(), loc)?;
+                self.b
+                    .motion_begin(c.poses.iter().map(|p| p.time).collect(), loc)?;
                 for p in &c.poses {
                     self.b.look_at(p.eye, p.target, p.up, loc)?;
                 }
@@ -95,7 +100,8 @@ impl Emitter<'_> {
             for t in &m.textures {
                 self.b.texture(&t.name, t.ty, t.entity.clone())?;
             }
-            self.b.make_named_material(&m.name, m.params.clone(), &m.loc)?;
+            self.b
+                .make_named_material(&m.name, m.params.clone(), &m.loc)?;
         }
         Ok(())
     }
@@ -105,7 +111,8 @@ impl Emitter<'_> {
         let n = self.scene.lights.len();
         for (i, l) in self.scene.lights.iter().enumerate() {
             self.b.attribute_begin(&l.entity.loc)?;
-            self.b.light_group(&l.group, ParamSet::new(), &l.entity.loc)?;
+            self.b
+                .light_group(&l.group, ParamSet::new(), &l.entity.loc)?;
             self.b.light_source(l.entity.clone())?;
             // Exit portals belong to the environment light: emitted in its scope.
             if i + 1 == n {
@@ -210,19 +217,31 @@ impl Emitter<'_> {
         out
     }
 
-    fn area(&self, model: &Model, i: u32, m: &MatOut, data: &MeshData, scale: f32) -> Option<AreaOut> {
+    fn area(
+        &self,
+        model: &Model,
+        i: u32,
+        m: &MatOut,
+        data: &MeshData,
+        scale: f32,
+    ) -> Option<AreaOut> {
         let e = m.emission.as_ref()?;
         let mut a = AreaOut {
             l: e.l.clone(),
             power: 0.0,
             efficacy: 0.0,
-            ies: model.ies.iter().find(|(n, _)| *n == m.name).map(|(_, p)| p.clone()),
+            ies: model
+                .ies
+                .iter()
+                .find(|(n, _)| *n == m.name)
+                .map(|(_, p)| p.clone()),
             group: self.scene.group(e.layer),
             loc: e.loc.clone(),
         };
         if let Some(s) = model.emission_scales.iter().find(|s| s.material == m.name) {
             let m0 = model.keys[0].1;
-            let xf = |p: [f32; 3]| m0.transform_point3(DVec3::from(p.map(|c| f64::from(c * scale))));
+            let xf =
+                |p: [f32; 3]| m0.transform_point3(DVec3::from(p.map(|c| f64::from(c * scale))));
             if let Some(f) = flux(s, data.area(i, &xf), self.ctx) {
                 a.power = f;
                 a.efficacy = 1.0;
@@ -244,16 +263,17 @@ impl Emitter<'_> {
                 .into_iter()
                 .map(|i| self.material_of(m, i).to_string())
                 .collect();
-            let emits = used
-                .iter()
-                .any(|n| self.mats.get(n.as_str()).is_some_and(|x| x.emission.is_some()));
+            let emits = used.iter().any(|n| {
+                self.mats
+                    .get(n.as_str())
+                    .is_some_and(|x| x.emission.is_some())
+            });
             if !emits && m.emission_scales.is_empty() && m.ies.is_empty() {
                 groups.entry((m.mesh, used)).or_default().push(k);
             }
         }
         let mut object_of: HashMap<usize, String> = HashMap::new();
-        let mut defs: Vec<(&(usize, Vec<String>), &Vec<usize>)> =
-            groups.iter().filter(|(_, v)| v.len() > 1).collect();
+        let mut defs: Vec<_> = groups.iter().filter(|(_, v)| v.len() > 1).collect();
         defs.sort_by_key(|(_, v)| v[0]);
         for (n, (key, members)) in defs.into_iter().enumerate() {
             let model = &scene.models[members[0]];
@@ -319,7 +339,8 @@ impl Emitter<'_> {
             self.b.translate(s.center, loc)?;
             let mat = self.mats.get(s.material.as_str()).copied();
             if let Some(e) = mat.and_then(|m| m.emission.as_ref()) {
-                self.b.light_group(&scene.group(e.layer), ParamSet::new(), &e.loc)?;
+                self.b
+                    .light_group(&scene.group(e.layer), ParamSet::new(), &e.loc)?;
                 let a = AreaOut {
                     l: e.l.clone(),
                     power: 0.0,
@@ -360,8 +381,17 @@ fn black(loc: &Loc) -> Entity {
 
 /// Emits `scene` into `b`.
 pub fn emit(scene: &Scene, b: &mut dyn SceneBuilder, ctx: &Ctx) -> Result<(), LxsError> {
-    let mats = scene.materials.iter().map(|m| (m.name.as_str(), m)).collect();
-    let mut e = Emitter { b, scene, mats, ctx };
+    let mats = scene
+        .materials
+        .iter()
+        .map(|m| (m.name.as_str(), m))
+        .collect();
+    let mut e = Emitter {
+        b,
+        scene,
+        mats,
+        ctx,
+    };
     e.options()?;
     let loc = scene.loc.clone();
     e.b.world_begin(&loc)?;

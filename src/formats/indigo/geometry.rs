@@ -74,7 +74,9 @@ impl Meshes {
                 LxsErrorKind::Undefined,
                 loc,
                 match (name, uid) {
-                    (_, Some(u)) => format!("geometry uid {u} is not defined before this reference"),
+                    (_, Some(u)) => {
+                        format!("geometry uid {u} is not defined before this reference")
+                    }
                     (Some(n), _) => format!("mesh \"{n}\" is not defined before this reference"),
                     _ => "no mesh named (mesh_name or geometry_uid)".into(),
                 },
@@ -106,7 +108,12 @@ pub fn read_mesh(e: &Elem, dir: &Path, ctx: &Ctx) -> Result<(MeshEntry, Option<i
     let smooth = e.child_bool_or(ctx, "normal_smoothing", true)?;
     if let Some(n) = e.child_int(ctx, "max_num_subdivisions")? {
         if n > 0 {
-            ctx.warn(&e.loc, format!("mesh \"{name}\": {n} subdivision levels asked, luxfarm does not subdivide"));
+            ctx.warn(
+                &e.loc,
+                format!(
+                    "mesh \"{name}\": {n} subdivision levels asked, luxfarm does not subdivide"
+                ),
+            );
         }
     }
     e.ignore(&SUBDIVISION);
@@ -149,7 +156,13 @@ fn external(p: &Elem, dir: &Path, ctx: &Ctx) -> Result<Option<MeshData>, LxsErro
     let Some((path, bytes)) = ctx.read(written, dir, &p.loc, "mesh")? else {
         return Ok(None);
     };
-    let fail = |msg: String| err(LxsErrorKind::InvalidValue, &p.loc, format!("mesh file {}: {msg}", path.display()));
+    let fail = |msg: String| {
+        err(
+            LxsErrorKind::InvalidValue,
+            &p.loc,
+            format!("mesh file {}: {msg}", path.display()),
+        )
+    };
     let data = match ext {
         "igmesh" => {
             let limits = igmesh::Limits {
@@ -168,7 +181,11 @@ fn external(p: &Elem, dir: &Path, ctx: &Ctx) -> Result<Option<MeshData>, LxsErro
         _ => ply(&bytes).map_err(fail)?,
     };
     ctx.check_count(data.positions.len() as u64, "mesh vertices", &p.loc)?;
-    ctx.check_count((data.tris.len() + data.quads.len()) as u64, "mesh faces", &p.loc)?;
+    ctx.check_count(
+        (data.tris.len() + data.quads.len()) as u64,
+        "mesh faces",
+        &p.loc,
+    )?;
     Ok(Some(data))
 }
 
@@ -212,14 +229,22 @@ pub fn linear_part(e: &Elem, ctx: &Ctx) -> Result<DMat3, LxsError> {
             } else if let Some(a) = r.child(ctx, "axis_rotation") {
                 DMat3::from_quat(axis_angle(a, ctx)?)
             } else {
-                return Err(err(LxsErrorKind::WrongValueCount, &r.loc, "<rotation> needs <matrix> or <axis_rotation>"));
+                return Err(err(
+                    LxsErrorKind::WrongValueCount,
+                    &r.loc,
+                    "<rotation> needs <matrix> or <axis_rotation>",
+                ));
             }
         }
         None => DMat3::IDENTITY,
     };
     let m = rot * scale;
-    if !(m.determinant().abs() > 1e-300) || !m.is_finite() {
-        return Err(err(LxsErrorKind::InvalidValue, &e.loc, "the rotation and scale are not invertible"));
+    if !m.is_finite() || m.determinant().abs() <= 1e-300 {
+        return Err(err(
+            LxsErrorKind::InvalidValue,
+            &e.loc,
+            "the rotation and scale are not invertible",
+        ));
     }
     Ok(m)
 }
@@ -271,7 +296,13 @@ pub struct Model {
 }
 
 /// Reads `<model>` or `<model2>`.
-pub fn read_model(e: &Elem, dir: &Path, meshes: &Meshes, look: &Lookup, ctx: &Ctx) -> Result<Model, LxsError> {
+pub fn read_model(
+    e: &Elem,
+    dir: &Path,
+    meshes: &Meshes,
+    look: &Lookup,
+    ctx: &Ctx,
+) -> Result<Model, LxsError> {
     e.mark_used();
     e.ignore(&["uid", "name", "light_path_expression"]);
     let mesh_name = e.child_str(ctx, "mesh_name");
@@ -286,7 +317,13 @@ pub fn read_model(e: &Elem, dir: &Path, meshes: &Meshes, look: &Lookup, ctx: &Ct
             let name = match c.name.as_str() {
                 "material_uid" => look.material(None, Some(c.int(ctx)?), &c.loc)?,
                 "material_name" => look.material(Some(c.str()), None, &c.loc)?,
-                other => return Err(err(LxsErrorKind::Syntax, &c.loc, format!("<{other}> in <materials>: material_uid or material_name expected"))),
+                other => {
+                    return Err(err(
+                        LxsErrorKind::Syntax,
+                        &c.loc,
+                        format!("<{other}> in <materials>: material_uid or material_name expected"),
+                    ))
+                }
             };
             materials.push(name);
         }
@@ -295,7 +332,11 @@ pub fn read_model(e: &Elem, dir: &Path, meshes: &Meshes, look: &Lookup, ctx: &Ct
     } else if let Some(data) = &entry.data {
         for n in &data.material_names {
             materials.push(look.material(Some(n), None, &e.loc).map_err(|x| {
-                err(x.kind, &e.loc, format!("{} (named by mesh \"{}\")", x.message, entry.name))
+                err(
+                    x.kind,
+                    &e.loc,
+                    format!("{} (named by mesh \"{}\")", x.message, entry.name),
+                )
             })?);
         }
     }
@@ -308,7 +349,10 @@ pub fn read_model(e: &Elem, dir: &Path, meshes: &Meshes, look: &Lookup, ctx: &Ct
     }
     let mut emission_scales = Vec::new();
     for s in e.all("emission_scale") {
-        let material = match (s.child_str(ctx, "material_name"), s.child_int(ctx, "material_uid")?) {
+        let material = match (
+            s.child_str(ctx, "material_name"),
+            s.child_int(ctx, "material_uid")?,
+        ) {
             (n, u) if n.is_some() || u.is_some() => look.material(n, u, &s.loc)?,
             _ => materials.first().cloned().unwrap_or_default(),
         };
@@ -321,7 +365,11 @@ pub fn read_model(e: &Elem, dir: &Path, meshes: &Meshes, look: &Lookup, ctx: &Ct
     }
     let mut ies = Vec::new();
     for i in e.all("ies_profile") {
-        let m = look.material(i.child_str(ctx, "material_name"), i.child_int(ctx, "material_uid")?, &i.loc)?;
+        let m = look.material(
+            i.child_str(ctx, "material_name"),
+            i.child_int(ctx, "material_uid")?,
+            &i.loc,
+        )?;
         let p = i.need(ctx, "path")?;
         ies.push((m, ctx.scene_relative(p.str(), dir, &p.loc)?));
     }
@@ -369,17 +417,31 @@ mod tests {
         // Row-major (0 -1 0 / 1 0 0 / 0 0 1): x -> (0, 1, 0); scaled by 2, moved by pos.
         let x = keys[0].1.transform_point3(DVec3::X);
         assert!((x - DVec3::new(1.0, 4.0, 3.0)).length() < 1e-12, "{x}");
-        let p = xml::parse(b"<model><rotation><matrix>1 0 0 0 0 0 0 0 1</matrix></rotation></model>", &"t.igs".into()).unwrap();
-        assert_eq!(placement(&p.root, &ctx).unwrap_err().kind, LxsErrorKind::InvalidValue);
+        let p = xml::parse(
+            b"<model><rotation><matrix>1 0 0 0 0 0 0 0 1</matrix></rotation></model>",
+            &"t.igs".into(),
+        )
+        .unwrap();
+        assert_eq!(
+            placement(&p.root, &ctx).unwrap_err().kind,
+            LxsErrorKind::InvalidValue
+        );
     }
 
     #[test]
     fn flux_of_each_measure() {
         let ctx = Ctx::new(Path::new("t.igs"), &ParseOptions::default());
-        let s = |m: &str| EmissionScale { material: "m".into(), measure: m.into(), value: 10.0, loc: Loc::default() };
+        let s = |m: &str| EmissionScale {
+            material: "m".into(),
+            measure: m.into(),
+            value: 10.0,
+            loc: Loc::default(),
+        };
         assert_eq!(flux(&s("luminous_flux"), 2.0, &ctx), Some(10.0));
         assert_eq!(flux(&s("luminous_emittance"), 2.0, &ctx), Some(20.0));
-        assert!((flux(&s("luminance"), 2.0, &ctx).unwrap() - 20.0 * std::f64::consts::PI).abs() < 1e-9);
+        assert!(
+            (flux(&s("luminance"), 2.0, &ctx).unwrap() - 20.0 * std::f64::consts::PI).abs() < 1e-9
+        );
         assert_eq!(flux(&s("watts"), 2.0, &ctx), None);
     }
 }

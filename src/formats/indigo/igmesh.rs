@@ -102,7 +102,9 @@ impl<'a> Reader<'a> {
     fn string(&mut self, what: &str) -> Result<String, IgMeshError> {
         let len = self.u32(what)?;
         if len > MAX_STRING {
-            return Err(bad(format!("{what}: string of {len} bytes (at most {MAX_STRING})")));
+            return Err(bad(format!(
+                "{what}: string of {len} bytes (at most {MAX_STRING})"
+            )));
         }
         let b = self.take(len as usize, what)?;
         Ok(String::from_utf8_lossy(b).into_owned())
@@ -222,7 +224,9 @@ pub fn read(bytes: &[u8], limits: Limits) -> Result<MeshData, IgMeshError> {
     }
     let version = r.u32("format version")?;
     if !(1..=4).contains(&version) {
-        return Err(bad(format!("unsupported .igmesh version {version} (1 to 4 are read)")));
+        return Err(bad(format!(
+            "unsupported .igmesh version {version} (1 to 4 are read)"
+        )));
     }
     let (mut compression, mut filtering) = (0, 0);
     if version >= 4 {
@@ -318,7 +322,9 @@ pub(crate) mod tests {
             u(&mut h, *i);
         }
         let mut g = Vec::new();
-        let fl = |b: &mut Vec<u8>, v: &[f32]| v.iter().for_each(|x| b.extend_from_slice(&x.to_le_bytes()));
+        let fl = |b: &mut Vec<u8>, v: &[f32]| {
+            v.iter().for_each(|x| b.extend_from_slice(&x.to_le_bytes()))
+        };
         u(&mut g, m.positions.len() as u32);
         m.positions.iter().for_each(|p| fl(&mut g, p));
         u(&mut g, m.normals.len() as u32);
@@ -390,10 +396,22 @@ pub(crate) mod tests {
             uv_layout: UvLayout::VertexLayer,
             uvs: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]],
             tris: vec![
-                Face { v: [4, 1, 2], uv: [4, 1, 2], mat: 1 },
-                Face { v: [0, 1, 4], uv: [0, 1, 4], mat: 0 },
+                Face {
+                    v: [4, 1, 2],
+                    uv: [4, 1, 2],
+                    mat: 1,
+                },
+                Face {
+                    v: [0, 1, 4],
+                    uv: [0, 1, 4],
+                    mat: 0,
+                },
             ],
-            quads: vec![Face { v: [0, 1, 2, 3], uv: [0, 1, 2, 3], mat: 0 }],
+            quads: vec![Face {
+                v: [0, 1, 2, 3],
+                uv: [0, 1, 2, 3],
+                mat: 0,
+            }],
             material_names: vec!["a".into(), "b".into()],
             uv_set_names: vec![],
         }
@@ -411,7 +429,10 @@ pub(crate) mod tests {
         }
         let mut m = sample();
         m.uv_layout = UvLayout::LayerVertex;
-        assert_eq!(read(&write(&m, 3, false), LIMITS).unwrap().uv_layout, UvLayout::LayerVertex);
+        assert_eq!(
+            read(&write(&m, 3, false), LIMITS).unwrap().uv_layout,
+            UvLayout::LayerVertex
+        );
     }
 
     #[test]
@@ -441,7 +462,10 @@ pub(crate) mod tests {
             max_array_len: 3,
             max_decompressed: 1 << 20,
         };
-        assert!(read(&write(&sample(), 3, false), small).unwrap_err().0.contains("limit"));
+        assert!(read(&write(&sample(), 3, false), small)
+            .unwrap_err()
+            .0
+            .contains("limit"));
     }
 
     #[test]
@@ -477,10 +501,16 @@ pub(crate) mod tests {
         assert!(read(&b, LIMITS).unwrap_err().0.contains("version 9"));
         let mut m = sample();
         m.tris[0].v[1] = 77;
-        assert!(read(&write(&m, 2, false), LIMITS).unwrap_err().0.contains("77"));
+        assert!(read(&write(&m, 2, false), LIMITS)
+            .unwrap_err()
+            .0
+            .contains("77"));
         let mut m = sample();
         m.positions[2][1] = f32::NAN;
-        assert!(read(&write(&m, 2, false), LIMITS).unwrap_err().0.contains("finite"));
+        assert!(read(&write(&m, 2, false), LIMITS)
+            .unwrap_err()
+            .0
+            .contains("finite"));
         let mut b = write(&sample(), 3, false);
         let at = 4 + 4 + 4 + 4 + (4 + 1) * 2 + 4 + 4 + 5 * 12 + 4 + 5 * 12;
         b[at..at + 4].copy_from_slice(&7u32.to_le_bytes());

@@ -48,10 +48,22 @@ impl AreaOut {
         let loc = &self.loc;
         let mut ps = ParamSet::new();
         ps.push(Param::new("L", self.l.clone(), loc.clone()));
-        ps.push(Param::new("power", ParamValue::Float(vec![self.power as f32]), loc.clone()));
-        ps.push(Param::new("efficacy", ParamValue::Float(vec![self.efficacy as f32]), loc.clone()));
+        ps.push(Param::new(
+            "power",
+            ParamValue::Float(vec![self.power as f32]),
+            loc.clone(),
+        ));
+        ps.push(Param::new(
+            "efficacy",
+            ParamValue::Float(vec![self.efficacy as f32]),
+            loc.clone(),
+        ));
         if let Some(ies) = &self.ies {
-            ps.push(Param::new("iesname", ParamValue::String(vec![ies.clone()]), loc.clone()));
+            ps.push(Param::new(
+                "iesname",
+                ParamValue::String(vec![ies.clone()]),
+                loc.clone(),
+            ));
         }
         Entity {
             kind: "area".into(),
@@ -95,12 +107,23 @@ pub fn sunsky(e: &Elem, group: &str, ctx: &Ctx) -> Result<LightOut, LxsError> {
     e.ignore(&["model", "sun_layer", "sky_layer"]);
     let dir = e.need(ctx, "sundir")?.vec3(ctx)?;
     if dir[2] <= 0.0 {
-        ctx.warn(&e.loc, "sundir has no upward component: the sun is below the horizon");
+        ctx.warn(
+            &e.loc,
+            "sundir has no upward component: the sun is below the horizon",
+        );
     }
     let mut ps = ParamSet::new();
-    ps.push(p("sundir", ParamValue::Vector(vec![dir.map(|v| v as f32)]), &e.loc));
+    ps.push(p(
+        "sundir",
+        ParamValue::Vector(vec![dir.map(|v| v as f32)]),
+        &e.loc,
+    ));
     if let Some(t) = e.child(ctx, "turbidity") {
-        ps.push(p("turbidity", ParamValue::Float(vec![t.positive(ctx)? as f32]), &t.loc));
+        ps.push(p(
+            "turbidity",
+            ParamValue::Float(vec![t.positive(ctx)? as f32]),
+            &t.loc,
+        ));
     }
     if e.child_bool_or(ctx, "extra_atmospheric", false)? {
         ctx.warn(&e.loc, "extra_atmospheric sun and sky are not supported: the sky is rendered with the atmosphere");
@@ -115,14 +138,25 @@ pub fn env_map(e: &Elem, dir: &Path, group: &str, ctx: &Ctx) -> Result<Option<Li
     let Some(map) = map else {
         if let Some(s) = e.child(ctx, "spherical") {
             s.mark_all_used();
-            ctx.warn(&s.loc, "spherical (.float) environment maps are not supported: ignored");
+            ctx.warn(
+                &s.loc,
+                "spherical (.float) environment maps are not supported: ignored",
+            );
         }
         return Ok(None);
     };
     let path = map.need(ctx, "path")?;
     let mut ps = ParamSet::new();
-    ps.push(p("mapname", ParamValue::String(vec![ctx.scene_relative(path.str(), dir, &path.loc)?]), &path.loc));
-    ps.push(p("gain", ParamValue::Float(vec![map.child_num_or(ctx, "gain", 1.0)? as f32]), &map.loc));
+    ps.push(p(
+        "mapname",
+        ParamValue::String(vec![ctx.scene_relative(path.str(), dir, &path.loc)?]),
+        &path.loc,
+    ));
+    ps.push(p(
+        "gain",
+        ParamValue::Float(vec![map.child_num_or(ctx, "gain", 1.0)? as f32]),
+        &map.loc,
+    ));
     Ok(Some(light("infinite", ps, &e.loc, group)))
 }
 
@@ -148,7 +182,13 @@ pub fn background_settings(
     let Some(d) = m.child(ctx, "diffuse") else {
         if let Some(other) = m.first_child_except(&["name", "uid"]) {
             other.mark_all_used();
-            ctx.warn(&other.loc, format!("background material <{}> is not supported: no environment light", other.name));
+            ctx.warn(
+                &other.loc,
+                format!(
+                    "background material <{}> is not supported: no environment light",
+                    other.name
+                ),
+            );
         }
         return Ok(None);
     };
@@ -169,11 +209,22 @@ pub fn background_settings(
     match tex {
         Some((i, l)) => {
             let def = textures.get(i).ok_or_else(|| {
-                err(LxsErrorKind::Undefined, &l, format!("texture_index {i}: the material defines {} texture(s)", textures.len()))
+                err(
+                    LxsErrorKind::Undefined,
+                    &l,
+                    format!(
+                        "texture_index {i}: the material defines {} texture(s)",
+                        textures.len()
+                    ),
+                )
             })?;
             def.mark_all_used();
             let path = def.need(ctx, "path")?;
-            ps.push(p("mapname", ParamValue::String(vec![ctx.scene_relative(path.str(), dir, &path.loc)?]), &path.loc));
+            ps.push(p(
+                "mapname",
+                ParamValue::String(vec![ctx.scene_relative(path.str(), dir, &path.loc)?]),
+                &path.loc,
+            ));
             let g = [scale(&base), scale(&modul)];
             let gain = (0..3).map(|k| g[0][k] * g[1][k]).sum::<f64>() / 3.0;
             ps.push(p("gain", ParamValue::Float(vec![gain as f32]), &d.loc));
@@ -192,13 +243,25 @@ pub fn background_settings(
 
 /// `efficacy_scale` (also spelt `efficiacy_scale`): (power drawn in W, lm/W).
 fn efficacy(e: &Elem, ctx: &Ctx) -> Result<Option<(f64, f64)>, LxsError> {
-    let Some(s) = e.child(ctx, "efficacy_scale").or_else(|| e.child(ctx, "efficiacy_scale")) else {
+    let Some(s) = e
+        .child(ctx, "efficacy_scale")
+        .or_else(|| e.child(ctx, "efficiacy_scale"))
+    else {
         return Ok(None);
     };
     let w = s.need(ctx, "power_drawn")?.positive(ctx)?;
-    let eff = match s.child(ctx, "overall_luminous_efficacy").or_else(|| s.child(ctx, "overall_luminous_efficiacy")) {
+    let eff = match s
+        .child(ctx, "overall_luminous_efficacy")
+        .or_else(|| s.child(ctx, "overall_luminous_efficiacy"))
+    {
         Some(x) => x.positive(ctx)?,
-        None => return Err(err(LxsErrorKind::WrongValueCount, &s.loc, "efficacy_scale needs <overall_luminous_efficacy>")),
+        None => {
+            return Err(err(
+                LxsErrorKind::WrongValueCount,
+                &s.loc,
+                "efficacy_scale needs <overall_luminous_efficacy>",
+            ))
+        }
     };
     Ok(Some((w, eff)))
 }
@@ -216,7 +279,10 @@ pub fn area_of(e: &Elem, group: &str, dir: &Path, ctx: &Ctx) -> Result<AreaOut, 
     };
     if let Some(t) = e.child(ctx, "texture") {
         t.mark_all_used();
-        ctx.warn(&t.loc, "a texture on a mesh light is not applied: uniform emission");
+        ctx.warn(
+            &t.loc,
+            "a texture on a mesh light is not applied: uniform emission",
+        );
     }
     Ok(AreaOut {
         l: rgb(c),
@@ -229,7 +295,12 @@ pub fn area_of(e: &Elem, group: &str, dir: &Path, ctx: &Ctx) -> Result<AreaOut, 
 }
 
 /// `<rectanglelight>`: the quad's `trianglemesh` parameters (normal -z) and its area light.
-pub fn rectangle(e: &Elem, group: &str, dir: &Path, ctx: &Ctx) -> Result<(ParamSet, AreaOut), LxsError> {
+pub fn rectangle(
+    e: &Elem,
+    group: &str,
+    dir: &Path,
+    ctx: &Ctx,
+) -> Result<(ParamSet, AreaOut), LxsError> {
     e.mark_used();
     let c = e.need(ctx, "pos")?.vec3(ctx)?;
     let w = e.need(ctx, "width")?.positive(ctx)? / 2.0;
@@ -238,7 +309,11 @@ pub fn rectangle(e: &Elem, group: &str, dir: &Path, ctx: &Ctx) -> Result<(ParamS
         .map(|d| [(c[0] + d[0]) as f32, (c[1] + d[1]) as f32, c[2] as f32]);
     let mut ps = ParamSet::new();
     ps.push(p("P", ParamValue::Point(pts.to_vec()), &e.loc));
-    ps.push(p("triindices", ParamValue::Integer(vec![0, 1, 2, 0, 2, 3]), &e.loc));
+    ps.push(p(
+        "triindices",
+        ParamValue::Integer(vec![0, 1, 2, 0, 2, 3]),
+        &e.loc,
+    ));
     let area = area_of(e, group, dir, ctx)?;
     Ok((ps, area))
 }
@@ -256,16 +331,42 @@ mod tests {
     #[test]
     fn environment_lights() {
         let ctx = Ctx::new(Path::new("t.igs"), &ParseOptions::default());
-        let b = background(&root("<background><spectrum><uniform><value>2</value></uniform></spectrum></background>"), "g", &ctx).unwrap();
+        let b = background(
+            &root(
+                "<background><spectrum><uniform><value>2</value></uniform></spectrum></background>",
+            ),
+            "g",
+            &ctx,
+        )
+        .unwrap();
         assert_eq!(b.entity.kind, "infinite");
         assert_eq!(b.entity.params.color("L"), Some([2.0; 3]));
-        let s = sunsky(&root("<skylight><sundir>0 0.6 1</sundir><turbidity>2</turbidity></skylight>"), "g", &ctx).unwrap();
+        let s = sunsky(
+            &root("<skylight><sundir>0 0.6 1</sundir><turbidity>2</turbidity></skylight>"),
+            "g",
+            &ctx,
+        )
+        .unwrap();
         assert_eq!(s.entity.params.vector("sundir"), Some([0.0, 0.6, 1.0]));
-        let m = env_map(&root("<env_map><latlong><path>probes\\sky.exr</path><gain>3</gain></latlong></env_map>"), Path::new(""), "g", &ctx)
-            .unwrap()
-            .unwrap();
+        let m = env_map(
+            &root(
+                "<env_map><latlong><path>probes\\sky.exr</path><gain>3</gain></latlong></env_map>",
+            ),
+            Path::new(""),
+            "g",
+            &ctx,
+        )
+        .unwrap()
+        .unwrap();
         assert_eq!(m.entity.params.string("mapname"), Some("probes/sky.exr"));
-        assert!(env_map(&root("<env_map><spherical><path>a.float</path></spherical></env_map>"), Path::new(""), "g", &ctx).unwrap().is_none());
+        assert!(env_map(
+            &root("<env_map><spherical><path>a.float</path></spherical></env_map>"),
+            Path::new(""),
+            "g",
+            &ctx
+        )
+        .unwrap()
+        .is_none());
         let layer = |i: i64| format!("layer {i}");
         let bg = background_settings(
             &root("<background_settings><background_material><material><name>bg</name><diffuse>\
@@ -290,7 +391,14 @@ mod tests {
         .unwrap()
         .unwrap();
         assert_eq!(sky.entity.kind, "sunsky");
-        assert!(background_settings(&root("<background_settings><uid>14</uid></background_settings>"), Path::new(""), &layer, &ctx).unwrap().is_none());
+        assert!(background_settings(
+            &root("<background_settings><uid>14</uid></background_settings>"),
+            Path::new(""),
+            &layer,
+            &ctx
+        )
+        .unwrap()
+        .is_none());
     }
 
     #[test]
@@ -305,7 +413,11 @@ mod tests {
         )
         .unwrap();
         let p = ps.points("P").unwrap();
-        let (a0, a1, a2) = (glam::Vec3::from(p[0]), glam::Vec3::from(p[1]), glam::Vec3::from(p[2]));
+        let (a0, a1, a2) = (
+            glam::Vec3::from(p[0]),
+            glam::Vec3::from(p[1]),
+            glam::Vec3::from(p[2]),
+        );
         assert!((a1 - a0).cross(a2 - a0).z < 0.0);
         assert_eq!((a.power, a.efficacy), (100.0, 17.5));
         assert_eq!(a.entity().params.float("power"), Some(100.0));

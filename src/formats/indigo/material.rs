@@ -44,7 +44,12 @@ pub struct Lookup {
 
 impl Lookup {
     /// The LuxRender name of the material named `name` (or uid `uid`) at `loc`.
-    pub fn material(&self, name: Option<&str>, uid: Option<i64>, loc: &Loc) -> Result<String, LxsError> {
+    pub fn material(
+        &self,
+        name: Option<&str>,
+        uid: Option<i64>,
+        loc: &Loc,
+    ) -> Result<String, LxsError> {
         let found = match (name, uid) {
             (_, Some(u)) => self.by_uid.get(&u),
             (Some(n), None) => self.by_name.get(n),
@@ -151,7 +156,13 @@ impl<'a> Conv<'a> {
     }
 
     /// A texture of this material as a LuxRender texture of type `ty`; returns its name.
-    fn texture(&mut self, i: usize, loc: &Loc, lux: &str, ty: &'static str) -> Result<String, LxsError> {
+    fn texture(
+        &mut self,
+        i: usize,
+        loc: &Loc,
+        lux: &str,
+        ty: &'static str,
+    ) -> Result<String, LxsError> {
         let def = self.def(i, loc)?;
         let name = format!("{}.{lux}", self.out.name);
         let stmts = texture::statements(def, &name, ty, self.dir, self.ctx)?;
@@ -182,7 +193,11 @@ impl<'a> Conv<'a> {
     fn color(&mut self, indigo: &str, lux: &str) -> Result<bool, LxsError> {
         match texture::color(self.te, indigo, self.ctx)? {
             Some(v) => {
-                let loc = self.te.child(self.ctx, indigo).map(|e| e.loc.clone()).unwrap_or_default();
+                let loc = self
+                    .te
+                    .child(self.ctx, indigo)
+                    .map(|e| e.loc.clone())
+                    .unwrap_or_default();
                 let pv = self.color_value(v, lux)?;
                 self.put(lux, pv, &loc);
                 Ok(true)
@@ -203,14 +218,23 @@ impl<'a> Conv<'a> {
         let Some(v) = texture::float(self.te, indigo, self.ctx)? else {
             return Ok(());
         };
-        let loc = self.te.child(self.ctx, indigo).map(|e| e.loc.clone()).unwrap_or_default();
+        let loc = self
+            .te
+            .child(self.ctx, indigo)
+            .map(|e| e.loc.clone())
+            .unwrap_or_default();
         let pv = match v {
             Value::Const(c) => ParamValue::Float(vec![f((c[0] + c[1] + c[2]) / 3.0) as f32]),
-            Value::Tex(i, tloc) if tex_ok => ParamValue::Texture(self.texture(i, &tloc, lux[0], "float")?),
+            Value::Tex(i, tloc) if tex_ok => {
+                ParamValue::Texture(self.texture(i, &tloc, lux[0], "float")?)
+            }
             Value::Tex(_, tloc) => {
                 self.ctx.warn(
                     &tloc,
-                    format!("a texture for <{indigo}> cannot be mapped to LuxRender's {}: default kept", lux[0]),
+                    format!(
+                        "a texture for <{indigo}> cannot be mapped to LuxRender's {}: default kept",
+                        lux[0]
+                    ),
                 );
                 return Ok(());
             }
@@ -301,7 +325,8 @@ impl<'a> Conv<'a> {
                 ParamValue::Texture(name)
             }
         };
-        let black = matches!(&l, ParamValue::Color(c) if c.iter().all(|v| v.iter().all(|x| *x <= 0.0)));
+        let black =
+            matches!(&l, ParamValue::Color(c) if c.iter().all(|v| v.iter().all(|x| *x <= 0.0)));
         if !black {
             self.out.emission = Some(Emission { l, layer, loc });
         }
@@ -311,7 +336,13 @@ impl<'a> Conv<'a> {
 
 /// Converts `<material>` element `m` written in a file of directory `dir`; `name` is the
 /// LuxRender name chosen for it.
-pub fn convert(m: &Elem, name: &str, dir: &Path, look: &Lookup, ctx: &Ctx) -> Result<MatOut, LxsError> {
+pub fn convert(
+    m: &Elem,
+    name: &str,
+    dir: &Path,
+    look: &Lookup,
+    ctx: &Ctx,
+) -> Result<MatOut, LxsError> {
     m.mark_used();
     m.ignore(&NOT_TYPE);
     let Some(te) = m.first_child_except(&NOT_TYPE) else {
@@ -363,7 +394,10 @@ pub fn convert(m: &Elem, name: &str, dir: &Path, look: &Lookup, ctx: &Ctx) -> Re
             let medium = look.medium(te, ctx)?.cloned();
             let (ior, cauchy) = medium.as_ref().map_or((1.5, 0.0), |m| (m.ior, m.cauchy_b));
             if medium.is_none() {
-                ctx.warn(&te.loc, "no internal medium: index of refraction 1.5 assumed");
+                ctx.warn(
+                    &te.loc,
+                    "no internal medium: index of refraction 1.5 assumed",
+                );
             }
             let loc = te.loc.clone();
             if te.name == "specular" {
@@ -394,7 +428,9 @@ pub fn convert(m: &Elem, name: &str, dir: &Path, look: &Lookup, ctx: &Ctx) -> Re
             te.mark_all_used();
             ctx.warn(
                 &te.loc,
-                format!("material type <{other}> is not supported by luxfarm: rendered as grey matte"),
+                format!(
+                    "material type <{other}> is not supported by luxfarm: rendered as grey matte"
+                ),
             );
             c.kind("matte");
             return Ok(c.out);
@@ -407,7 +443,10 @@ pub fn convert(m: &Elem, name: &str, dir: &Path, look: &Lookup, ctx: &Ctx) -> Re
 
 fn random_colours(te: &Elem, ctx: &Ctx) -> Result<(), LxsError> {
     if te.child_bool_or(ctx, "random_triangle_colours", false)? {
-        ctx.warn(&te.loc, "random_triangle_colours is a debugging aid luxfarm does not draw: ignored");
+        ctx.warn(
+            &te.loc,
+            "random_triangle_colours is a debugging aid luxfarm does not draw: ignored",
+        );
     }
     Ok(())
 }
@@ -416,7 +455,10 @@ fn phong(c: &mut Conv) -> Result<(), LxsError> {
     let (te, ctx) = (c.te, c.ctx);
     if let Some(Value::Const(v)) = texture::float(te, "fresnel_scale", ctx)? {
         if v[0] != 1.0 {
-            ctx.warn(&te.loc, format!("fresnel_scale {} has no LuxRender equivalent: 1 used", v[0]));
+            ctx.warn(
+                &te.loc,
+                format!("fresnel_scale {} has no LuxRender equivalent: 1 used", v[0]),
+            );
         }
     }
     let nk = te.child(ctx, "nk_data").filter(|n| !n.str().is_empty());
@@ -461,7 +503,10 @@ fn blend(c: &mut Conv, look: &Lookup) -> Result<(), LxsError> {
     c.kind("mix");
     for (side, lux) in [("a", "namedmaterial1"), ("b", "namedmaterial2")] {
         let name = te.child_str(ctx, &format!("{side}_name"));
-        let uid = match te.child(ctx, &format!("{side}_mat_uid")).or_else(|| te.child(ctx, &format!("{side}_uid"))) {
+        let uid = match te
+            .child(ctx, &format!("{side}_mat_uid"))
+            .or_else(|| te.child(ctx, &format!("{side}_uid")))
+        {
             Some(u) => Some(u.int(ctx)?),
             None => None,
         };
@@ -470,7 +515,17 @@ fn blend(c: &mut Conv, look: &Lookup) -> Result<(), LxsError> {
         c.put(lux, ParamValue::String(vec![target]), &te.loc.clone());
     }
     let step = te.child_bool_or(ctx, "step_blend", false)?;
-    let stepf = move |x: f64| if step { if x >= 0.5 { 1.0 } else { 0.0 } } else { x.clamp(0.0, 1.0) };
+    let stepf = move |x: f64| {
+        if step {
+            if x >= 0.5 {
+                1.0
+            } else {
+                0.0
+            }
+        } else {
+            x.clamp(0.0, 1.0)
+        }
+    };
     if step {
         if let Some(Value::Tex(_, loc)) = texture::float(te, "blend", ctx)? {
             ctx.warn(&loc, "step_blend on a textured blend cannot be expressed in LuxRender: smooth blend used");
@@ -490,7 +545,10 @@ mod tests {
         let p = xml::parse(doc.as_bytes(), &"t.igs".into()).unwrap();
         let out = convert(&p.root, "m", Path::new(""), look, &ctx)?;
         p.root.report_unused(&ctx);
-        Ok((out, ctx.take_warnings().into_iter().map(|w| w.message).collect()))
+        Ok((
+            out,
+            ctx.take_warnings().into_iter().map(|w| w.message).collect(),
+        ))
     }
 
     #[test]
@@ -506,8 +564,14 @@ mod tests {
         .unwrap();
         assert!(w.is_empty(), "{w:?}");
         assert_eq!(m.params.string("type"), Some("matte"));
-        assert_eq!(m.params.get("Kd").unwrap().value, ParamValue::Texture("m.Kd".into()));
-        assert_eq!(m.textures[0].entity.params.string("filename"), Some("a.png"));
+        assert_eq!(
+            m.params.get("Kd").unwrap().value,
+            ParamValue::Texture("m.Kd".into())
+        );
+        assert_eq!(
+            m.textures[0].entity.params.string("filename"),
+            Some("a.png")
+        );
         assert_eq!(m.uv_set.as_deref(), Some("albedo"));
         let e = m.emission.unwrap();
         assert_eq!(e.l, ParamValue::Color(vec![[100.0, 50.0, 50.0]]));
@@ -538,7 +602,8 @@ mod tests {
         let ctx = Ctx::new(Path::new("t.igs"), &ParseOptions::default());
         let med = xml::parse(b"<medium><name>glass</name><ior>1.33</ior><cauchy_b_coeff>0.01</cauchy_b_coeff></medium>", &"t.igs".into()).unwrap();
         let mut look = Lookup::default();
-        look.media.insert("glass".into(), medium::read(&med.root, &ctx).unwrap());
+        look.media
+            .insert("glass".into(), medium::read(&med.root, &ctx).unwrap());
         let (m, _) = conv(
             "<material><name>g</name><specular><transparent>false</transparent><internal_medium_name>glass</internal_medium_name></specular></material>",
             &look,
@@ -577,7 +642,11 @@ mod tests {
         .unwrap();
         assert_eq!(m.params.string("type"), Some("metal"));
         assert_eq!(m.params.string("name"), Some("nkdata/al.nk"));
-        let (m, w) = conv("<material><name>c</name><coating><thickness>1</thickness></coating></material>", &look).unwrap();
+        let (m, w) = conv(
+            "<material><name>c</name><coating><thickness>1</thickness></coating></material>",
+            &look,
+        )
+        .unwrap();
         assert_eq!(m.params.string("type"), Some("matte"));
         assert!(w[0].contains("coating"), "{w:?}");
     }

@@ -45,7 +45,11 @@ impl Medium {
 }
 
 fn color(name: &str, c: [f64; 3], loc: &Loc) -> Param {
-    Param::new(name, ParamValue::Color(vec![c.map(|v| v as f32)]), loc.clone())
+    Param::new(
+        name,
+        ParamValue::Color(vec![c.map(|v| v as f32)]),
+        loc.clone(),
+    )
 }
 
 /// Reads a `<medium>` element.
@@ -54,9 +58,7 @@ pub fn read(e: &Elem, ctx: &Ctx) -> Result<Medium, LxsError> {
     let name = e.need(ctx, "name")?.str().to_string();
     let uid = e.child_int(ctx, "uid")?;
     e.ignore(&["precedence"]);
-    let skin = ["epidermis", "dermis"]
-        .iter()
-        .find_map(|k| e.child(ctx, k));
+    let skin = ["epidermis", "dermis"].iter().find_map(|k| e.child(ctx, k));
     let body = if let Some(s) = skin {
         s.mark_all_used();
         ctx.warn(

@@ -100,7 +100,7 @@ impl MeshData {
                 self.positions.len()
             ));
         }
-        if self.num_uv_sets > 0 && self.uvs.len() % self.num_uv_sets as usize != 0 {
+        if self.num_uv_sets > 0 && !self.uvs.len().is_multiple_of(self.num_uv_sets as usize) {
             return Err(format!(
                 "{} uv pairs is not a multiple of the {} uv sets",
                 self.uvs.len(),
@@ -111,9 +111,7 @@ impl MeshData {
         let nuv = self.uvs_per_set();
         let check = |v: &[u32], uv: &[u32]| -> Result<(), String> {
             if let Some(bad) = v.iter().find(|&&i| i as usize >= nv) {
-                return Err(format!(
-                    "vertex index {bad} out of range ({nv} vertices)"
-                ));
+                return Err(format!("vertex index {bad} out of range ({nv} vertices)"));
             }
             if self.num_uv_sets > 0 {
                 if let Some(bad) = uv.iter().find(|&&i| i as usize >= nuv) {
@@ -246,7 +244,12 @@ impl MeshData {
     }
 }
 
-fn f32s<const N: usize>(text: &str, loc: &Loc, ctx: &Ctx, what: &str) -> Result<[f32; N], LxsError> {
+fn f32s<const N: usize>(
+    text: &str,
+    loc: &Loc,
+    ctx: &Ctx,
+    what: &str,
+) -> Result<[f32; N], LxsError> {
     let v = parse_numbers(text, loc, ctx)?;
     if v.len() != N {
         return Err(err(
@@ -336,7 +339,10 @@ pub fn read_embedded(e: &Elem, ctx: &Ctx) -> Result<MeshData, LxsError> {
         );
         m.normals.clear();
     }
-    let sets = uv_cols.iter().rposition(|c| !c.is_empty()).map_or(0, |k| k + 1);
+    let sets = uv_cols
+        .iter()
+        .rposition(|c| !c.is_empty())
+        .map_or(0, |k| k + 1);
     m.num_uv_sets = sets as u32;
     m.uv_layout = UvLayout::LayerVertex;
     for col in uv_cols.iter_mut().take(sets) {
@@ -370,12 +376,25 @@ mod tests {
 
     fn quad_mesh() -> MeshData {
         MeshData {
-            positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+            positions: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
             num_uv_sets: 1,
             uvs: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]],
             tris: vec![
-                Face { v: [0, 1, 2], uv: [0, 1, 2], mat: 0 },
-                Face { v: [0, 2, 3], uv: [4, 2, 3], mat: 1 },
+                Face {
+                    v: [0, 1, 2],
+                    uv: [0, 1, 2],
+                    mat: 0,
+                },
+                Face {
+                    v: [0, 2, 3],
+                    uv: [4, 2, 3],
+                    mat: 1,
+                },
             ],
             ..MeshData::default()
         }

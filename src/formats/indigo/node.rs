@@ -99,10 +99,10 @@ impl Elem {
 
     /// All children of this name, in order (each marked used).
     pub fn all<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a Elem> + 'a {
-        self.children.iter().filter(move |c| c.name == name).map(|c| {
-            c.mark_used();
-            c
-        })
+        self.children
+            .iter()
+            .filter(move |c| c.name == name)
+            .inspect(|c| c.mark_used())
     }
 
     /// The first element child whatever its name (e.g. the type element of a material).
@@ -324,7 +324,10 @@ mod tests {
             },
         );
         let l = Loc::default();
-        assert_eq!(parse_numbers(" 1, 2\n3e1 ", &l, &ctx).unwrap(), vec![1.0, 2.0, 30.0]);
+        assert_eq!(
+            parse_numbers(" 1, 2\n3e1 ", &l, &ctx).unwrap(),
+            vec![1.0, 2.0, 30.0]
+        );
         assert_eq!(
             parse_numbers("1 x", &l, &ctx).unwrap_err().kind,
             LxsErrorKind::InvalidNumber

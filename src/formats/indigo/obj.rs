@@ -15,9 +15,12 @@ use std::collections::HashMap;
 
 fn num(tok: Option<&str>, line: usize) -> Result<f32, String> {
     let t = tok.ok_or_else(|| format!("line {line}: missing number"))?;
-    let v: f32 = t
-        .parse()
-        .map_err(|_| format!("line {line}: \"{}\" is not a number", t.chars().take(32).collect::<String>()))?;
+    let v: f32 = t.parse().map_err(|_| {
+        format!(
+            "line {line}: \"{}\" is not a number",
+            t.chars().take(32).collect::<String>()
+        )
+    })?;
     if v.is_finite() {
         Ok(v)
     } else {
@@ -27,12 +30,17 @@ fn num(tok: Option<&str>, line: usize) -> Result<f32, String> {
 
 /// An OBJ index (1-based, negative from the end) into a list of `len` items.
 fn index(tok: &str, len: usize, line: usize) -> Result<u32, String> {
-    let i: i64 = tok
-        .parse()
-        .map_err(|_| format!("line {line}: \"{}\" is not an index", tok.chars().take(32).collect::<String>()))?;
+    let i: i64 = tok.parse().map_err(|_| {
+        format!(
+            "line {line}: \"{}\" is not an index",
+            tok.chars().take(32).collect::<String>()
+        )
+    })?;
     let k = if i > 0 { i - 1 } else { len as i64 + i };
     if i == 0 || k < 0 || k >= len as i64 {
-        return Err(format!("line {line}: index {i} out of range ({len} defined)"));
+        return Err(format!(
+            "line {line}: index {i} out of range ({len} defined)"
+        ));
     }
     Ok(k as u32)
 }
@@ -56,15 +64,27 @@ pub fn parse(text: &str) -> Result<MeshData, String> {
         let mut t = l.split_whitespace();
         match t.next() {
             Some("v") => {
-                m.positions.push([num(t.next(), line)?, num(t.next(), line)?, num(t.next(), line)?]);
+                m.positions.push([
+                    num(t.next(), line)?,
+                    num(t.next(), line)?,
+                    num(t.next(), line)?,
+                ]);
                 normal_of.push(None);
             }
             Some("vt") => {
                 let u = num(t.next(), line)?;
-                let v = t.next().map(|x| num(Some(x), line)).transpose()?.unwrap_or(0.0);
+                let v = t
+                    .next()
+                    .map(|x| num(Some(x), line))
+                    .transpose()?
+                    .unwrap_or(0.0);
                 m.uvs.push([u, v]);
             }
-            Some("vn") => normals.push([num(t.next(), line)?, num(t.next(), line)?, num(t.next(), line)?]),
+            Some("vn") => normals.push([
+                num(t.next(), line)?,
+                num(t.next(), line)?,
+                num(t.next(), line)?,
+            ]),
             Some("usemtl") => {
                 let name = t.collect::<Vec<_>>().join(" ");
                 let next = mats.len() as u32;
@@ -89,7 +109,9 @@ pub fn parse(text: &str) -> Result<MeshData, String> {
                         let vn = index(s, normals.len(), line)?;
                         match normal_of[v as usize] {
                             None => normal_of[v as usize] = Some(vn),
-                            Some(prev) if prev != vn && normals[prev as usize] != normals[vn as usize] => {
+                            Some(prev)
+                                if prev != vn && normals[prev as usize] != normals[vn as usize] =>
+                            {
                                 normals_consistent = false
                             }
                             Some(_) => {}
@@ -142,14 +164,23 @@ mod tests {
         assert_eq!(m.tris.len(), 3);
         assert_eq!(m.tris[1].v, [0, 2, 3]);
         assert_eq!(m.tris[2].mat, 1);
-        assert_eq!(m.material_names, vec!["red".to_string(), "blue".to_string()]);
+        assert_eq!(
+            m.material_names,
+            vec!["red".to_string(), "blue".to_string()]
+        );
         assert_eq!(m.num_uv_sets, 1);
         assert_eq!(m.normals.len(), 4);
     }
 
     #[test]
     fn bad_obj_is_an_error() {
-        for bad in ["v 0 0\n", "v 0 0 0\nf 1 2 3\n", "v 0 0 0\nf 1\n", "v 0 0 x\n", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"] {
+        for bad in [
+            "v 0 0\n",
+            "v 0 0 0\nf 1 2 3\n",
+            "v 0 0 0\nf 1\n",
+            "v 0 0 x\n",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
+        ] {
             assert!(parse(bad).is_err(), "{bad}");
         }
     }

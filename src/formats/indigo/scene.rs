@@ -89,7 +89,13 @@ fn layer_group(layers: &[String], i: i64) -> String {
     usize::try_from(i)
         .ok()
         .and_then(|k| layers.get(k).cloned())
-        .unwrap_or_else(|| if i == 0 { "default".into() } else { format!("layer {i}") })
+        .unwrap_or_else(|| {
+            if i == 0 {
+                "default".into()
+            } else {
+                format!("layer {i}")
+            }
+        })
 }
 
 /// Picks the first element of each single-valued kind; reports later ones.
@@ -100,7 +106,10 @@ fn first<'a>(items: &'a [Item], name: &str, ctx: &Ctx) -> Option<&'a Item> {
         dup.elem.mark_all_used();
         ctx.warn(
             &dup.elem.loc,
-            format!("a second <{name}> (the first is at {}): ignored", f.elem.loc),
+            format!(
+                "a second <{name}> (the first is at {}): ignored",
+                f.elem.loc
+            ),
         );
     }
     Some(f)
@@ -157,7 +166,11 @@ pub fn read(items: &[Item], stem: &str, root: &Loc, ctx: &Ctx) -> Result<Scene, 
             "material" => {
                 let name = e.child_str(ctx, "name").unwrap_or("").to_string();
                 let uid = e.child_int(ctx, "uid")?;
-                let mut lux = if name.is_empty() { "material".to_string() } else { name.clone() };
+                let mut lux = if name.is_empty() {
+                    "material".to_string()
+                } else {
+                    name.clone()
+                };
                 if names.contains(&lux) {
                     let base = lux.clone();
                     let mut k = 1;
@@ -270,7 +283,11 @@ fn sphere(e: &Elem, look: &Lookup, ctx: &Ctx) -> Result<Sphere, LxsError> {
     e.ignore(&["uid", "name"]);
     let center = e.need(ctx, "center")?.vec3(ctx)?;
     let radius = e.need(ctx, "radius")?.positive(ctx)?;
-    let material = look.material(e.child_str(ctx, "material_name"), e.child_int(ctx, "material_uid")?, &e.loc)?;
+    let material = look.material(
+        e.child_str(ctx, "material_name"),
+        e.child_int(ctx, "material_uid")?,
+        &e.loc,
+    )?;
     Ok(Sphere {
         center,
         radius,

@@ -102,13 +102,16 @@ fn dim(e: &Elem, ctx: &Ctx, name: &str, default: i64) -> Result<u32, LxsError> {
     match e.child(ctx, name) {
         Some(c) => {
             let v = c.int(ctx)?;
-            u32::try_from(v).ok().filter(|&v| v > 0 && v <= 1 << 16).ok_or_else(|| {
-                super::ctx::err(
-                    crate::lxs::LxsErrorKind::InvalidValue,
-                    &c.loc,
-                    format!("<{name}> must be 1 to 65536, got {v}"),
-                )
-            })
+            u32::try_from(v)
+                .ok()
+                .filter(|&v| v > 0 && v <= 1 << 16)
+                .ok_or_else(|| {
+                    super::ctx::err(
+                        crate::lxs::LxsErrorKind::InvalidValue,
+                        &c.loc,
+                        format!("<{name}> must be 1 to 65536, got {v}"),
+                    )
+                })
         }
         None => Ok(default as u32),
     }
@@ -118,7 +121,11 @@ fn dim(e: &Elem, ctx: &Ctx, name: &str, default: i64) -> Result<u32, LxsError> {
 pub fn read(e: Option<&Elem>, stem: &str, ctx: &Ctx, root_loc: &Loc) -> Result<Settings, LxsError> {
     let loc = e.map(|e| e.loc.clone()).unwrap_or_else(|| root_loc.clone());
     let mut film = ParamSet::new();
-    film.push(p("filename", ParamValue::String(vec![stem.to_string()]), &loc));
+    film.push(p(
+        "filename",
+        ParamValue::String(vec![stem.to_string()]),
+        &loc,
+    ));
     let mut s = Settings {
         width: 600,
         height: 450,
@@ -148,7 +155,10 @@ pub fn read(e: Option<&Elem>, stem: &str, ctx: &Ctx, root_loc: &Loc) -> Result<S
     for name in OFF_ONLY {
         if let Some(c) = e.child(ctx, name) {
             if c.bool(ctx)? {
-                ctx.warn(&c.loc, format!("<{name}> is not supported by luxfarm: rendered without it"));
+                ctx.warn(
+                    &c.loc,
+                    format!("<{name}> is not supported by luxfarm: rendered without it"),
+                );
             }
         }
     }
@@ -179,14 +189,23 @@ pub fn read(e: Option<&Elem>, stem: &str, ctx: &Ctx, root_loc: &Loc) -> Result<S
                 format!("render_region ({x1}, {y1})-({x2}, {y2}) is not inside the {w}x{h} image"),
             ));
         }
-        let crop = vec![(x1 / w) as f32, (x2 / w) as f32, (y1 / h) as f32, (y2 / h) as f32];
+        let crop = vec![
+            (x1 / w) as f32,
+            (x2 / w) as f32,
+            (y1 / h) as f32,
+            (y2 / h) as f32,
+        ];
         film.push(p("cropwindow", ParamValue::Float(crop), &r.loc));
     }
     if let Some(wp) = e.child(ctx, "white_point") {
         let xy = wp.nums(ctx)?;
-        let e_point = xy.len() == 2 && (xy[0] - 1.0 / 3.0).abs() < 1e-3 && (xy[1] - 1.0 / 3.0).abs() < 1e-3;
+        let e_point =
+            xy.len() == 2 && (xy[0] - 1.0 / 3.0).abs() < 1e-3 && (xy[1] - 1.0 / 3.0).abs() < 1e-3;
         if !e_point {
-            ctx.warn(&wp.loc, "white balance other than E is not applied by luxfarm");
+            ctx.warn(
+                &wp.loc,
+                "white balance other than E is not applied by luxfarm",
+            );
         }
     }
     s.filter = filter(e, ctx)?;
@@ -194,7 +213,10 @@ pub fn read(e: Option<&Elem>, stem: &str, ctx: &Ctx, root_loc: &Loc) -> Result<S
         s.sampler.kind = "random".into();
     }
     let bidir = e.child_bool_or(ctx, "bidirectional", true)?;
-    let depth = e.child_int(ctx, "max_depth")?.unwrap_or(10_000).clamp(1, 100_000);
+    let depth = e
+        .child_int(ctx, "max_depth")?
+        .unwrap_or(10_000)
+        .clamp(1, 100_000);
     if bidir {
         s.integrator.params.push(p("eyedepth", int(depth), &loc));
         s.integrator.params.push(p("lightdepth", int(depth), &loc));
@@ -240,7 +262,10 @@ fn filter(e: &Elem, ctx: &Ctx) -> Result<Option<Entity>, LxsError> {
             "mitchell"
         }
         other => {
-            ctx.warn(&k.loc, format!("splat filter <{other}> is not known: LuxRender's default used"));
+            ctx.warn(
+                &k.loc,
+                format!("splat filter <{other}> is not known: LuxRender's default used"),
+            );
             return Ok(None);
         }
     };
@@ -263,7 +288,10 @@ fn layers(e: &Elem, ctx: &Ctx) -> Result<Vec<String>, LxsError> {
         if let Some(s) = l.child(ctx, "layer_scale") {
             let v = super::spectrum::of(s, ctx)?;
             if v.iter().any(|c| (c - 1.0).abs() > 1e-6) {
-                ctx.warn(&s.loc, format!("layer \"{name}\" scale {v:?}: luxfarm renders light groups unscaled"));
+                ctx.warn(
+                    &s.loc,
+                    format!("layer \"{name}\" scale {v:?}: luxfarm renders light groups unscaled"),
+                );
             }
         }
         l.ignore(&["enabled"]);
@@ -295,7 +323,12 @@ pub struct Exposure {
 }
 
 /// Adds the Film tonemapping parameters of `<tonemapping>` to `film`.
-pub fn tonemap(e: Option<&Elem>, exposure: Exposure, film: &mut ParamSet, ctx: &Ctx) -> Result<(), LxsError> {
+pub fn tonemap(
+    e: Option<&Elem>,
+    exposure: Exposure,
+    film: &mut ParamSet,
+    ctx: &Ctx,
+) -> Result<(), LxsError> {
     let Some(e) = e else { return Ok(()) };
     e.mark_used();
     e.ignore(&["uid", "name"]);
@@ -306,23 +339,43 @@ pub fn tonemap(e: Option<&Elem>, exposure: Exposure, film: &mut ParamSet, ctx: &
     let loc = k.loc.clone();
     let gamma = 2.2;
     let kernel = |film: &mut ParamSet, name: &str| {
-        film.push(p("tonemapkernel", ParamValue::String(vec![name.into()]), &loc));
+        film.push(p(
+            "tonemapkernel",
+            ParamValue::String(vec![name.into()]),
+            &loc,
+        ));
     };
     match k.name.as_str() {
         "linear" => {
             let scale = k.child_num_or(ctx, "scale", 1.0)?;
             let factor = scale * unit_ratio();
             kernel(film, "linear");
-            film.push(p("linear_sensitivity", flt(factor / lux_linear_unit(gamma)), &loc));
+            film.push(p(
+                "linear_sensitivity",
+                flt(factor / lux_linear_unit(gamma)),
+                &loc,
+            ));
             film.push(p("linear_exposure", flt(1.0), &loc));
             film.push(p("linear_fstop", flt(1.0), &loc));
             film.push(p("linear_gamma", flt(gamma), &loc));
         }
         "reinhard" => {
             kernel(film, "reinhard");
-            film.push(p("reinhard_prescale", flt(k.child_num_or(ctx, "pre_scale", 1.0)?), &loc));
-            film.push(p("reinhard_postscale", flt(k.child_num_or(ctx, "post_scale", 1.0)?), &loc));
-            film.push(p("reinhard_burn", flt(k.child_num_or(ctx, "burn", 10.0)?), &loc));
+            film.push(p(
+                "reinhard_prescale",
+                flt(k.child_num_or(ctx, "pre_scale", 1.0)?),
+                &loc,
+            ));
+            film.push(p(
+                "reinhard_postscale",
+                flt(k.child_num_or(ctx, "post_scale", 1.0)?),
+                &loc,
+            ));
+            film.push(p(
+                "reinhard_burn",
+                flt(k.child_num_or(ctx, "burn", 10.0)?),
+                &loc,
+            ));
         }
         "camera" => {
             let iso = k.child_num_or(ctx, "film_iso", 100.0)?;
@@ -339,7 +392,10 @@ pub fn tonemap(e: Option<&Elem>, exposure: Exposure, film: &mut ParamSet, ctx: &
             }
         }
         other => {
-            ctx.warn(&k.loc, format!("tonemapping <{other}> is not supported: LuxRender's default used"));
+            ctx.warn(
+                &k.loc,
+                format!("tonemapping <{other}> is not supported: LuxRender's default used"),
+            );
             k.mark_all_used();
         }
     }
@@ -366,12 +422,18 @@ mod tests {
         let s = read(Some(&p.root), "t", &ctx, &Loc::default()).unwrap();
         assert_eq!((s.width, s.height), (200, 100));
         assert_eq!(s.film.int("haltspp"), Some(17));
-        assert_eq!(s.film.floats("cropwindow").unwrap(), &[0.25, 0.75, 0.0, 0.5]);
+        assert_eq!(
+            s.film.floats("cropwindow").unwrap(),
+            &[0.25, 0.75, 0.0, 0.5]
+        );
         assert_eq!(s.sampler.kind, "random");
         assert_eq!(s.integrator.kind, "path");
         assert_eq!(s.integrator.params.int("maxdepth"), Some(7));
         let f = s.filter.unwrap();
-        assert_eq!((f.kind.as_str(), f.params.float("B")), ("mitchell", Some(0.5)));
+        assert_eq!(
+            (f.kind.as_str(), f.params.float("B")),
+            ("mitchell", Some(0.5))
+        );
         assert_eq!(s.layers, vec!["sky".to_string(), "lamps".to_string()]);
         p.root.report_unused(&ctx);
         let w = ctx.take_warnings();
@@ -382,7 +444,10 @@ mod tests {
     #[test]
     fn tonemaps() {
         let ctx = Ctx::new(Path::new("t.igs"), &ParseOptions::default());
-        let exp = Exposure { duration: 0.01, fstop: 8.0 };
+        let exp = Exposure {
+            duration: 0.01,
+            fstop: 8.0,
+        };
         let mut film = ParamSet::new();
         let p = xml::parse(b"<tonemapping><reinhard><pre_scale>2</pre_scale><burn>6</burn></reinhard></tonemapping>", &"t.igs".into()).unwrap();
         tonemap(Some(&p.root), exp, &mut film, &ctx).unwrap();
@@ -390,13 +455,21 @@ mod tests {
         assert_eq!(film.float("reinhard_prescale"), Some(2.0));
         assert_eq!(film.float("reinhard_burn"), Some(6.0));
         let mut film = ParamSet::new();
-        let p = xml::parse(b"<tonemapping><linear><scale>3</scale></linear></tonemapping>", &"t.igs".into()).unwrap();
+        let p = xml::parse(
+            b"<tonemapping><linear><scale>3</scale></linear></tonemapping>",
+            &"t.igs".into(),
+        )
+        .unwrap();
         tonemap(Some(&p.root), exp, &mut film, &ctx).unwrap();
         let s = film.float("linear_sensitivity").unwrap() as f64;
         // The kernel factor times the film luminance of (1,1,1) is 3 ∫ȳ dλ.
         let factor = s * lux_linear_unit(2.2);
         let y = f64::from(crate::spectrum::illuminant_y(crate::spectrum::Rgb::WHITE));
-        assert!((factor * y / (3.0 * 106.856e-9) - 1.0).abs() < 0.01, "{}", factor * y);
+        assert!(
+            (factor * y / (3.0 * 106.856e-9) - 1.0).abs() < 0.01,
+            "{}",
+            factor * y
+        );
         let mut film = ParamSet::new();
         let p = xml::parse(b"<tonemapping><camera><film_iso>200</film_iso><ev_adjust>1</ev_adjust><response_function_path>data\\crf.txt</response_function_path></camera></tonemapping>", &"t.igs".into()).unwrap();
         tonemap(Some(&p.root), exp, &mut film, &ctx).unwrap();

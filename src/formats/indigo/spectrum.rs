@@ -25,7 +25,14 @@ use crate::spectrum::cie;
 use std::sync::OnceLock;
 
 /// Element names that hold a spectrum.
-pub const KINDS: [&str; 6] = ["uniform", "rgb", "blackbody", "peak", "regular_tabulated", "xyz"];
+pub const KINDS: [&str; 6] = [
+    "uniform",
+    "rgb",
+    "blackbody",
+    "peak",
+    "regular_tabulated",
+    "xyz",
+];
 
 /// XYZ → linear sRGB (D65 primaries).
 const XYZ_TO_SRGB: [[f64; 3]; 3] = [
@@ -37,9 +44,11 @@ const XYZ_TO_SRGB: [[f64; 3]; 3] = [
 const LAMBDA_MIN: u32 = 360;
 const LAMBDA_MAX: u32 = 830;
 
-/// (λ in nm, w_r, w_g, w_b) at 1 nm steps, and the sums of each w.
-fn weights() -> &'static (Vec<(f64, [f64; 3])>, [f64; 3]) {
-    static W: OnceLock<(Vec<(f64, [f64; 3])>, [f64; 3])> = OnceLock::new();
+/// (λ in nm, [w_r, w_g, w_b]) at 1 nm steps, and the sums of each w.
+type Weights = (Vec<(f64, [f64; 3])>, [f64; 3]);
+
+fn weights() -> &'static Weights {
+    static W: OnceLock<Weights> = OnceLock::new();
     W.get_or_init(|| {
         let mut v = Vec::new();
         let mut sum = [0.0; 3];
@@ -47,7 +56,8 @@ fn weights() -> &'static (Vec<(f64, [f64; 3])>, [f64; 3]) {
             let c = cie::cmf(nm as f32).map(f64::from);
             let mut w = [0.0; 3];
             for (k, wk) in w.iter_mut().enumerate() {
-                *wk = XYZ_TO_SRGB[k][0] * c[0] + XYZ_TO_SRGB[k][1] * c[1] + XYZ_TO_SRGB[k][2] * c[2];
+                *wk =
+                    XYZ_TO_SRGB[k][0] * c[0] + XYZ_TO_SRGB[k][1] * c[1] + XYZ_TO_SRGB[k][2] * c[2];
                 sum[k] += *wk;
             }
             v.push((nm as f64, w));
@@ -196,11 +206,7 @@ pub fn of(parent: &Elem, ctx: &Ctx) -> Result<[f64; 3], LxsError> {
         None => Err(err(
             LxsErrorKind::WrongValueCount,
             &parent.loc,
-            format!(
-                "<{}> needs a spectrum ({})",
-                parent.name,
-                KINDS.join(", ")
-            ),
+            format!("<{}> needs a spectrum ({})", parent.name, KINDS.join(", ")),
         )),
     }
 }
@@ -224,7 +230,10 @@ mod tests {
 
     #[test]
     fn flat_spectra_are_exact_grey() {
-        assert_eq!(rgb_of("<c><uniform><value>0.3</value></uniform></c>").unwrap(), [0.3; 3]);
+        assert_eq!(
+            rgb_of("<c><uniform><value>0.3</value></uniform></c>").unwrap(),
+            [0.3; 3]
+        );
         let peak = rgb_of(
             "<c><peak><peak_min>300</peak_min><peak_width>600</peak_width><base_value>0</base_value><peak_value>7</peak_value></peak></c>",
         )
@@ -247,9 +256,14 @@ mod tests {
         )
         .unwrap();
         assert!(red[0] > 5.0 * red[1].max(red[2]), "{red:?}");
-        let warm = rgb_of("<c><blackbody><temperature>2000</temperature><gain>1</gain></blackbody></c>").unwrap();
+        let warm =
+            rgb_of("<c><blackbody><temperature>2000</temperature><gain>1</gain></blackbody></c>")
+                .unwrap();
         assert!(warm[0] > warm[1] && warm[1] > warm[2], "{warm:?}");
-        let cold = rgb_of("<c><spectrum><blackbody><temperature>10000</temperature></blackbody></spectrum></c>").unwrap();
+        let cold = rgb_of(
+            "<c><spectrum><blackbody><temperature>10000</temperature></blackbody></spectrum></c>",
+        )
+        .unwrap();
         assert!(cold[2] > cold[0], "{cold:?}");
         // Planck at 6500 K, 500 nm: 2hc²/λ⁵ / (e^(hc/λkT) - 1) = 3.81e15 / 83.0 = 4.59e13 W m^-3 sr^-1.
         assert!((planck(500.0, 6500.0) / 4.59e13 - 1.0).abs() < 0.01);

@@ -136,15 +136,35 @@ pub fn statements(
         );
     }
     let mut ps = ParamSet::new();
-    ps.push(param("filename", ParamValue::String(vec![filename]), &path.loc));
+    ps.push(param(
+        "filename",
+        ParamValue::String(vec![filename]),
+        &path.loc,
+    ));
     ps.push(param("gamma", ParamValue::Float(vec![gamma as f32]), loc));
     ps.push(param("gain", ParamValue::Float(vec![b as f32]), loc));
     ps.push(param("mapping", ParamValue::String(vec!["uv".into()]), loc));
     let (scale, delta) = uv_transform(def, ctx)?;
-    ps.push(param("uscale", ParamValue::Float(vec![scale[0] as f32]), loc));
-    ps.push(param("vscale", ParamValue::Float(vec![-scale[1] as f32]), loc));
-    ps.push(param("udelta", ParamValue::Float(vec![delta[0] as f32]), loc));
-    ps.push(param("vdelta", ParamValue::Float(vec![(1.0 - delta[1]) as f32]), loc));
+    ps.push(param(
+        "uscale",
+        ParamValue::Float(vec![scale[0] as f32]),
+        loc,
+    ));
+    ps.push(param(
+        "vscale",
+        ParamValue::Float(vec![-scale[1] as f32]),
+        loc,
+    ));
+    ps.push(param(
+        "udelta",
+        ParamValue::Float(vec![delta[0] as f32]),
+        loc,
+    ));
+    ps.push(param(
+        "vdelta",
+        ParamValue::Float(vec![(1.0 - delta[1]) as f32]),
+        loc,
+    ));
     let image_name = if c != 0.0 {
         format!("{name}.image")
     } else {
@@ -236,10 +256,19 @@ mod tests {
              <f><shader><shader>def eval() real: 1.0</shader></shader></f></m>",
         );
         let r = &p.root;
-        assert_eq!(color(r, "a", &ctx).unwrap(), Some(Value::Const([1.0, 0.5, 0.0])));
-        assert!(matches!(color(r, "b", &ctx).unwrap(), Some(Value::Tex(1, _))));
+        assert_eq!(
+            color(r, "a", &ctx).unwrap(),
+            Some(Value::Const([1.0, 0.5, 0.0]))
+        );
+        assert!(matches!(
+            color(r, "b", &ctx).unwrap(),
+            Some(Value::Tex(1, _))
+        ));
         assert_eq!(float(r, "c", &ctx).unwrap(), Some(Value::Const([10.0; 3])));
-        assert_eq!(color(r, "d", &ctx).unwrap(), Some(Value::Const([0.0, 1.0, 0.0])));
+        assert_eq!(
+            color(r, "d", &ctx).unwrap(),
+            Some(Value::Const([0.0, 1.0, 0.0]))
+        );
         assert_eq!(float(r, "e", &ctx).unwrap(), Some(Value::Const([3.0; 3])));
         assert_eq!(float(r, "f", &ctx).unwrap(), None);
         assert_eq!(float(r, "missing", &ctx).unwrap(), None);

@@ -152,8 +152,8 @@ fn clean(bytes: &[u8], file: &Arc<str>) -> Result<Cleaned, LxsError> {
         out.push_str(&rest[..off]);
         i += off;
         let rest = &src[i..];
-        if rest.starts_with('&') {
-            if starts_entity(&rest[1..]) {
+        if let Some(after) = rest.strip_prefix('&') {
+            if starts_entity(after) {
                 out.push('&');
             } else {
                 segments.push((out.len(), i));
@@ -164,8 +164,8 @@ fn clean(bytes: &[u8], file: &Arc<str>) -> Result<Cleaned, LxsError> {
             continue;
         }
         // rest starts with '<'
-        if rest.starts_with("<!--") {
-            let Some(end) = rest[4..].find("-->") else {
+        if let Some(body) = rest.strip_prefix("<!--") {
+            let Some(end) = body.find("-->") else {
                 return Err(err_at(i, "comment not closed by -->"));
             };
             let len = 4 + end + 3;
@@ -188,8 +188,7 @@ fn clean(bytes: &[u8], file: &Arc<str>) -> Result<Cleaned, LxsError> {
             };
             blank(&mut out, &rest[..end + 1]);
             i += end + 1;
-        } else if rest.starts_with("<?xml") && rest[5..].starts_with(|c: char| c.is_whitespace())
-        {
+        } else if rest.starts_with("<?xml") && rest[5..].starts_with(|c: char| c.is_whitespace()) {
             // The declaration (its encoding is not used: the text is read as UTF-8).
             let Some(end) = rest.find("?>") else {
                 return Err(err_at(i, "XML declaration not closed by ?>"));
@@ -402,8 +401,12 @@ mod tests {
 
     #[test]
     fn cdata_is_kept_verbatim() {
-        let text = "<scene><shader><![CDATA[def eval() real: if(a < b && c, 1, 0)]]></shader></scene>";
+        let text =
+            "<scene><shader><![CDATA[def eval() real: if(a < b && c, 1, 0)]]></shader></scene>";
         let p = parse(text.as_bytes(), &file()).unwrap();
-        assert_eq!(p.root.children[0].text, "def eval() real: if(a < b && c, 1, 0)");
+        assert_eq!(
+            p.root.children[0].text,
+            "def eval() real: if(a < b && c, 1, 0)"
+        );
     }
 }

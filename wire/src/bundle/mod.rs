@@ -82,9 +82,9 @@ pub fn detect(bytes: &[u8], file_name: &str) -> Result<Kind> {
 
 /// Whether `f` has the extension of a scene format luxfarm reads (`.lxs`, `.igs`, ...).
 fn is_scene_file(f: &std::path::Path) -> bool {
-    f.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| luxfarm::formats::SCENE_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
+    f.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        luxfarm::formats::SCENE_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str())
+    })
 }
 
 /// Picks the scene among the unpacked files: `wanted` when given, else the only scene file
@@ -106,12 +106,10 @@ pub fn pick_scene(files: &[PathBuf], wanted: &str) -> Result<PathBuf> {
         .collect();
     match top.as_slice() {
         [one] => Ok((**one).clone()),
-        [] => Err(WireError::Bundle(
-            format!(
-                "not a scene: the bundle holds no scene file ({})",
-                luxfarm::formats::SCENE_EXTENSIONS.join(", ")
-            ),
-        )),
+        [] => Err(WireError::Bundle(format!(
+            "not a scene: the bundle holds no scene file ({})",
+            luxfarm::formats::SCENE_EXTENSIONS.join(", ")
+        ))),
         _ => Err(WireError::Bundle(format!(
             "the bundle holds several scene files ({}); name one with `scene`",
             top.iter()

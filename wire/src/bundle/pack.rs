@@ -236,21 +236,34 @@ mod tests {
              <albedo><texture><texture_index>0</texture_index></texture></albedo></diffuse></material></scenedata>",
         )
         .unwrap();
-        fs::write(d.join("meshes/tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl wood\nf 1 2 3\n").unwrap();
+        fs::write(
+            d.join("meshes/tri.obj"),
+            "v 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl wood\nf 1 2 3\n",
+        )
+        .unwrap();
         fs::write(d.join("tex/wood.png"), "png").unwrap();
         fs::write(d.join("unrelated.txt"), "x").unwrap();
         let files = referenced_files(&d.join("room.igs")).unwrap();
-        let want: Vec<PathBuf> = ["mats/wood.igm", "meshes/tri.obj", "room.igs", "tex/wood.png"]
-            .iter()
-            .map(PathBuf::from)
-            .collect();
+        let want: Vec<PathBuf> = [
+            "mats/wood.igm",
+            "meshes/tri.obj",
+            "room.igs",
+            "tex/wood.png",
+        ]
+        .iter()
+        .map(PathBuf::from)
+        .collect();
         assert_eq!(files, want);
         let up = prepare(&d.join("room.igs")).unwrap();
         let out = tempfile::tempdir().unwrap();
         let unpacked = unpack(&up.bytes, &up.file_name, out.path(), Limits::default()).unwrap();
-        assert_eq!(pick_scene(&unpacked, "").unwrap(), PathBuf::from("room.igs"));
+        assert_eq!(
+            pick_scene(&unpacked, "").unwrap(),
+            PathBuf::from("room.igs")
+        );
         // The worker imports the unpacked copy again.
-        let again = luxfarm::formats::load(&out.path().join("room.igs"), &ParseOptions::default()).unwrap();
+        let again =
+            luxfarm::formats::load(&out.path().join("room.igs"), &ParseOptions::default()).unwrap();
         assert_eq!(again.shapes.len(), 1);
     }
 

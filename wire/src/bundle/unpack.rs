@@ -284,10 +284,22 @@ mod tests {
         .unwrap();
         assert_eq!(files, vec![PathBuf::from("scene.lxs")]);
         let igs = tempfile::tempdir().unwrap();
-        let files = unpack(b"<?xml version=\"1.0\"?>\n<scene></scene>", "upload", igs.path(), Limits::default()).unwrap();
+        let files = unpack(
+            b"<?xml version=\"1.0\"?>\n<scene></scene>",
+            "upload",
+            igs.path(),
+            Limits::default(),
+        )
+        .unwrap();
         assert_eq!(files, vec![PathBuf::from("scene.igs")]);
         let named = tempfile::tempdir().unwrap();
-        let files = unpack(b"<scene></scene>", "room.igs", named.path(), Limits::default()).unwrap();
+        let files = unpack(
+            b"<scene></scene>",
+            "room.igs",
+            named.path(),
+            Limits::default(),
+        )
+        .unwrap();
         assert_eq!(files, vec![PathBuf::from("room.igs")]);
     }
 }
