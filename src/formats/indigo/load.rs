@@ -35,21 +35,39 @@ pub fn parse_file(bytes: &[u8], name: &str, ctx: &Ctx) -> Result<Elem, LxsError>
 
 /// Loads the root scene `path` and its includes.
 pub fn load(path: &Path, ctx: &Ctx) -> Result<Vec<Item>, LxsError> {
+    let loc = Loc {
+        file: path.to_string_lossy().as_ref().into(),
+        line: 0,
+        col: 0,
+    };
+    let bytes = std::fs::read(path).map_err(|e| {
+        err(
+            LxsErrorKind::Io,
+            &loc,
+            format!("cannot open scene file: {e}"),
+        )
+    })?;
+    load_bytes(path, &bytes, ctx)
+}
+
+/// Loads a root scene given as bytes, named `path` (its includes resolve beside it).
+pub fn load_bytes(path: &Path, bytes: &[u8], ctx: &Ctx) -> Result<Vec<Item>, LxsError> {
     let name = path.to_string_lossy().into_owned();
     let loc = Loc {
         file: name.as_str().into(),
         line: 0,
         col: 0,
     };
-    let bytes = std::fs::read(path)
-        .map_err(|e| err(LxsErrorKind::Io, &loc, format!("cannot open scene file: {e}")))?;
     ctx.charge(bytes.len() as u64, &loc)?;
-    let root = parse_file(&bytes, &name, ctx)?;
+    let root = parse_file(bytes, &name, ctx)?;
     if root.name != "scene" {
         return Err(err(
             LxsErrorKind::Syntax,
             &root.loc,
-            format!("the root element of an Indigo scene is <scene>, not <{}>", root.name),
+            format!(
+                "the root element of an Indigo scene is <scene>, not <{}>",
+                root.name
+            ),
         ));
     }
     root.mark_used();
@@ -102,7 +120,10 @@ fn expand(
             return Err(err(
                 LxsErrorKind::Syntax,
                 &inc.loc,
-                format!("an included Indigo file's root is <scene> or <scenedata>, not <{}>", inc.name),
+                format!(
+                    "an included Indigo file's root is <scene> or <scenedata>, not <{}>",
+                    inc.name
+                ),
             ));
         }
         inc.mark_used();
@@ -128,7 +149,11 @@ mod tests {
             "<scene><camera/><include><pathname>mats\\m.igm</pathname></include><mesh/></scene>",
         )
         .unwrap();
-        std::fs::write(d.path().join("mats/m.igm"), "<scenedata><material/><material/></scenedata>").unwrap();
+        std::fs::write(
+            d.path().join("mats/m.igm"),
+            "<scenedata><material/><material/></scenedata>",
+        )
+        .unwrap();
         let ctx = Ctx::new(&d.path().join("s.igs"), &ParseOptions::default());
         let items = load(&d.path().join("s.igs"), &ctx).unwrap();
         let names: Vec<&str> = items.iter().map(|i| i.elem.name.as_str()).collect();
@@ -137,14 +162,26 @@ mod tests {
         assert!(items[1].elem.loc.file.ends_with("m.igm"));
         assert_eq!(ctx.take_files().len(), 1);
 
-        std::fs::write(d.path().join("a.igs"), "<scene><include><pathname>b.igs</pathname></include></scene>").unwrap();
-        std::fs::write(d.path().join("b.igs"), "<scene><include><pathname>a.igs</pathname></include></scene>").unwrap();
+        std::fs::write(
+            d.path().join("a.igs"),
+            "<scene><include><pathname>b.igs</pathname></include></scene>",
+        )
+        .unwrap();
+        std::fs::write(
+            d.path().join("b.igs"),
+            "<scene><include><pathname>a.igs</pathname></include></scene>",
+        )
+        .unwrap();
         let ctx = Ctx::new(&d.path().join("a.igs"), &ParseOptions::default());
         let e = load(&d.path().join("a.igs"), &ctx).err().unwrap();
         assert_eq!(e.kind, LxsErrorKind::IncludeCycle);
         assert!(e.loc.file.ends_with("b.igs"));
 
-        std::fs::write(d.path().join("c.igs"), "<scene><include><pathname>../x.igs</pathname></include></scene>").unwrap();
+        std::fs::write(
+            d.path().join("c.igs"),
+            "<scene><include><pathname>../x.igs</pathname></include></scene>",
+        )
+        .unwrap();
         let confined = ParseOptions {
             confine_to_root: true,
             ..ParseOptions::default()
@@ -155,6 +192,9 @@ mod tests {
 
         std::fs::write(d.path().join("w.igs"), "<notascene/>").unwrap();
         let ctx = Ctx::new(&d.path().join("w.igs"), &ParseOptions::default());
-        assert_eq!(load(&d.path().join("w.igs"), &ctx).err().unwrap().kind, LxsErrorKind::Syntax);
+        assert_eq!(
+            load(&d.path().join("w.igs"), &ctx).err().unwrap().kind,
+            LxsErrorKind::Syntax
+        );
     }
 }

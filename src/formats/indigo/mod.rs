@@ -17,9 +17,10 @@
 //! Every diagnostic names file:line:column of the XML element. The external files the scene
 //! reads (includes, meshes) are listed in `SceneDescription::files`; textures, nk data and IES
 //! files are `filename`/`mapname`/`name`/`iesname` parameters the render core reads. A mesh or
-//! include whose file is missing does not stop the reading: [`import`] returns it, and
-//! [`load`] (what `luxfarm parse`, `render` and `submit` use) fails with one error naming
-//! every missing file and the element that names it.
+//! include whose file is missing does not stop the reading: [`import`] returns it;
+//! [`load`] (what `luxfarm render` and `submit`, the master and the worker use) fails with one
+//! error naming every missing file and the element that names it, and [`inspect`] (what
+//! `luxfarm parse` uses) turns each into a located warning.
 
 pub mod camera;
 pub mod ctx;
@@ -39,7 +40,9 @@ pub mod spectrum;
 pub mod texture;
 pub mod xml;
 
-use crate::lxs::{DescriptionBuilder, Loc, LxsError, LxsErrorKind, ParseOptions, SceneBuilder, SceneDescription};
+use crate::lxs::{
+    DescriptionBuilder, Loc, LxsError, LxsErrorKind, ParseOptions, SceneBuilder, SceneDescription,
+};
 pub use ctx::Missing;
 use std::path::Path;
 
@@ -82,6 +85,18 @@ pub fn is_indigo(head: &[u8]) -> bool {
 pub fn import(path: &Path, opts: &ParseOptions) -> Result<Import, LxsError> {
     let ctx = ctx::Ctx::new(path, opts);
     let items = load::load(path, &ctx)?;
+    finish(path, items, ctx)
+}
+
+/// Imports an Indigo scene given as bytes, named `path` (what it includes or names resolves
+/// beside that path).
+pub fn import_bytes(path: &Path, bytes: &[u8], opts: &ParseOptions) -> Result<Import, LxsError> {
+    let ctx = ctx::Ctx::new(path, opts);
+    let items = load::load_bytes(path, bytes, &ctx)?;
+    finish(path, items, ctx)
+}
+
+fn finish(path: &Path, items: Vec<load::Item>, ctx: ctx::Ctx) -> Result<Import, LxsError> {
     let name = path.to_string_lossy().into_owned();
     let root = Loc {
         file: name.as_str().into(),
@@ -103,7 +118,13 @@ pub fn import(path: &Path, opts: &ParseOptions) -> Result<Import, LxsError> {
         if e.is_used() {
             e.report_unused(&ctx);
         } else {
-            ctx.warn(&e.loc, format!("<{}> is not an Indigo scene element luxfarm knows: ignored", e.name));
+            ctx.warn(
+                &e.loc,
+                format!(
+                    "<{}> is not an Indigo scene element luxfarm knows: ignored",
+                    e.name
+                ),
+            );
         }
     }
     let mut desc = b.finish();
@@ -121,7 +142,10 @@ pub fn inspect(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, Lxs
     for m in imp.missing {
         imp.desc.warnings.push(crate::lxs::Diagnostic {
             loc: m.loc,
-            message: format!("{} file {} not found: the scene cannot be rendered without it", m.what, m.path),
+            message: format!(
+                "{} file {} not found: the scene cannot be rendered without it",
+                m.what, m.path
+            ),
         });
     }
     Ok(imp.desc)
@@ -155,8 +179,12 @@ mod tests {
 
     #[test]
     fn content_detection() {
-        assert!(is_indigo(b"<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<scene>\n<camera/>"));
-        assert!(is_indigo(b"\xef\xbb\xbf<!-- exported -->\n<!==== banner ====>\n<scene >"));
+        assert!(is_indigo(
+            b"<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<scene>\n<camera/>"
+        ));
+        assert!(is_indigo(
+            b"\xef\xbb\xbf<!-- exported -->\n<!==== banner ====>\n<scene >"
+        ));
         assert!(!is_indigo(b"<?xml version=\"1.0\"?><scenedata>"));
         assert!(!is_indigo(b"<scenery>"));
         assert!(!is_indigo(b"LookAt 0 0 0 0 1 0 0 0 1"));
