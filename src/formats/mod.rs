@@ -15,7 +15,9 @@
 //! - lists in `SceneDescription::files` every file it read besides the root (includes,
 //!   meshes), so a farm bundle carries them and a worker can import the scene again.
 //!
-//! Only LuxRender's `.lxs` has an importer today.
+//! Importers: LuxRender's `.lxs` ([`crate::lxs`]) and Indigo's `.igs` ([`indigo`]).
+
+pub mod indigo;
 
 use crate::lxs::{self, Loc, LxsError, LxsErrorKind, ParseOptions, SceneDescription};
 use std::io::Read;
@@ -29,18 +31,21 @@ pub type SceneError = LxsError;
 pub enum SceneFormat {
     /// LuxRender 1.x scene text (`.lxs`; `.lxo`/`.lxm` are its Include fragments).
     Lxs,
+    /// Indigo Renderer XML scene (`.igs`) with its `.igmesh` meshes and `.igm` materials.
+    Indigo,
 }
 
 impl SceneFormat {
     pub fn name(self) -> &'static str {
         match self {
             SceneFormat::Lxs => "LuxRender .lxs",
+            SceneFormat::Indigo => "Indigo .igs",
         }
     }
 }
 
 /// File name extensions a user may submit as a scene (lower case, without the dot).
-pub const SCENE_EXTENSIONS: &[&str] = &["lxs"];
+pub const SCENE_EXTENSIONS: &[&str] = &["lxs", "igs"];
 
 /// The format of the scene file at `path`: by extension first, then by its first bytes
 /// (a scene saved without its usual extension).
@@ -52,6 +57,7 @@ pub fn detect(path: &Path) -> Result<SceneFormat, SceneError> {
         .unwrap_or_default();
     match ext.as_str() {
         "lxs" | "lxo" | "lxm" => return Ok(SceneFormat::Lxs),
+        "igs" => return Ok(SceneFormat::Indigo),
         _ => {}
     }
     let mut head = [0u8; 512];
@@ -72,6 +78,9 @@ pub fn detect(path: &Path) -> Result<SceneFormat, SceneError> {
 
 /// Recognises a format from the start of a file.
 pub fn detect_content(head: &[u8]) -> Option<SceneFormat> {
+    if indigo::is_indigo(head) {
+        return Some(SceneFormat::Indigo);
+    }
     let text = String::from_utf8_lossy(head);
     let first = text
         .lines()
@@ -108,6 +117,18 @@ pub fn detect_content(head: &[u8]) -> Option<SceneFormat> {
 pub fn load(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, SceneError> {
     match detect(path)? {
         SceneFormat::Lxs => lxs::parse_file(path, opts),
+        SceneFormat::Indigo => indigo::load(path, opts),
+    }
+}
+
+/// Imports the scene for inspection (`luxfarm parse`): as [`load`], except that external
+/// files an importer reads at import time and cannot find (Indigo meshes and includes) are
+/// located warnings instead of an error, as parsing a .lxs does not open the PLY files it
+/// names. Rendering needs [`load`], which fails on them.
+pub fn inspect(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, SceneError> {
+    match detect(path)? {
+        SceneFormat::Indigo => indigo::inspect(path, opts),
+        _ => load(path, opts),
     }
 }
 
@@ -131,7 +152,10 @@ mod tests {
     fn content_detection_finds_lxs_statements_after_comments() {
         let text = b"# exported by LuxBlend\n\n  LookAt 0 0 0 0 1 0 0 0 1\n";
         assert_eq!(detect_content(text), Some(SceneFormat::Lxs));
-        assert_eq!(detect_content(b"<?xml version=\"1.0\"?>\n<scene>"), None);
+        assert_eq!(
+            detect_content(b"<?xml version=\"1.0\"?>\n<scene>"),
+            Some(SceneFormat::Indigo)
+        );
         assert_eq!(detect_content(b""), None);
     }
 

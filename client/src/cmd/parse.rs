@@ -25,7 +25,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         confine_to_root: args.confine,
         ..ParseOptions::default()
     };
-    let desc = match formats::load(&args.scene, &opts) {
+    let desc = match formats::inspect(&args.scene, &opts) {
         Ok(d) => d,
         Err(e) => {
             eprintln!("error: {e}");

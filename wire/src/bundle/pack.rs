@@ -212,6 +212,61 @@ mod tests {
             .collect()
     }
 
+    /// An Indigo scene: an included .igm material file, an external .obj mesh named with a
+    /// Windows path, a texture, and an unrelated file.
+    #[test]
+    fn indigo_scene_bundles_its_includes_meshes_and_textures() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        for sub in ["mats", "meshes", "tex"] {
+            fs::create_dir_all(d.join(sub)).unwrap();
+        }
+        fs::write(
+            d.join("room.igs"),
+            "<?xml version=\"1.0\"?>\n<scene>\n<renderer_settings><width>8</width><height>8</height></renderer_settings>\n\
+             <camera><pos>0 -3 0</pos><forwards>0 1 0</forwards><up>0 0 1</up></camera>\n\
+             <include><pathname>mats\\wood.igm</pathname></include>\n\
+             <mesh><name>m</name><external><path>meshes\\tri.obj</path></external></mesh>\n\
+             <model><pos>0 0 0</pos><scale>1</scale><mesh_name>m</mesh_name></model>\n</scene>\n",
+        )
+        .unwrap();
+        fs::write(
+            d.join("mats/wood.igm"),
+            "<scenedata><material><name>wood</name><diffuse><texture><path>tex/wood.png</path></texture>\
+             <albedo><texture><texture_index>0</texture_index></texture></albedo></diffuse></material></scenedata>",
+        )
+        .unwrap();
+        fs::write(
+            d.join("meshes/tri.obj"),
+            "v 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl wood\nf 1 2 3\n",
+        )
+        .unwrap();
+        fs::write(d.join("tex/wood.png"), "png").unwrap();
+        fs::write(d.join("unrelated.txt"), "x").unwrap();
+        let files = referenced_files(&d.join("room.igs")).unwrap();
+        let want: Vec<PathBuf> = [
+            "mats/wood.igm",
+            "meshes/tri.obj",
+            "room.igs",
+            "tex/wood.png",
+        ]
+        .iter()
+        .map(PathBuf::from)
+        .collect();
+        assert_eq!(files, want);
+        let up = prepare(&d.join("room.igs")).unwrap();
+        let out = tempfile::tempdir().unwrap();
+        let unpacked = unpack(&up.bytes, &up.file_name, out.path(), Limits::default()).unwrap();
+        assert_eq!(
+            pick_scene(&unpacked, "").unwrap(),
+            PathBuf::from("room.igs")
+        );
+        // The worker imports the unpacked copy again.
+        let again =
+            luxfarm::formats::load(&out.path().join("room.igs"), &ParseOptions::default()).unwrap();
+        assert_eq!(again.shapes.len(), 1);
+    }
+
     #[test]
     fn referenced_files_of_a_scene_in_a_subfolder() {
         let dir = scene_tree();

@@ -60,8 +60,9 @@ impl Budget {
 }
 
 /// Unpacks an upload into `dest` (an empty directory). A raw scene is stored as `file_name`'s
-/// base name when it ends in `.lxs`, else as `scene.lxs`. Returns the relative paths of the
-/// files written.
+/// base name when it has a scene extension (`.lxs`, `.igs`, ...), else as `scene.` with the
+/// extension of the format its content shows (`.lxs` by default). Returns the relative paths
+/// of the files written.
 pub fn unpack(bytes: &[u8], file_name: &str, dest: &Path, limits: Limits) -> Result<Vec<PathBuf>> {
     let mut budget = Budget {
         limits,
@@ -70,11 +71,15 @@ pub fn unpack(bytes: &[u8], file_name: &str, dest: &Path, limits: Limits) -> Res
     };
     match detect(bytes, file_name)? {
         Kind::Lxs => {
+            let by_content = match luxfarm::formats::detect_content(bytes) {
+                Some(luxfarm::formats::SceneFormat::Indigo) => "scene.igs",
+                _ => "scene.lxs",
+            };
             let base = Path::new(file_name)
                 .file_name()
                 .and_then(|s| s.to_str())
-                .filter(|s| s.ends_with(".lxs"))
-                .unwrap_or("scene.lxs");
+                .filter(|s| super::is_scene_file(Path::new(s)))
+                .unwrap_or(by_content);
             let rel = safe_relative(base)?;
             budget.entry()?;
             budget.copy(bytes, &dest.join(&rel))?;
@@ -278,5 +283,23 @@ mod tests {
         )
         .unwrap();
         assert_eq!(files, vec![PathBuf::from("scene.lxs")]);
+        let igs = tempfile::tempdir().unwrap();
+        let files = unpack(
+            b"<?xml version=\"1.0\"?>\n<scene></scene>",
+            "upload",
+            igs.path(),
+            Limits::default(),
+        )
+        .unwrap();
+        assert_eq!(files, vec![PathBuf::from("scene.igs")]);
+        let named = tempfile::tempdir().unwrap();
+        let files = unpack(
+            b"<scene></scene>",
+            "room.igs",
+            named.path(),
+            Limits::default(),
+        )
+        .unwrap();
+        assert_eq!(files, vec![PathBuf::from("room.igs")]);
     }
 }
