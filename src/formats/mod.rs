@@ -17,6 +17,8 @@
 //!
 //! Only LuxRender's `.lxs` has an importer today.
 
+pub mod lightwave;
+
 use crate::lxs::{self, Loc, LxsError, LxsErrorKind, ParseOptions, SceneDescription};
 use std::io::Read;
 use std::path::Path;
