@@ -15,7 +15,7 @@
 //! - lists in `SceneDescription::files` every file it read besides the root (includes,
 //!   meshes), so a farm bundle carries them and a worker can import the scene again.
 //!
-//! Only LuxRender's `.lxs` has an importer today.
+//! Importers: LuxRender's `.lxs` ([`crate::lxs`]) and LightWave's `.lws` ([`lightwave`]).
 
 pub mod lightwave;
 
@@ -31,18 +31,21 @@ pub type SceneError = LxsError;
 pub enum SceneFormat {
     /// LuxRender 1.x scene text (`.lxs`; `.lxo`/`.lxm` are its Include fragments).
     Lxs,
+    /// LightWave scene (`.lws`, LWSC 3-5) with LWO2/LWOB objects, imported at one frame.
+    LightWave,
 }
 
 impl SceneFormat {
     pub fn name(self) -> &'static str {
         match self {
             SceneFormat::Lxs => "LuxRender .lxs",
+            SceneFormat::LightWave => "LightWave .lws",
         }
     }
 }
 
 /// File name extensions a user may submit as a scene (lower case, without the dot).
-pub const SCENE_EXTENSIONS: &[&str] = &["lxs"];
+pub const SCENE_EXTENSIONS: &[&str] = &["lxs", "lws"];
 
 /// The format of the scene file at `path`: by extension first, then by its first bytes
 /// (a scene saved without its usual extension).
@@ -54,6 +57,7 @@ pub fn detect(path: &Path) -> Result<SceneFormat, SceneError> {
         .unwrap_or_default();
     match ext.as_str() {
         "lxs" | "lxo" | "lxm" => return Ok(SceneFormat::Lxs),
+        "lws" => return Ok(SceneFormat::LightWave),
         _ => {}
     }
     let mut head = [0u8; 512];
@@ -75,6 +79,9 @@ pub fn detect(path: &Path) -> Result<SceneFormat, SceneError> {
 /// Recognises a format from the start of a file.
 pub fn detect_content(head: &[u8]) -> Option<SceneFormat> {
     let text = String::from_utf8_lossy(head);
+    if lightwave::detect(&text) {
+        return Some(SceneFormat::LightWave);
+    }
     let first = text
         .lines()
         .map(str::trim)
@@ -110,6 +117,7 @@ pub fn detect_content(head: &[u8]) -> Option<SceneFormat> {
 pub fn load(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, SceneError> {
     match detect(path)? {
         SceneFormat::Lxs => lxs::parse_file(path, opts),
+        SceneFormat::LightWave => lightwave::load(path, opts),
     }
 }
 
@@ -135,6 +143,10 @@ mod tests {
         assert_eq!(detect_content(text), Some(SceneFormat::Lxs));
         assert_eq!(detect_content(b"<?xml version=\"1.0\"?>\n<scene>"), None);
         assert_eq!(detect_content(b""), None);
+        assert_eq!(
+            detect_content(b"LWSC\n5\n\nFirstFrame 1\n"),
+            Some(SceneFormat::LightWave)
+        );
     }
 
     #[test]

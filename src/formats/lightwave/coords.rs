@@ -38,11 +38,6 @@ pub fn rotation(h: f64, p: f64, b: f64) -> DMat3 {
     hpb_matrix(h, p, b).transpose()
 }
 
-/// An item's local transform (LightWave space, column vectors).
-pub fn local_transform(pos: DVec3, hpb: DVec3, scale: DVec3, pivot: DVec3) -> DMat4 {
-    frame_transform(pos, hpb, scale) * DMat4::from_translation(-pivot)
-}
-
 /// The frame children are placed in: position, rotation and scale, without the pivot offset.
 pub fn frame_transform(pos: DVec3, hpb: DVec3, scale: DVec3) -> DMat4 {
     let r = rotation(hpb.x, hpb.y, hpb.z);
@@ -130,12 +125,11 @@ mod tests {
     #[test]
     fn pivot_is_the_rotation_centre() {
         let pivot = DVec3::new(1.0, 0.0, 0.0);
-        let m = local_transform(
+        let m = frame_transform(
             DVec3::new(5.0, 0.0, 0.0),
             DVec3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0),
             DVec3::ONE,
-            pivot,
-        );
+        ) * DMat4::from_translation(-pivot);
         // the pivot lands on the item's position
         close(m.transform_point3(pivot), DVec3::new(5.0, 0.0, 0.0));
     }

@@ -119,27 +119,9 @@ impl Animated {
             Animated::Env(e) => e.value(time),
         }
     }
-
-    pub fn is_animated(&self) -> bool {
-        matches!(self, Animated::Env(e) if e.keys.len() > 1)
-    }
 }
 
 impl Envelope {
-    /// An envelope holding `value` at all times.
-    pub fn constant(value: f64) -> Envelope {
-        Envelope {
-            keys: vec![Key {
-                value,
-                time: 0.0,
-                span: Span::Tcb,
-                p: [0.0; 6],
-            }],
-            pre: Behavior::Constant,
-            post: Behavior::Constant,
-        }
-    }
-
     /// Reads the block that `open` (a `{ Envelope` line, consumed) begins, up to its `}`.
     /// Plug-in channel modifiers (`{ ChannelHandler ...`) are skipped and reported through
     /// `skipped` with their location.

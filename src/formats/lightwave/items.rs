@@ -7,7 +7,7 @@
 //! ```
 //!
 //! Item ids follow the LWSC convention: the high 4 bits give the type (1 object, 2 light,
-//! 3 camera, 4 bone) and the rest the item's number in file order (LWSC 4 and 5 write the id
+//! 3 camera, 4 bone; bones are not imported) and the rest the item's number in file order (LWSC 4 and 5 write the id
 //! after `LoadObjectLayer`/`AddLight`/`AddCamera`; LWSC 3 leaves it implicit).
 
 use super::envelope::Animated;
@@ -17,7 +17,6 @@ use glam::DVec3;
 pub const TYPE_OBJECT: u32 = 1;
 pub const TYPE_LIGHT: u32 = 2;
 pub const TYPE_CAMERA: u32 = 3;
-pub const TYPE_BONE: u32 = 4;
 
 /// An item id from its type and ordinal.
 pub fn item_id(kind: u32, ordinal: usize) -> u32 {

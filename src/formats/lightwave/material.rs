@@ -46,6 +46,8 @@ pub struct SurfacePlan {
     pub emission: Option<[f32; 3]>,
     /// The texture layer whose coordinates the mesh must carry.
     pub uv_block: Option<usize>,
+    /// Emits from both sides (LightWave's double-sided surfaces).
+    pub double_sided: bool,
     pub warnings: Vec<String>,
 }
 
@@ -93,7 +95,10 @@ pub fn plan(
     prefix: &str,
     image: &mut dyn FnMut(&TexBlock) -> Result<String, String>,
 ) -> SurfacePlan {
-    let mut out = SurfacePlan::default();
+    let mut out = SurfacePlan {
+        double_sided: s.double_sided,
+        ..SurfacePlan::default()
+    };
     let colr = image_layer(s, prefix, *b"COLR", image, &mut out);
     let diff = image_layer(s, prefix, *b"DIFF", image, &mut out);
     report_unrendered_layers(s, &mut out);

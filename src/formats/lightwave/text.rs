@@ -122,10 +122,6 @@ impl<'a> Cursor<'a> {
         }
     }
 
-    pub fn file(&self) -> &Arc<str> {
-        &self.file
-    }
-
     /// The location of a line (column 1).
     pub fn loc(&self, line: &Line) -> Loc {
         Loc {
@@ -153,14 +149,6 @@ impl<'a> Cursor<'a> {
             }
         }
         None
-    }
-
-    /// The next non-blank line, not consumed.
-    pub fn peek_line(&self) -> Option<Line<'a>> {
-        self.lines[self.pos.min(self.lines.len())..]
-            .iter()
-            .find(|l| !l.text.trim().is_empty())
-            .copied()
     }
 
     /// The next non-blank line, which must exist (else an error located at `after`).
