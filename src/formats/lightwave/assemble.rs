@@ -50,7 +50,10 @@ pub fn load(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, LxsErr
                 LxsError::new(
                     LxsErrorKind::Undefined,
                     loc.clone(),
-                    format!("CurrentCamera {i}: the scene has {} camera(s)", scene.cameras.len()),
+                    format!(
+                        "CurrentCamera {i}: the scene has {} camera(s)",
+                        scene.cameras.len()
+                    ),
                 )
             })?,
         None => 0,
@@ -94,13 +97,23 @@ pub fn load(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, LxsErr
     let mut light_list = Vec::new();
     for l in &scene.lights {
         if let Some(p) = at(0, l.common.id) {
-            if let Some(out) = lights::light(l, &p.frame, time, g.double_sided_area_lights, &mut located) {
+            if let Some(out) =
+                lights::light(l, &p.frame, time, g.double_sided_area_lights, &mut located)
+            {
                 light_list.push((l.common.loc.clone(), out));
             }
         }
     }
     let environment = lights::environment(g, time, &file_loc, &mut located);
-    let objects = Objects::build(&scene, &lib, &resolver, &placements, &times, time, &mut warnings);
+    let objects = Objects::build(
+        &scene,
+        &lib,
+        &resolver,
+        &placements,
+        &times,
+        time,
+        &mut warnings,
+    );
     warnings.extend(
         located
             .into_iter()
@@ -201,7 +214,9 @@ impl Objects {
                 warned_rays = true;
                 b.warnings.push(Diagnostic {
                     loc: o.common.loc.clone(),
-                    message: "UnseenByRays: the object is rendered in reflections and refractions too".into(),
+                    message:
+                        "UnseenByRays: the object is rendered in reflections and refractions too"
+                            .into(),
                 });
             }
             let geometry = b.geometry(*m, layers);
@@ -227,13 +242,21 @@ impl Objects {
 
 impl Builder<'_> {
     fn warn(&mut self, loc: Loc, message: String) {
-        if !self.warnings.iter().any(|w| w.loc == loc && w.message == message) {
+        if !self
+            .warnings
+            .iter()
+            .any(|w| w.loc == loc && w.message == message)
+        {
             self.warnings.push(Diagnostic { loc, message });
         }
     }
 
     fn model_loc(&self, m: usize) -> Loc {
-        let file = self.lib.models[m].found.display.to_string_lossy().into_owned();
+        let file = self.lib.models[m]
+            .found
+            .display
+            .to_string_lossy()
+            .into_owned();
         Loc {
             file: file.as_str().into(),
             line: 0,
@@ -263,6 +286,12 @@ impl Builder<'_> {
         let s = self.surface(m, tag);
         let model = &self.lib.models[m].model;
         let resolver = self.resolver;
+        let object_dir = self.lib.models[m]
+            .found
+            .canonical
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default();
         let mut image = |blk: &super::model::TexBlock| -> Result<String, String> {
             let written = match (&blk.image_file, blk.clip) {
                 (Some(f), _) => f.clone(),
@@ -273,7 +302,7 @@ impl Builder<'_> {
                 (None, None) => return Err("no image is set".into()),
             };
             resolver
-                .find(&written)
+                .find_near(&written, &object_dir)
                 .map(|f| f.from_scene.to_string_lossy().into_owned())
                 .ok_or_else(|| format!("image \"{written}\" not found"))
         };
@@ -319,7 +348,13 @@ impl Builder<'_> {
                 let mesh = mesh::build(layer, &polys, s.smoothing, normals, uv);
                 if mesh.skipped > 0 {
                     let loc = self.model_loc(m);
-                    self.warn(loc, format!("surface \"{}\": {} point or line polygons are not rendered", s.name, mesh.skipped));
+                    self.warn(
+                        loc,
+                        format!(
+                            "surface \"{}\": {} point or line polygons are not rendered",
+                            s.name, mesh.skipped
+                        ),
+                    );
                 }
                 if !mesh.indices.is_empty() {
                     meshes.push(SurfaceMesh { mesh, plan });
@@ -329,7 +364,11 @@ impl Builder<'_> {
         let loaded = &lib.models[m];
         let layer_names: Vec<String> = layers.iter().map(|l| l.to_string()).collect();
         self.geometries.push(Geometry {
-            name: format!("lw:{}#{}", loaded.found.display.display(), layer_names.join(",")),
+            name: format!(
+                "lw:{}#{}",
+                loaded.found.display.display(),
+                layer_names.join(",")
+            ),
             file_loc: self.model_loc(m),
             meshes,
         });
@@ -337,7 +376,6 @@ impl Builder<'_> {
         self.geo_index.insert((m, layers.to_vec()), i);
         i
     }
-
 }
 
 /// The texture coordinates a surface's image layer needs on `layer`, and a warning when its

@@ -80,12 +80,24 @@ pub fn setup(
     let mut warnings = Vec::new();
     let loc = cam.common.loc.clone();
     let (size, mult, pa) = if cam.use_global_resolution {
-        (g.global_frame_size, g.global_multiplier, g.global_pixel_aspect)
+        (
+            g.global_frame_size,
+            g.global_multiplier,
+            g.global_pixel_aspect,
+        )
     } else {
-        (cam.frame_size.or(g.global_frame_size), cam.multiplier, cam.pixel_aspect)
+        (
+            cam.frame_size.or(g.global_frame_size),
+            cam.multiplier,
+            cam.pixel_aspect,
+        )
     };
     let (w, h) = size.unwrap_or((640, 480));
-    let mult = if mult.is_finite() && mult > 0.0 { mult } else { 1.0 };
+    let mult = if mult.is_finite() && mult > 0.0 {
+        mult
+    } else {
+        1.0
+    };
     let xres = ((f64::from(w) * mult).round() as i64).clamp(1, 65536) as i32;
     let yres = ((f64::from(h) * mult).round() as i64).clamp(1, 65536) as i32;
     let pa = if pa.is_finite() && pa > 0.0 { pa } else { 1.0 };
@@ -106,15 +118,27 @@ pub fn setup(
         let r = cam.region;
         let ok = r.iter().all(|v| (0.0..=1.0).contains(v)) && r[0] < r[1] && r[2] < r[3];
         if ok {
-            film.add("cropwindow", ParamValue::Float(r.map(|v| v as f32).to_vec()));
+            film.add(
+                "cropwindow",
+                ParamValue::Float(r.map(|v| v as f32).to_vec()),
+            );
         } else {
             let at = cam.limited_region.1.clone().unwrap_or_else(|| loc.clone());
-            warnings.push((at, format!("RegionLimits {r:?} are not a region of the frame: the whole frame is rendered")));
+            warnings.push((
+                at,
+                format!(
+                    "RegionLimits {r:?} are not a region of the frame: the whole frame is rendered"
+                ),
+            ));
         }
     }
 
     let zoom = positive(&cam.zoom, time, 3.2);
-    let half = if aspect >= 1.0 { 1.0 / zoom } else { aspect / zoom };
+    let half = if aspect >= 1.0 {
+        1.0 / zoom
+    } else {
+        aspect / zoom
+    };
     let mut camera = ParamSet::new();
     camera.add("fov", float((2.0 * half.atan()).to_degrees() as f32));
     if (pa - 1.0).abs() > 1e-9 {
@@ -124,7 +148,10 @@ pub fn setup(
         let focal_length = zoom * cam.aperture_height / 2.0;
         let fstop = positive(&cam.fstop, time, 4.0);
         camera.add("lensradius", float((focal_length / (2.0 * fstop)) as f32));
-        camera.add("focaldistance", float(positive(&cam.focal_distance, time, 1.0) as f32));
+        camera.add(
+            "focaldistance",
+            float(positive(&cam.focal_distance, time, 1.0) as f32),
+        );
     }
     if frames.len() > 1 {
         camera.add("shutteropen", float(0.0));
@@ -185,13 +212,25 @@ mod tests {
 
     #[test]
     fn zoom_gives_the_vertical_fov_of_landscape_frames() {
-        let out = setup(&cam(), &Globals::default(), 0.0, &[(0.0, DMat4::IDENTITY)], "x");
+        let out = setup(
+            &cam(),
+            &Globals::default(),
+            0.0,
+            &[(0.0, DMat4::IDENTITY)],
+            "x",
+        );
         let fov = out.camera.float("fov").unwrap();
         assert!((fov - 34.708).abs() < 1e-3, "{fov}");
         assert_eq!(out.film.int("xresolution"), Some(640));
         let mut portrait = cam();
         portrait.frame_size = Some((480, 640));
-        let out = setup(&portrait, &Globals::default(), 0.0, &[(0.0, DMat4::IDENTITY)], "x");
+        let out = setup(
+            &portrait,
+            &Globals::default(),
+            0.0,
+            &[(0.0, DMat4::IDENTITY)],
+            "x",
+        );
         let fov = out.camera.float("fov").unwrap() as f64;
         assert!((fov - 2.0 * (0.75f64 / 3.2).atan().to_degrees()).abs() < 1e-4);
     }
@@ -207,7 +246,10 @@ mod tests {
         // 24 mm lens at f/4: radius 3 mm
         assert!((out.camera.float("lensradius").unwrap() - 0.003).abs() < 1e-7);
         assert_eq!(out.camera.float("focaldistance"), Some(5.0));
-        assert_eq!(out.film.floats("cropwindow"), Some(&[0.25, 0.75, 0.0, 0.5][..]));
+        assert_eq!(
+            out.film.floats("cropwindow"),
+            Some(&[0.25, 0.75, 0.0, 0.5][..])
+        );
     }
 
     #[test]

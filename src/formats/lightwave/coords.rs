@@ -140,6 +140,9 @@ mod tests {
         let l = to_lux(w);
         close(l.transform_point3(DVec3::ZERO), DVec3::new(1.0, 3.0, 2.0));
         assert_eq!(point_to_lux([1.0, 2.0, 3.0]), [1.0, 3.0, 2.0]);
-        close(swap_yz(DVec3::new(1.0, 2.0, 3.0)), DVec3::new(1.0, 3.0, 2.0));
+        close(
+            swap_yz(DVec3::new(1.0, 2.0, 3.0)),
+            DVec3::new(1.0, 3.0, 2.0),
+        );
     }
 }

@@ -111,7 +111,12 @@ pub fn emit(w: World, warnings: Vec<Diagnostic>) -> Result<crate::lxs::SceneDesc
     }
     let instanced = declare_objects(&mut b, &w)?;
     for p in &w.placed {
-        emit_placed(&mut b, &w, p, instanced.get(p.geometry).copied().unwrap_or(false))?;
+        emit_placed(
+            &mut b,
+            &w,
+            p,
+            instanced.get(p.geometry).copied().unwrap_or(false),
+        )?;
     }
     b.world_end(cl)?;
     b.end_of_input(cl)?;
@@ -205,7 +210,11 @@ fn declare_objects(b: &mut DescriptionBuilder, w: &World) -> Result<Vec<bool>, L
             let (_, plan) = &w.plans[sm.plan];
             if plan.emission.is_none() {
                 b.named_material(plan.material_name(), &g.file_loc)?;
-                b.shape(entity("trianglemesh", mesh_params(&sm.mesh, w.max_array_len, &g.file_loc)?, &g.file_loc))?;
+                b.shape(entity(
+                    "trianglemesh",
+                    mesh_params(&sm.mesh, w.max_array_len, &g.file_loc)?,
+                    &g.file_loc,
+                ))?;
             }
         }
         b.object_end(&g.file_loc)?;
@@ -214,7 +223,11 @@ fn declare_objects(b: &mut DescriptionBuilder, w: &World) -> Result<Vec<bool>, L
 }
 
 /// The item's transform: absolute, or a motion block over the shutter times.
-fn place(b: &mut DescriptionBuilder, transforms: &[(f32, DMat4)], loc: &Loc) -> Result<(), LxsError> {
+fn place(
+    b: &mut DescriptionBuilder,
+    transforms: &[(f32, DMat4)],
+    loc: &Loc,
+) -> Result<(), LxsError> {
     let cols = |m: &DMat4| to_lux(*m).to_cols_array();
     match transforms {
         [(_, m)] => b.transform(cols(m), loc),
@@ -228,7 +241,12 @@ fn place(b: &mut DescriptionBuilder, transforms: &[(f32, DMat4)], loc: &Loc) -> 
     }
 }
 
-fn emit_placed(b: &mut DescriptionBuilder, w: &World, p: &Placed, instanced: bool) -> Result<(), LxsError> {
+fn emit_placed(
+    b: &mut DescriptionBuilder,
+    w: &World,
+    p: &Placed,
+    instanced: bool,
+) -> Result<(), LxsError> {
     let Some(g) = w.geometries.get(p.geometry) else {
         return Ok(());
     };
@@ -253,7 +271,10 @@ fn emit_placed(b: &mut DescriptionBuilder, w: &World, p: &Placed, instanced: boo
         b.named_material(&material, &p.loc)?;
         if let Some(l) = plan.emission {
             let mut area = ParamSet::new();
-            area.add("L", ParamValue::Color(vec![l.map(|c| c * (1.0 - p.dissolve))]));
+            area.add(
+                "L",
+                ParamValue::Color(vec![l.map(|c| c * (1.0 - p.dissolve))]),
+            );
             area.add("power", float(0.0));
             area.add("efficacy", float(0.0));
             b.area_light_source(entity("area", area.clone(), &p.loc))?;

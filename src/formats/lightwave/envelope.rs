@@ -133,7 +133,11 @@ impl Envelope {
         let open_loc = cur.loc(open);
         let count_line = cur.expect_line(open, "the envelope's key count")?;
         let count_loc = cur.loc(&count_line);
-        let declared = integer(count_line.tokens().first(), "Envelope key count", &count_loc)?;
+        let declared = integer(
+            count_line.tokens().first(),
+            "Envelope key count",
+            &count_loc,
+        )?;
         if declared < 1 {
             return Err(LxsError::new(
                 LxsErrorKind::InvalidValue,
@@ -530,8 +534,18 @@ mod tests {
     fn bezier2d_with_handles_on_the_straight_line_is_linear() {
         let e = env(
             vec![
-                key(0.0, 0.0, Span::Bezier2d, [0.0, 0.0, 1.0 / 3.0, 1.0 / 3.0, 0.0, 0.0]),
-                key(1.0, 1.0, Span::Bezier2d, [-1.0 / 3.0, -1.0 / 3.0, 0.0, 0.0, 0.0, 0.0]),
+                key(
+                    0.0,
+                    0.0,
+                    Span::Bezier2d,
+                    [0.0, 0.0, 1.0 / 3.0, 1.0 / 3.0, 0.0, 0.0],
+                ),
+                key(
+                    1.0,
+                    1.0,
+                    Span::Bezier2d,
+                    [-1.0 / 3.0, -1.0 / 3.0, 0.0, 0.0, 0.0, 0.0],
+                ),
             ],
             Behavior::Constant,
             Behavior::Constant,

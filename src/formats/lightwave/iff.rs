@@ -93,10 +93,7 @@ impl<'a> Reader<'a> {
 
     fn take(&mut self, n: usize) -> IffResult<&'a [u8]> {
         if n > self.remaining() {
-            return Err(self.error(format!(
-                "{n} bytes needed, {} left",
-                self.remaining()
-            )));
+            return Err(self.error(format!("{n} bytes needed, {} left", self.remaining())));
         }
         let s = &self.data[self.pos..self.pos + n];
         self.pos += n;
@@ -256,7 +253,9 @@ mod tests {
 
     #[test]
     fn chunks_are_bounded_and_padded() {
-        let data = [b'A', b'B', b'C', b'D', 0, 0, 0, 1, 9, 0, b'E', b'F', b'G', b'H', 0, 0, 0, 0];
+        let data = [
+            b'A', b'B', b'C', b'D', 0, 0, 0, 1, 9, 0, b'E', b'F', b'G', b'H', 0, 0, 0, 0,
+        ];
         let mut r = Reader::new(&data);
         let c = r.chunk().unwrap().unwrap();
         assert_eq!(&c.id, b"ABCD");

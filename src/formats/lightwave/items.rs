@@ -46,15 +46,27 @@ impl Motion {
     }
 
     pub fn position(&self, time: f64) -> DVec3 {
-        DVec3::new(self.value(0, time), self.value(1, time), self.value(2, time))
+        DVec3::new(
+            self.value(0, time),
+            self.value(1, time),
+            self.value(2, time),
+        )
     }
 
     pub fn rotation(&self, time: f64) -> DVec3 {
-        DVec3::new(self.value(3, time), self.value(4, time), self.value(5, time))
+        DVec3::new(
+            self.value(3, time),
+            self.value(4, time),
+            self.value(5, time),
+        )
     }
 
     pub fn scale(&self, time: f64) -> DVec3 {
-        DVec3::new(self.value(6, time), self.value(7, time), self.value(8, time))
+        DVec3::new(
+            self.value(6, time),
+            self.value(7, time),
+            self.value(8, time),
+        )
     }
 }
 
@@ -224,7 +236,12 @@ impl Default for Globals {
             radiosity: false,
             solid_backdrop: true,
             backdrop_color: [0.0; 3],
-            gradient: [[0.0, 0.1569, 0.3137], [0.4706, 0.7059, 0.9412], [0.1961, 0.1569, 0.1176], [0.3922, 0.3137, 0.2353]],
+            gradient: [
+                [0.0, 0.1569, 0.3137],
+                [0.4706, 0.7059, 0.9412],
+                [0.1961, 0.1569, 0.1176],
+                [0.3922, 0.3137, 0.2353],
+            ],
             current_camera: None,
             global_frame_size: None,
             global_multiplier: 1.0,

@@ -48,7 +48,11 @@ pub fn load(
         let found = resolver
             .find(path)
             .ok_or_else(|| resolver.missing("object", path, loc))?;
-        let m = match lib.models.iter().position(|l| l.found.canonical == found.canonical) {
+        let m = match lib
+            .models
+            .iter()
+            .position(|l| l.found.canonical == found.canonical)
+        {
             Some(i) => i,
             None => {
                 let shown = found.display.to_string_lossy().into_owned();

@@ -30,14 +30,26 @@ use std::f64::consts::PI;
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightOut {
     /// `LightSource kind params` in world space.
-    Delta { kind: &'static str, params: ParamSet },
+    Delta {
+        kind: &'static str,
+        params: ParamSet,
+    },
     /// An emitting mesh: `AreaLightSource "area" area`, then `Shape "trianglemesh" mesh`
     /// (world space), once per emitting side.
-    Area { area: ParamSet, meshes: Vec<ParamSet> },
+    Area {
+        area: ParamSet,
+        meshes: Vec<ParamSet>,
+    },
 }
 
 /// The light `l` placed by `frame` (LightWave space) at `time`.
-pub fn light(l: &LightItem, frame: &DMat4, time: f64, double_sided_area: bool, warnings: &mut Vec<(Loc, String)>) -> Option<LightOut> {
+pub fn light(
+    l: &LightItem,
+    frame: &DMat4,
+    time: f64,
+    double_sided_area: bool,
+    warnings: &mut Vec<(Loc, String)>,
+) -> Option<LightOut> {
     let rgb = [0, 1, 2].map(|i| l.color[i].at(time));
     let intensity = l.intensity.at(time);
     let scaled = rgb.map(|c| (c * intensity * PI) as f32);
@@ -55,7 +67,10 @@ pub fn light(l: &LightItem, frame: &DMat4, time: f64, double_sided_area: bool, w
             ps.add("L", color(scaled));
             ps.add("from", ParamValue::Point(vec![from]));
             ps.add("to", ParamValue::Point(vec![to]));
-            Some(LightOut::Delta { kind: "distant", params: ps })
+            Some(LightOut::Delta {
+                kind: "distant",
+                params: ps,
+            })
         }
         LightKind::Point | LightKind::Spot => {
             let (k, gain) = falloff(l, time, warnings);
@@ -64,24 +79,53 @@ pub fn light(l: &LightItem, frame: &DMat4, time: f64, double_sided_area: bool, w
             ps.add("falloffexponent", float(k));
             ps.add("from", ParamValue::Point(vec![from]));
             if l.kind.0 == LightKind::Point {
-                return Some(LightOut::Delta { kind: "point", params: ps });
+                return Some(LightOut::Delta {
+                    kind: "point",
+                    params: ps,
+                });
             }
             let cone = l.cone_deg.at(time).clamp(0.0, 90.0);
             let edge = l.edge_deg.at(time).clamp(0.0, cone);
             ps.add("to", ParamValue::Point(vec![to]));
             ps.add("coneangle", float(cone as f32));
             ps.add("conedeltaangle", float(edge as f32));
-            Some(LightOut::Delta { kind: "spot", params: ps })
+            Some(LightOut::Delta {
+                kind: "spot",
+                params: ps,
+            })
         }
         LightKind::Area | LightKind::Linear => {
             if l.kind.0 == LightKind::Linear {
-                warnings.push((at.clone(), format!("light \"{}\": a linear light is rendered as a thin area light", l.common.name)));
+                warnings.push((
+                    at.clone(),
+                    format!(
+                        "light \"{}\": a linear light is rendered as a thin area light",
+                        l.common.name
+                    ),
+                ));
             }
-            warnings.push((at, format!("light \"{}\": area light brightness is approximate", l.common.name)));
-            let half_h = if l.kind.0 == LightKind::Linear { 0.005 } else { 0.5 };
-            let corners = [[-0.5, -half_h], [0.5, -half_h], [0.5, half_h], [-0.5, half_h]]
-                .map(|[x, y]| frame.transform_point3(DVec3::new(x, y, 0.0)));
-            let area = (corners[1] - corners[0]).cross(corners[3] - corners[0]).length();
+            warnings.push((
+                at,
+                format!(
+                    "light \"{}\": area light brightness is approximate",
+                    l.common.name
+                ),
+            ));
+            let half_h = if l.kind.0 == LightKind::Linear {
+                0.005
+            } else {
+                0.5
+            };
+            let corners = [
+                [-0.5, -half_h],
+                [0.5, -half_h],
+                [0.5, half_h],
+                [-0.5, half_h],
+            ]
+            .map(|[x, y]| frame.transform_point3(DVec3::new(x, y, 0.0)));
+            let area = (corners[1] - corners[0])
+                .cross(corners[3] - corners[0])
+                .length();
             if area <= 0.0 || !area.is_finite() {
                 return None;
             }
@@ -89,7 +133,10 @@ pub fn light(l: &LightItem, frame: &DMat4, time: f64, double_sided_area: bool, w
             a.add("L", color(scaled.map(|c| c / area as f32)));
             a.add("power", float(0.0));
             a.add("efficacy", float(0.0));
-            let p: Vec<[f32; 3]> = corners.iter().map(|c| swap_yz(*c).to_array().map(|v| v as f32)).collect();
+            let p: Vec<[f32; 3]> = corners
+                .iter()
+                .map(|c| swap_yz(*c).to_array().map(|v| v as f32))
+                .collect();
             // Emits towards the light's +Z: LightWave clockwise order reversed by the swap.
             let front = quad(&p, [0, 3, 2, 0, 2, 1]);
             let mut meshes = vec![front];
@@ -127,20 +174,34 @@ fn falloff(l: &LightItem, time: f64, warnings: &mut Vec<(Loc, String)>) -> (f32,
         2 => (1.0, r),
         3 => (2.0, r * r),
         other => {
-            warnings.push((at, format!("light \"{}\": unknown falloff type {other}: no falloff", l.common.name)));
+            warnings.push((
+                at,
+                format!(
+                    "light \"{}\": unknown falloff type {other}: no falloff",
+                    l.common.name
+                ),
+            ));
             (0.0, 1.0)
         }
     }
 }
 
 /// The environment light of the backdrop and the ambient light, if either is not black.
-pub fn environment(g: &Globals, time: f64, loc: &Loc, warnings: &mut Vec<(Loc, String)>) -> Option<ParamSet> {
+pub fn environment(
+    g: &Globals,
+    time: f64,
+    loc: &Loc,
+    warnings: &mut Vec<(Loc, String)>,
+) -> Option<ParamSet> {
     let backdrop = if g.solid_backdrop {
         g.backdrop_color
     } else {
         let mean = [0, 1, 2].map(|i| g.gradient.iter().map(|c| c[i]).sum::<f64>() / 4.0);
         if mean.iter().any(|&c| c > 0.0) {
-            warnings.push((loc.clone(), "the gradient backdrop is rendered as its mean colour".into()));
+            warnings.push((
+                loc.clone(),
+                "the gradient backdrop is rendered as its mean colour".into(),
+            ));
         }
         mean
     };
@@ -176,7 +237,11 @@ mod tests {
     fn light_item(kind: LightKind) -> LightItem {
         LightItem {
             common: ItemCommon::new(0x2000_0000, "L".into(), Loc::default()),
-            color: [Animated::Const(1.0), Animated::Const(0.5), Animated::Const(0.0)],
+            color: [
+                Animated::Const(1.0),
+                Animated::Const(0.5),
+                Animated::Const(0.0),
+            ],
             intensity: Animated::Const(2.0),
             kind: (kind, None),
             falloff: (0, None),
@@ -189,8 +254,17 @@ mod tests {
     #[test]
     fn distant_light_is_scaled_by_pi_and_points_along_plus_z() {
         let mut w = Vec::new();
-        let out = light(&light_item(LightKind::Distant), &DMat4::IDENTITY, 0.0, false, &mut w).unwrap();
-        let LightOut::Delta { kind, params } = out else { panic!() };
+        let out = light(
+            &light_item(LightKind::Distant),
+            &DMat4::IDENTITY,
+            0.0,
+            false,
+            &mut w,
+        )
+        .unwrap();
+        let LightOut::Delta { kind, params } = out else {
+            panic!()
+        };
         assert_eq!(kind, "distant");
         let l = params.color("L").unwrap();
         assert!((l[0] - 2.0 * std::f32::consts::PI).abs() < 1e-5);
@@ -204,7 +278,11 @@ mod tests {
         for (ty, k, gain) in [(0, 0.0, 1.0), (2, 1.0, 4.0), (3, 2.0, 16.0), (1, 1.0, 1.0)] {
             let mut l = light_item(LightKind::Point);
             l.falloff = (ty, None);
-            let LightOut::Delta { params, .. } = light(&l, &DMat4::IDENTITY, 0.0, false, &mut w).unwrap() else { panic!() };
+            let LightOut::Delta { params, .. } =
+                light(&l, &DMat4::IDENTITY, 0.0, false, &mut w).unwrap()
+            else {
+                panic!()
+            };
             assert_eq!(params.float("falloffexponent"), Some(k));
             assert_eq!(params.float("gain"), Some(gain));
         }
@@ -215,7 +293,11 @@ mod tests {
     fn area_light_faces_plus_z_with_radiance_per_area() {
         let mut w = Vec::new();
         let frame = DMat4::from_scale(DVec3::new(2.0, 2.0, 1.0));
-        let LightOut::Area { area, meshes } = light(&light_item(LightKind::Area), &frame, 0.0, true, &mut w).unwrap() else { panic!() };
+        let LightOut::Area { area, meshes } =
+            light(&light_item(LightKind::Area), &frame, 0.0, true, &mut w).unwrap()
+        else {
+            panic!()
+        };
         assert_eq!(meshes.len(), 2);
         let l = area.color("L").unwrap();
         assert!((l[0] - 2.0 * std::f32::consts::PI / 4.0).abs() < 1e-5);

@@ -101,7 +101,8 @@ impl Lwo2 {
                     let p = b.vec12()?;
                     layer.points.push(p);
                 }
-                self.pts_start = u32::try_from(start).map_err(|_| c.body.error("too many points"))?;
+                self.pts_start =
+                    u32::try_from(start).map_err(|_| c.body.error("too many points"))?;
             }
             b"POLS" => self.polygons(&mut b)?,
             b"PTAG" => self.polygon_tags(&mut b)?,
@@ -134,7 +135,10 @@ impl Lwo2 {
             }
             other => {
                 let name = id_string(*other);
-                self.warn_once(at, format!("{name} polygons (curves, metaballs or bones) are not rendered"));
+                self.warn_once(
+                    at,
+                    format!("{name} polygons (curves, metaballs or bones) are not rendered"),
+                );
                 return Ok(());
             }
         };
@@ -144,14 +148,17 @@ impl Lwo2 {
         while !b.is_empty() {
             let head = b.u2()?;
             let count = head & 0x03FF;
-            let start = u32::try_from(layer.indices.len()).map_err(|_| b.error("too many polygon vertices"))?;
+            let start = u32::try_from(layer.indices.len())
+                .map_err(|_| b.error("too many polygon vertices"))?;
             for _ in 0..count {
                 let at = b.offset();
                 let v = b.vx()?;
                 if v as usize >= npoints {
                     return Err(IffError {
                         offset: at,
-                        message: format!("polygon point {v} does not exist (the layer has {npoints} points)"),
+                        message: format!(
+                            "polygon point {v} does not exist (the layer has {npoints} points)"
+                        ),
                     });
                 }
                 layer.indices.push(v);
@@ -234,7 +241,11 @@ impl Lwo2 {
         while !b.is_empty() {
             let at = b.offset();
             let point = b.vx()? + pts_start;
-            let poly = if per_poly { Some(b.vx()? + pols_start) } else { None };
+            let poly = if per_poly {
+                Some(b.vx()? + pols_start)
+            } else {
+                None
+            };
             let mut v = [0.0f32; 3];
             for slot in v.iter_mut().take(dim) {
                 *slot = b.f4()?;
@@ -242,7 +253,10 @@ impl Lwo2 {
             if point as usize >= npoints || poly.is_some_and(|p| p as usize >= npolys) {
                 return Err(IffError {
                     offset: at,
-                    message: format!("{} map entry names a point or polygon that does not exist", id_string(ty)),
+                    message: format!(
+                        "{} map entry names a point or polygon that does not exist",
+                        id_string(ty)
+                    ),
                 });
             }
             match poly {
@@ -266,7 +280,10 @@ impl Lwo2 {
                 b"ISEQ" | b"ANIM" | b"XREF" | b"STCC" => {
                     self.warn_once(
                         sub.offset,
-                        format!("{} clips (sequences, animations, references) are not supported", sub.id_str()),
+                        format!(
+                            "{} clips (sequences, animations, references) are not supported",
+                            sub.id_str()
+                        ),
                     );
                     return Ok(());
                 }

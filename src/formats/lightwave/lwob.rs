@@ -61,7 +61,10 @@ pub fn read(mut body: Reader, layered: bool) -> IffResult<(Model, Vec<(usize, St
                 model.surfaces.push(s);
             }
             b"CRVS" | b"PCHS" => {
-                warnings.push((c.offset, format!("{} (curves, patches) are not rendered", c.id_str())));
+                warnings.push((
+                    c.offset,
+                    format!("{} (curves, patches) are not rendered", c.id_str()),
+                ));
             }
             _ => {}
         }
@@ -88,7 +91,8 @@ fn polygons(b: &mut Reader, layer: &mut Layer) -> IffResult<()> {
 /// One polygon and, when its surface number is negative, its detail polygons (one level).
 fn read_polygon(b: &mut Reader, layer: &mut Layer, npoints: usize, depth: u8) -> IffResult<()> {
     let count = b.u2()?;
-    let start = u32::try_from(layer.indices.len()).map_err(|_| b.error("too many polygon vertices"))?;
+    let start =
+        u32::try_from(layer.indices.len()).map_err(|_| b.error("too many polygon vertices"))?;
     for _ in 0..count {
         let at = b.offset();
         let v = u32::from(b.u2()?);
@@ -234,7 +238,13 @@ fn surface(b: &mut Reader, warnings: &mut Vec<(usize, String)>) -> IffResult<Sur
         0.0
     };
     if flags & 512 != 0 {
-        warnings.push((offset, format!("surface \"{}\": additive transparency is not rendered", s.name)));
+        warnings.push((
+            offset,
+            format!(
+                "surface \"{}\": additive transparency is not rendered",
+                s.name
+            ),
+        ));
     }
     Ok(s)
 }

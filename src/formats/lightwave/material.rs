@@ -140,7 +140,13 @@ pub fn plan(
             name: mirror.clone(),
             params: params(vec![("type", string("mirror")), ("Kr", color([1.0; 3]))]),
         });
-        current = mix(&mut out, &current, &mirror, s.reflection, &format!("{prefix}.refl"));
+        current = mix(
+            &mut out,
+            &current,
+            &mirror,
+            s.reflection,
+            &format!("{prefix}.refl"),
+        );
     }
     if s.transparency > 0.0 {
         let glass = format!("{prefix}.glass");
@@ -154,7 +160,13 @@ pub fn plan(
                 ("index", float(s.index.max(1.0))),
             ]),
         });
-        current = mix(&mut out, &current, &glass, s.transparency, &format!("{prefix}.tran"));
+        current = mix(
+            &mut out,
+            &current,
+            &glass,
+            s.transparency,
+            &format!("{prefix}.tran"),
+        );
     }
     // The last material declared is the surface's: it takes the surface's own name (nothing
     // refers to it under its working name).
@@ -172,7 +184,10 @@ pub fn plan(
         }
     }
     if s.translucency > 0.0 {
-        out.warnings.push(format!("surface \"{}\": translucency is not rendered", s.name));
+        out.warnings.push(format!(
+            "surface \"{}\": translucency is not rendered",
+            s.name
+        ));
     }
     out
 }
@@ -227,7 +242,8 @@ fn image_layer(
     let &i = layers.last()?;
     let b = &s.blocks[i];
     let warn = |out: &mut SurfacePlan, what: &str| {
-        out.warnings.push(format!("surface \"{}\": {ch} image layer: {what}", s.name));
+        out.warnings
+            .push(format!("surface \"{}\": {ch} image layer: {what}", s.name));
     };
     if b.projection == Projection::Front {
         warn(out, "front projection is not supported: layer not rendered");
@@ -324,7 +340,9 @@ fn report_unrendered_layers(s: &Surface, out: &mut SurfacePlan) {
             (BlockKind::Image, b"COLR" | b"DIFF") => continue,
             (BlockKind::Image, b"BUMP") => "bump maps are not rendered".to_string(),
             (BlockKind::Image, _) => format!("image layers on {ch} are not rendered"),
-            (BlockKind::Procedural(n), _) => format!("procedural texture \"{n}\" on {ch} is not rendered"),
+            (BlockKind::Procedural(n), _) => {
+                format!("procedural texture \"{n}\" on {ch} is not rendered")
+            }
             (BlockKind::Gradient, _) => format!("gradient on {ch} is not rendered"),
             (BlockKind::Shader(n), _) => format!("shader \"{n}\" is not rendered"),
         };
@@ -369,9 +387,15 @@ mod tests {
         s.color = [1.0, 0.5, 0.0];
         let p = plan(&s, "o:B", &mut no_images);
         let names: Vec<&str> = p.materials.iter().map(|m| m.name.as_str()).collect();
-        assert_eq!(names, vec!["o:B.base", "o:B.mirror", "o:B.refl", "o:B.glass", "o:B"]);
+        assert_eq!(
+            names,
+            vec!["o:B.base", "o:B.mirror", "o:B.refl", "o:B.glass", "o:B"]
+        );
         assert_eq!(p.materials[0].params.string("type"), Some("glossy"));
-        assert!((p.materials[0].params.float("uroughness").unwrap() - (2.0f32 / 66.0).sqrt()).abs() < 1e-6);
+        assert!(
+            (p.materials[0].params.float("uroughness").unwrap() - (2.0f32 / 66.0).sqrt()).abs()
+                < 1e-6
+        );
         let last = p.materials.last().unwrap();
         assert_eq!(last.params.string("type"), Some("mix"));
         assert_eq!(last.params.string("namedmaterial1"), Some("o:B.refl"));
@@ -388,7 +412,11 @@ mod tests {
         b.uv_map = Some("uv".into());
         b.opacity = 0.5;
         s.blocks.push(b);
-        s.blocks.push(TexBlock::new(*b"BUMP", BlockKind::Procedural("Turbulence".into()), 0));
+        s.blocks.push(TexBlock::new(
+            *b"BUMP",
+            BlockKind::Procedural("Turbulence".into()),
+            0,
+        ));
         let p = plan(&s, "o:C", &mut |_| Ok("img.png".into()));
         assert_eq!(p.uv_block, Some(0));
         let names: Vec<&str> = p.textures.iter().map(|t| t.name.as_str()).collect();

@@ -95,7 +95,10 @@ pub fn build(
             .map(|(&v, &p)| corner_uv(uv, v, pi, p, pn))
             .collect();
         if let UvSource::Projected(b) = uv {
-            if matches!(b.projection, super::model::Projection::Cylindrical | super::model::Projection::Spherical) {
+            if matches!(
+                b.projection,
+                super::model::Projection::Cylindrical | super::model::Projection::Spherical
+            ) {
                 let mut flat: Vec<DVec2> = uvs.iter().map(|u| u.unwrap_or(DVec2::ZERO)).collect();
                 fix_seam(&mut flat, f64::from(b.wrap_amount.0.max(1e-6)));
                 uvs = flat.into_iter().map(Some).collect();
@@ -114,14 +117,20 @@ pub fn build(
             };
             let t = uvs[k].unwrap_or(DVec2::ZERO);
             // Faceted corners need no normal: they do not split points.
-            let keyed_n = if smooth || normal_map.is_some() { n } else { DVec3::ZERO };
+            let keyed_n = if smooth || normal_map.is_some() {
+                n
+            } else {
+                DVec3::ZERO
+            };
             let key: CornerKey = (
                 v,
                 keyed_n.to_array().map(|c| (c as f32).to_bits() as u64),
                 [(t.x as f32).to_bits() as u64, (t.y as f32).to_bits() as u64],
             );
             let id = *seen.entry(key).or_insert_with(|| {
-                out.p.push(point_to_lux(layer.points.get(v as usize).copied().unwrap_or([0.0; 3])));
+                out.p.push(point_to_lux(
+                    layer.points.get(v as usize).copied().unwrap_or([0.0; 3]),
+                ));
                 n_out.push(point_to_lux(n.as_vec3().to_array()));
                 uv_out.extend_from_slice(&[t.x as f32, t.y as f32]);
                 (out.p.len() - 1) as i32
@@ -194,15 +203,34 @@ mod tests {
         ];
         let indices = vec![0, 1, 2, 3, 0, 3, 5, 4];
         let polygons = vec![
-            Polygon { start: 0, count: 4, kind: PolyKind::Face, surface_tag: Some(0) },
-            Polygon { start: 4, count: 4, kind: PolyKind::Face, surface_tag: Some(0) },
+            Polygon {
+                start: 0,
+                count: 4,
+                kind: PolyKind::Face,
+                surface_tag: Some(0),
+            },
+            Polygon {
+                start: 4,
+                count: 4,
+                kind: PolyKind::Face,
+                surface_tag: Some(0),
+            },
         ];
-        Layer { points: pts, indices, polygons, ..Layer::default() }
+        Layer {
+            points: pts,
+            indices,
+            polygons,
+            ..Layer::default()
+        }
     }
 
     fn tri_normal(m: &MeshData, t: usize) -> DVec3 {
         let p = |i: i32| DVec3::from(m.p[i as usize].map(f64::from));
-        let (a, b, c) = (p(m.indices[3 * t]), p(m.indices[3 * t + 1]), p(m.indices[3 * t + 2]));
+        let (a, b, c) = (
+            p(m.indices[3 * t]),
+            p(m.indices[3 * t + 1]),
+            p(m.indices[3 * t + 2]),
+        );
         (b - a).cross(c - a).normalize()
     }
 
@@ -231,7 +259,10 @@ mod tests {
         // point 0 is shared: its normal is halfway between -z and -x (luxfarm)
         let k = soft.p.iter().position(|p| *p == [0.0, 0.0, 0.0]).unwrap();
         let d = DVec3::from(n[k].map(f64::from));
-        assert!((d - DVec3::new(-1.0, 0.0, -1.0).normalize()).length() < 1e-6, "{d}");
+        assert!(
+            (d - DVec3::new(-1.0, 0.0, -1.0).normalize()).length() < 1e-6,
+            "{d}"
+        );
     }
 
     #[test]
@@ -254,7 +285,12 @@ mod tests {
     fn short_polygons_are_counted_not_rendered() {
         let mut l = corner();
         l.indices.extend_from_slice(&[0, 1]);
-        l.polygons.push(Polygon { start: 8, count: 2, kind: PolyKind::Face, surface_tag: Some(0) });
+        l.polygons.push(Polygon {
+            start: 8,
+            count: 2,
+            kind: PolyKind::Face,
+            surface_tag: Some(0),
+        });
         let m = build(&l, &[0, 1, 2], 0.0, None, UvSource::None);
         assert_eq!(m.skipped, 1);
     }

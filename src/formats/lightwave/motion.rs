@@ -79,7 +79,9 @@ impl Evaluator<'_> {
             return Err(LxsError::new(
                 LxsErrorKind::InvalidValue,
                 from.clone(),
-                format!("item {id:08X} is its own ancestor or target (a ParentItem/TargetItem loop)"),
+                format!(
+                    "item {id:08X} is its own ancestor or target (a ParentItem/TargetItem loop)"
+                ),
             ));
         }
         self.visiting.push(id);
@@ -136,9 +138,15 @@ mod tests {
         let p = evaluate(&s, 0.0, &|_| DVec3::ZERO).unwrap();
         let child = p[&0x1000_0001];
         // child at local +2 z, parent turned +90 heading (+z -> +x) at x = 5
-        close(child.frame.transform_point3(DVec3::ZERO), DVec3::new(7.0, 0.0, 0.0));
+        close(
+            child.frame.transform_point3(DVec3::ZERO),
+            DVec3::new(7.0, 0.0, 0.0),
+        );
         // the pivot point of the geometry sits at the item's origin
-        close(child.world.transform_point3(DVec3::new(0.0, 0.0, 1.0)), DVec3::new(7.0, 0.0, 0.0));
+        close(
+            child.world.transform_point3(DVec3::new(0.0, 0.0, 1.0)),
+            DVec3::new(7.0, 0.0, 0.0),
+        );
     }
 
     #[test]
@@ -151,7 +159,8 @@ mod tests {
         let p = evaluate(&s, 0.0, &|_| DVec3::ZERO).unwrap();
         let cam = p[&0x3000_0000];
         close(cam.frame.transform_vector3(DVec3::Z), DVec3::X);
-        let looped = "LWSC\n3\nAddNullObject A\nParentItem 10000001\nAddNullObject B\nParentItem 10000000\n";
+        let looped =
+            "LWSC\n3\nAddNullObject A\nParentItem 10000001\nAddNullObject B\nParentItem 10000000\n";
         let s = read("t.lws", looped).unwrap().scene;
         let e = evaluate(&s, 0.0, &|_| DVec3::ZERO).unwrap_err();
         assert!(e.message.contains("loop"), "{e}");

@@ -31,7 +31,13 @@ fn iff_error(file: &str, format: &str, e: IffError) -> LxsError {
 
 /// Parses the object file `file` (its name is used in errors and warnings).
 pub fn parse(bytes: &[u8], file: &str) -> Result<Model, LxsError> {
-    let refuse = |msg: String| Err(LxsError::new(LxsErrorKind::Unsupported, file_loc(file), msg));
+    let refuse = |msg: String| {
+        Err(LxsError::new(
+            LxsErrorKind::Unsupported,
+            file_loc(file),
+            msg,
+        ))
+    };
     if bytes.len() < 12 || &bytes[0..4] != b"FORM" {
         return refuse("not a LightWave object (no IFF FORM header)".into());
     }
@@ -106,7 +112,10 @@ mod tests {
         assert!(parse(b"hello world!", "a.lwo").is_err());
         let mut short = form(b"LWO2", b"");
         short[7] = 200;
-        assert!(parse(&short, "a.lwo").unwrap_err().message.contains("truncated"));
+        assert!(parse(&short, "a.lwo")
+            .unwrap_err()
+            .message
+            .contains("truncated"));
     }
 
     #[test]

@@ -13,7 +13,8 @@
 //! directory and its parents with the whole path and then with shorter suffixes, so a scene
 //! moved with its objects still finds them. With confinement (untrusted uploads) only the
 //! scene's directory and what is below it is searched, and a candidate that resolves (symlinks
-//! followed) outside it is never used.
+//! followed) outside it is never used. Images are also looked for beside the object file that
+//! names them (an object and its images usually travel together).
 
 use crate::lxs::{Loc, LxsError, LxsErrorKind};
 use std::path::{Component, Path, PathBuf};
@@ -53,6 +54,18 @@ impl Resolver {
             scene_dir_canonical,
             confined,
         }
+    }
+
+    /// Finds the file LightWave means by `written`, else (images) the same suffixes in the
+    /// directory of the object file that names it.
+    pub fn find_near(&self, written: &str, object_dir: &Path) -> Option<Found> {
+        self.find(written).or_else(|| {
+            let (comps, _) = split(written);
+            (0..comps.len()).find_map(|start| {
+                let p = object_dir.join(comps[start..].iter().collect::<PathBuf>());
+                self.check(&p, &p)
+            })
+        })
     }
 
     /// Finds the file LightWave means by `written`.
@@ -197,9 +210,15 @@ mod tests {
 
     #[test]
     fn splits_lightwave_paths() {
-        assert_eq!(split("F:fra/cornell/02.lwo"), (vec!["fra".into(), "cornell".into(), "02.lwo".into()], true));
+        assert_eq!(
+            split("F:fra/cornell/02.lwo"),
+            (vec!["fra".into(), "cornell".into(), "02.lwo".into()], true)
+        );
         assert_eq!(split("..\\LWO\\x.lwo").0, vec!["..", "LWO", "x.lwo"]);
-        assert_eq!(split("Objects/./a.lwo"), (vec!["Objects".into(), "a.lwo".into()], false));
+        assert_eq!(
+            split("Objects/./a.lwo"),
+            (vec!["Objects".into(), "a.lwo".into()], false)
+        );
         assert!(split("/abs/a.lwo").1);
     }
 
@@ -222,6 +241,11 @@ mod tests {
         assert!(f.from_scene.is_absolute());
         assert!(r.find("F:some/where/Objects/box.lwo").is_some());
         assert!(r.find("../Objects/box.lwo").is_some());
+        assert!(r.find("box.lwo").is_none());
+        let near = r
+            .find_near("F:x/box.lwo", &d.path().join("Content/Objects"))
+            .unwrap();
+        assert!(near.canonical.ends_with("Objects/box.lwo"));
         let here = r.find("C:\\old\\disk\\here.lwo").unwrap();
         assert_eq!(here.from_scene, PathBuf::from("here.lwo"));
         assert!(r.find("nothere.lwo").is_none());

@@ -146,7 +146,10 @@ mod tests {
         // four quarter turns, each a quarter of the image apart (modulo the seam)
         for w in us.windows(2) {
             let d = (w[1] - w[0]).rem_euclid(1.0);
-            assert!((d - 0.25).abs() < 1e-12 || (d - 0.75).abs() < 1e-12, "{us:?}");
+            assert!(
+                (d - 0.25).abs() < 1e-12 || (d - 0.75).abs() < 1e-12,
+                "{us:?}"
+            );
         }
         let top = block(Projection::Spherical, 1);
         assert!((project(&top, DVec3::Y, DVec3::Y).unwrap().y - 0.0).abs() < 1e-12);

@@ -96,7 +96,11 @@ impl<'a> Reader<'a> {
     fn header(&mut self) -> Result<(), LxsError> {
         let start = self.cur.end_loc();
         let Some(magic) = self.cur.next_line() else {
-            return Err(err(LxsErrorKind::Syntax, start, "empty file: not a LightWave scene"));
+            return Err(err(
+                LxsErrorKind::Syntax,
+                start,
+                "empty file: not a LightWave scene",
+            ));
         };
         let loc = self.cur.loc(&magic);
         if magic.text.trim() != "LWSC" {
@@ -137,10 +141,17 @@ impl<'a> Reader<'a> {
     }
 
     /// A value that may be `(envelope)`, followed by its block.
-    fn animated(&mut self, line: &Line, tok: Option<&&str>, what: &str) -> Result<Animated, LxsError> {
+    fn animated(
+        &mut self,
+        line: &Line,
+        tok: Option<&&str>,
+        what: &str,
+    ) -> Result<Animated, LxsError> {
         let loc = self.cur.loc(line);
         if tok.is_some_and(|t| *t == "(envelope)") {
-            let open = self.cur.expect_line(line, &format!("the envelope of {what}"))?;
+            let open = self
+                .cur
+                .expect_line(line, &format!("the envelope of {what}"))?;
             if !(open.opens_block() && open.block_name() == "Envelope") {
                 return Err(err(
                     LxsErrorKind::Syntax,
@@ -172,7 +183,11 @@ impl<'a> Reader<'a> {
             let name = line.block_name().to_string();
             self.cur.skip_block(line)?;
             if !keywords::IGNORED_BLOCKS.contains(&name.as_str()) {
-                self.warn_once(&format!("block {name}"), loc, format!("block {name} skipped"));
+                self.warn_once(
+                    &format!("block {name}"),
+                    loc,
+                    format!("block {name} skipped"),
+                );
             }
             return Ok(());
         }
@@ -185,21 +200,31 @@ impl<'a> Reader<'a> {
             return self.plugin(&t, line);
         }
         if let Some((_, what)) = keywords::UNSUPPORTED_WHEN_ON.iter().find(|(k, _)| *k == kw) {
-            let on = t.get(1).is_some_and(|v| v.parse::<f64>().map_or(true, |x| x != 0.0));
+            let on = t
+                .get(1)
+                .is_some_and(|v| v.parse::<f64>().map_or(true, |x| x != 0.0));
             if on {
                 self.warn_once(kw, loc, format!("{kw}: {what} is not rendered by luxfarm"));
             }
             return Ok(());
         }
         if let Some((_, what)) = keywords::UNSUPPORTED.iter().find(|(k, _)| *k == kw) {
-            self.warn_once(what, loc, format!("{kw}: {what} are not rendered by luxfarm"));
+            self.warn_once(
+                what,
+                loc,
+                format!("{kw}: {what} are not rendered by luxfarm"),
+            );
             return Ok(());
         }
         if keywords::is_ignored(kw) || (self.current == Current::Bone && kw.starts_with("Bone")) {
             return Ok(());
         }
         if ITEM_KEYWORDS.contains(&kw) {
-            self.warn_once(kw, loc, format!("{kw} does not apply to the item it follows: skipped"));
+            self.warn_once(
+                kw,
+                loc,
+                format!("{kw} does not apply to the item it follows: skipped"),
+            );
         } else {
             self.warn_once(kw, loc, format!("unknown keyword {kw} skipped"));
         }
@@ -286,7 +311,11 @@ impl<'a> Reader<'a> {
                 let (layer, at) = if kw == "LoadObjectLayer" {
                     let n = integer(t.get(1), "LoadObjectLayer layer", &loc)?;
                     let n = u32::try_from(n).ok().filter(|n| *n >= 1).ok_or_else(|| {
-                        err(LxsErrorKind::InvalidValue, loc.clone(), format!("LoadObjectLayer: layer {n} (layers count from 1)"))
+                        err(
+                            LxsErrorKind::InvalidValue,
+                            loc.clone(),
+                            format!("LoadObjectLayer: layer {n} (layers count from 1)"),
+                        )
                     })?;
                     (Some(n), 2)
                 } else {
@@ -295,10 +324,21 @@ impl<'a> Reader<'a> {
                 let (id, used) = self.new_id(TYPE_OBJECT, ordinal, t, at);
                 let path = line.rest_after(at + used).to_string();
                 if path.is_empty() {
-                    return Err(err(LxsErrorKind::WrongValueCount, loc, format!("{kw}: the object file name is missing")));
+                    return Err(err(
+                        LxsErrorKind::WrongValueCount,
+                        loc,
+                        format!("{kw}: the object file name is missing"),
+                    ));
                 }
-                let name = path.rsplit(['/', '\\', ':']).next().unwrap_or(&path).to_string();
-                self.add_object(ItemCommon::new(id, name, loc), ObjectSource::File { path, layer });
+                let name = path
+                    .rsplit(['/', '\\', ':'])
+                    .next()
+                    .unwrap_or(&path)
+                    .to_string();
+                self.add_object(
+                    ItemCommon::new(id, name, loc),
+                    ObjectSource::File { path, layer },
+                );
             }
             "AddNullObject" => {
                 let ordinal = self.scene.objects.len();
@@ -309,8 +349,16 @@ impl<'a> Reader<'a> {
             "AddLight" => {
                 let (id, _) = self.new_id(TYPE_LIGHT, self.scene.lights.len(), t, 1);
                 self.scene.lights.push(LightItem {
-                    common: ItemCommon::new(id, format!("Light {}", self.scene.lights.len() + 1), loc),
-                    color: [Animated::Const(1.0), Animated::Const(1.0), Animated::Const(1.0)],
+                    common: ItemCommon::new(
+                        id,
+                        format!("Light {}", self.scene.lights.len() + 1),
+                        loc,
+                    ),
+                    color: [
+                        Animated::Const(1.0),
+                        Animated::Const(1.0),
+                        Animated::Const(1.0),
+                    ],
                     intensity: Animated::Const(1.0),
                     kind: (LightKind::Distant, None),
                     falloff: (0, None),
@@ -324,7 +372,11 @@ impl<'a> Reader<'a> {
             "AddCamera" => {
                 let (id, _) = self.new_id(TYPE_CAMERA, self.scene.cameras.len(), t, 1);
                 self.scene.cameras.push(CameraItem {
-                    common: ItemCommon::new(id, format!("Camera {}", self.scene.cameras.len() + 1), loc),
+                    common: ItemCommon::new(
+                        id,
+                        format!("Camera {}", self.scene.cameras.len() + 1),
+                        loc,
+                    ),
                     zoom: Animated::Const(3.2),
                     frame_size: None,
                     multiplier: 1.0,
@@ -345,7 +397,11 @@ impl<'a> Reader<'a> {
                 self.motion = Current::None;
             }
             "AddBone" | "AddBones" => {
-                self.warn_once("bones", loc, "bones are not supported: objects are rendered undeformed");
+                self.warn_once(
+                    "bones",
+                    loc,
+                    "bones are not supported: objects are rendered undeformed",
+                );
                 self.current = Current::Bone;
                 self.motion = Current::None;
             }
@@ -358,7 +414,11 @@ impl<'a> Reader<'a> {
                         | ("BoneMotion", Current::Bone)
                 );
                 if !fits {
-                    return Err(err(LxsErrorKind::WrongBlock, loc, format!("{kw} does not follow an item of its kind")));
+                    return Err(err(
+                        LxsErrorKind::WrongBlock,
+                        loc,
+                        format!("{kw} does not follow an item of its kind"),
+                    ));
                 }
                 self.motion = self.current;
             }
@@ -392,7 +452,11 @@ impl<'a> Reader<'a> {
                 }
             }
             "PivotRotation" => {
-                let any = (1..=3).any(|i| t.get(i).and_then(|v| v.parse::<f64>().ok()).is_some_and(|v| v != 0.0));
+                let any = (1..=3).any(|i| {
+                    t.get(i)
+                        .and_then(|v| v.parse::<f64>().ok())
+                        .is_some_and(|v| v != 0.0)
+                });
                 if any {
                     self.warn_once(kw, loc, "PivotRotation is not supported: ignored");
                 }
@@ -416,22 +480,25 @@ impl<'a> Reader<'a> {
         }
         let env = self.envelope(&open)?;
         let slot = usize::try_from(n).ok().filter(|&i| i < 9);
-        let motion = match self.motion {
-            Current::Object(i) => Some(&mut self.scene.objects[i].common.motion),
-            Current::Light(i) => Some(&mut self.scene.lights[i].common.motion),
-            Current::Camera(i) => Some(&mut self.scene.cameras[i].common.motion),
-            Current::Bone => return Ok(()),
-            Current::None => {
-                return Err(err(
+        let motion =
+            match self.motion {
+                Current::Object(i) => Some(&mut self.scene.objects[i].common.motion),
+                Current::Light(i) => Some(&mut self.scene.lights[i].common.motion),
+                Current::Camera(i) => Some(&mut self.scene.cameras[i].common.motion),
+                Current::Bone => return Ok(()),
+                Current::None => return Err(err(
                     LxsErrorKind::WrongBlock,
                     loc,
                     "Channel outside an item's motion (ObjectMotion, LightMotion, CameraMotion)",
-                ))
-            }
-        };
+                )),
+            };
         match (slot, motion) {
             (Some(i), Some(m)) => m.channels[i] = Some(Animated::Env(env)),
-            _ => self.warn_once("channel", loc, format!("motion channel {n} skipped (0-8 are position, rotation, scale)")),
+            _ => self.warn_once(
+                "channel",
+                loc,
+                format!("motion channel {n} skipped (0-8 are position, rotation, scale)"),
+            ),
         }
         Ok(())
     }
@@ -465,7 +532,11 @@ impl<'a> Reader<'a> {
             ("LightType", Current::Light(i)) => {
                 let code = integer(t.get(1), kw, &loc)?;
                 let kind = LightKind::from_code(code).ok_or_else(|| {
-                    err(LxsErrorKind::InvalidValue, loc.clone(), format!("LightType {code} (0-4: distant, point, spot, linear, area)"))
+                    err(
+                        LxsErrorKind::InvalidValue,
+                        loc.clone(),
+                        format!("LightType {code} (0-4: distant, point, spot, linear, area)"),
+                    )
                 })?;
                 self.scene.lights[i].kind = (kind, Some(loc));
             }
@@ -498,12 +569,20 @@ impl<'a> Reader<'a> {
             "FrameSize" | "CustomSize" => {
                 self.scene.cameras[i].frame_size = Some(size(t, kw, &loc)?);
             }
-            "ResolutionMultiplier" => self.scene.cameras[i].multiplier = number(t.get(1), kw, &loc)?,
+            "ResolutionMultiplier" => {
+                self.scene.cameras[i].multiplier = number(t.get(1), kw, &loc)?
+            }
             "PixelAspect" => self.scene.cameras[i].pixel_aspect = number(t.get(1), kw, &loc)?,
             "MotionBlur" => self.scene.cameras[i].motion_blur = integer(t.get(1), kw, &loc)?,
-            "BlurLength" => self.scene.cameras[i].blur_length = self.animated(line, t.get(1), kw)?,
-            "DepthOfField" => self.scene.cameras[i].depth_of_field = integer(t.get(1), kw, &loc)? != 0,
-            "FocalDistance" => self.scene.cameras[i].focal_distance = self.animated(line, t.get(1), kw)?,
+            "BlurLength" => {
+                self.scene.cameras[i].blur_length = self.animated(line, t.get(1), kw)?
+            }
+            "DepthOfField" => {
+                self.scene.cameras[i].depth_of_field = integer(t.get(1), kw, &loc)? != 0
+            }
+            "FocalDistance" => {
+                self.scene.cameras[i].focal_distance = self.animated(line, t.get(1), kw)?
+            }
             "LensFStop" => self.scene.cameras[i].fstop = self.animated(line, t.get(1), kw)?,
             "ApertureHeight" => self.scene.cameras[i].aperture_height = number(t.get(1), kw, &loc)?,
             "LimitedRegion" => {
@@ -519,12 +598,20 @@ impl<'a> Reader<'a> {
             "UseGlobalResolution" => {
                 self.scene.cameras[i].use_global_resolution = integer(t.get(1), kw, &loc)? != 0;
             }
-            "UseGlobalBlur" => self.scene.cameras[i].use_global_blur = integer(t.get(1), kw, &loc)? != 0,
+            "UseGlobalBlur" => {
+                self.scene.cameras[i].use_global_blur = integer(t.get(1), kw, &loc)? != 0
+            }
             "MaskPosition" => {
-                let full = self.scene.cameras[i].frame_size.map(|(w, h)| format!("0 0 {w} {h}"));
+                let full = self.scene.cameras[i]
+                    .frame_size
+                    .map(|(w, h)| format!("0 0 {w} {h}"));
                 let written = t.get(1..5).map(|v| v.join(" "));
                 if written.is_some() && written != full {
-                    self.warn_once(kw, loc, "MaskPosition: the camera mask is not rendered (the whole frame is)");
+                    self.warn_once(
+                        kw,
+                        loc,
+                        "MaskPosition: the camera mask is not rendered (the whole frame is)",
+                    );
                 }
             }
             _ => return Ok(false),
@@ -544,7 +631,11 @@ impl<'a> Reader<'a> {
             "FramesPerSecond" => {
                 let fps = number(t.get(1), kw, &loc)?;
                 if fps <= 0.0 {
-                    return Err(err(LxsErrorKind::InvalidValue, loc, format!("FramesPerSecond {fps} must be positive")));
+                    return Err(err(
+                        LxsErrorKind::InvalidValue,
+                        loc,
+                        format!("FramesPerSecond {fps} must be positive"),
+                    ));
                 }
                 g.fps = fps;
             }
@@ -570,7 +661,9 @@ impl<'a> Reader<'a> {
                 self.scene.globals.global_blur_length = a;
             }
             "RayRecursionLimit" => g.ray_recursion_limit = integer(t.get(1), kw, &loc)?,
-            "DoubleSidedAreaLights" => g.double_sided_area_lights = integer(t.get(1), kw, &loc)? != 0,
+            "DoubleSidedAreaLights" => {
+                g.double_sided_area_lights = integer(t.get(1), kw, &loc)? != 0
+            }
             _ => return Ok(false),
         }
         Ok(true)
@@ -653,7 +746,9 @@ mod tests {
     #[test]
     fn versions_one_and_two_are_refused_clearly() {
         for v in [1, 2] {
-            let e = parse(&format!("LWSC\n{v}\n\nFirstFrame 1\n")).err().unwrap();
+            let e = parse(&format!("LWSC\n{v}\n\nFirstFrame 1\n"))
+                .err()
+                .unwrap();
             assert_eq!(e.kind, LxsErrorKind::Unsupported);
             assert_eq!(e.loc.line, 2);
             assert!(e.message.contains("LightWave 6"), "{e}");
@@ -690,11 +785,17 @@ mod tests {
 
     #[test]
     fn version_3_numbers_items_in_order() {
-        let p = parse("LWSC\n3\nLoadObjectLayer 1 a.lwo\nLoadObjectLayer 1 b c.lwo\nAddLight\nAddCamera\n").unwrap();
+        let p = parse(
+            "LWSC\n3\nLoadObjectLayer 1 a.lwo\nLoadObjectLayer 1 b c.lwo\nAddLight\nAddCamera\n",
+        )
+        .unwrap();
         assert_eq!(p.scene.objects[1].common.id, 0x1000_0001);
         assert_eq!(
             p.scene.objects[1].source,
-            ObjectSource::File { path: "b c.lwo".into(), layer: Some(1) }
+            ObjectSource::File {
+                path: "b c.lwo".into(),
+                layer: Some(1)
+            }
         );
         assert_eq!(p.scene.lights[0].common.id, 0x2000_0000);
         assert_eq!(p.scene.cameras[0].common.id, 0x3000_0000);
@@ -717,7 +818,10 @@ mod tests {
         let p = parse(text).unwrap();
         let msgs: Vec<String> = p.warnings.iter().map(|w| w.to_string()).collect();
         assert_eq!(msgs.len(), 5, "{msgs:?}");
-        assert!(msgs[0].starts_with("t.lws:3:1: unknown keyword Foo"), "{msgs:?}");
+        assert!(
+            msgs[0].starts_with("t.lws:3:1: unknown keyword Foo"),
+            "{msgs:?}"
+        );
         assert!(msgs[1].contains("Bar"));
         assert!(msgs[2].contains("Thing"));
         assert!(msgs[3].contains("Weird"));
@@ -731,8 +835,12 @@ mod tests {
         let e = parse("LWSC\n3\nFramesPerSecond 0\n").err().unwrap();
         assert_eq!(e.loc.line, 3);
         let p = parse("LWSC\n3\nLightIntensity 1\n").unwrap();
-        assert!(p.warnings[0].to_string().starts_with("t.lws:3:1: LightIntensity does not apply"));
-        let e = parse("LWSC\n3\nAddLight\nLightIntensity (envelope)\nLightType 1\n").err().unwrap();
+        assert!(p.warnings[0]
+            .to_string()
+            .starts_with("t.lws:3:1: LightIntensity does not apply"));
+        let e = parse("LWSC\n3\nAddLight\nLightIntensity (envelope)\nLightType 1\n")
+            .err()
+            .unwrap();
         assert_eq!(e.loc.line, 5);
     }
 

@@ -73,7 +73,10 @@ fn read_block(b: &mut Reader, warnings: &mut Vec<(usize, String)>) -> IffResult<
         b"GRAD" => BlockKind::Gradient,
         b"SHDR" => BlockKind::Shader(String::new()),
         _ => {
-            warnings.push((header.offset, format!("texture block {} skipped", header.id_str())));
+            warnings.push((
+                header.offset,
+                format!("texture block {} skipped", header.id_str()),
+            ));
             return Ok(None);
         }
     };
@@ -160,7 +163,10 @@ mod tests {
     #[test]
     fn reads_values_and_an_image_block() {
         let mut data = b"Shiny\0Default\0".to_vec(); // "Shiny" + pad? lengths: 6 even, 8 even
-        data.extend(sub(b"COLR", &[f(0.5), f(0.25), f(1.0), vec![0, 0]].concat()));
+        data.extend(sub(
+            b"COLR",
+            &[f(0.5), f(0.25), f(1.0), vec![0, 0]].concat(),
+        ));
         data.extend(sub(b"SPEC", &[f(0.3), vec![0, 0]].concat()));
         data.extend(sub(b"SMAN", &f(1.0)));
         data.extend(sub(b"SIDE", &[0, 3]));

@@ -130,7 +130,11 @@ mod tests {
 
     fn area(pts: &[DVec3], tris: &[[usize; 3]]) -> f64 {
         tris.iter()
-            .map(|t| 0.5 * (pts[t[1]] - pts[t[0]]).cross(pts[t[2]] - pts[t[0]]).length())
+            .map(|t| {
+                0.5 * (pts[t[1]] - pts[t[0]])
+                    .cross(pts[t[2]] - pts[t[0]])
+                    .length()
+            })
             .sum()
     }
 
@@ -161,7 +165,12 @@ mod tests {
 
     #[test]
     fn clockwise_polygons_keep_their_winding() {
-        let pts = [v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0), v(1.0, 1.0, 0.0), v(1.0, 0.0, 0.0)];
+        let pts = [
+            v(0.0, 0.0, 0.0),
+            v(0.0, 1.0, 0.0),
+            v(1.0, 1.0, 0.0),
+            v(1.0, 0.0, 0.0),
+        ];
         for t in triangulate(&pts) {
             let n = (pts[t[1]] - pts[t[0]]).cross(pts[t[2]] - pts[t[0]]);
             assert!(n.z < 0.0);
@@ -170,7 +179,12 @@ mod tests {
 
     #[test]
     fn non_planar_quad_gives_two_triangles() {
-        let pts = [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.2), v(1.0, 1.0, 0.0), v(0.0, 1.0, 0.3)];
+        let pts = [
+            v(0.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.2),
+            v(1.0, 1.0, 0.0),
+            v(0.0, 1.0, 0.3),
+        ];
         let tris = triangulate(&pts);
         assert_eq!(tris.len(), 2);
         let mut used: Vec<usize> = tris.iter().flatten().copied().collect();
@@ -182,12 +196,22 @@ mod tests {
     #[test]
     fn degenerate_polygons_do_not_panic() {
         assert!(triangulate(&[v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)]).is_empty());
-        let line = [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(2.0, 0.0, 0.0), v(3.0, 0.0, 0.0)];
+        let line = [
+            v(0.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(2.0, 0.0, 0.0),
+            v(3.0, 0.0, 0.0),
+        ];
         assert_eq!(triangulate(&line).len(), 2);
         let same = [v(1.0, 1.0, 1.0); 5];
         assert_eq!(triangulate(&same).len(), 3);
         // a bow tie (self-intersecting)
-        let bow = [v(0.0, 0.0, 0.0), v(1.0, 1.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0)];
+        let bow = [
+            v(0.0, 0.0, 0.0),
+            v(1.0, 1.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(0.0, 1.0, 0.0),
+        ];
         assert!(triangulate(&bow).len() <= 2);
     }
 }

@@ -80,8 +80,8 @@ pub fn detect(bytes: &[u8], file_name: &str) -> Result<Kind> {
     Ok(Kind::Lxs)
 }
 
-/// Picks the scene among the unpacked files: `wanted` when given, else the only `.lxs` at the
-/// shallowest depth.
+/// Picks the scene among the unpacked files: `wanted` when given, else the only scene file
+/// (an extension of `luxfarm::formats::SCENE_EXTENSIONS`: .lxs, .lws) at the shallowest depth.
 pub fn pick_scene(files: &[PathBuf], wanted: &str) -> Result<PathBuf> {
     if !wanted.is_empty() {
         let rel = safe_relative(wanted)?;
@@ -91,10 +91,14 @@ pub fn pick_scene(files: &[PathBuf], wanted: &str) -> Result<PathBuf> {
             .cloned()
             .ok_or_else(|| WireError::Bundle(format!("scene {wanted:?} not in bundle")));
     }
-    let lxs: Vec<&PathBuf> = files
-        .iter()
-        .filter(|f| f.extension().is_some_and(|e| e.eq_ignore_ascii_case("lxs")))
-        .collect();
+    let is_scene = |f: &&PathBuf| {
+        f.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+            luxfarm::formats::SCENE_EXTENSIONS
+                .iter()
+                .any(|x| e.eq_ignore_ascii_case(x))
+        })
+    };
+    let lxs: Vec<&PathBuf> = files.iter().filter(is_scene).collect();
     let depth = lxs.iter().map(|f| f.components().count()).min();
     let top: Vec<&&PathBuf> = lxs
         .iter()
@@ -102,11 +106,16 @@ pub fn pick_scene(files: &[PathBuf], wanted: &str) -> Result<PathBuf> {
         .collect();
     match top.as_slice() {
         [one] => Ok((**one).clone()),
-        [] => Err(WireError::Bundle(
-            "not a scene: the bundle holds no .lxs file".into(),
-        )),
+        [] => Err(WireError::Bundle(format!(
+            "not a scene: the bundle holds no scene file ({})",
+            luxfarm::formats::SCENE_EXTENSIONS
+                .iter()
+                .map(|e| format!(".{e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))),
         _ => Err(WireError::Bundle(format!(
-            "the bundle holds several .lxs files ({}); name one with `scene`",
+            "the bundle holds several scene files ({}); name one with `scene`",
             top.iter()
                 .map(|f| f.display().to_string())
                 .collect::<Vec<_>>()
@@ -152,6 +161,8 @@ mod tests {
         assert!(pick_scene(&files, "../s.lxs").is_err());
         assert!(pick_scene(&files, "t.lxs").is_err());
         assert!(pick_scene(&[PathBuf::from("a.ply")], "").is_err());
+        let lws = vec![PathBuf::from("shot.lws"), PathBuf::from("Objects/box.lwo")];
+        assert_eq!(pick_scene(&lws, "").unwrap(), PathBuf::from("shot.lws"));
         let two = vec![PathBuf::from("a.lxs"), PathBuf::from("b.LXS")];
         let e = pick_scene(&two, "").unwrap_err();
         assert!(e.to_string().contains("several"), "{e}");
