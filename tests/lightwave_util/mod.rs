@@ -89,6 +89,19 @@ pub fn lwo2(
     polys: &[(&[u16], u16)],
     surfaces: &[(&str, [f32; 3], f32, f32)],
 ) -> Vec<u8> {
+    lwo2_with(pivot, points, polys, surfaces, &[], &[])
+}
+
+/// [`lwo2`] with `extra` chunks (whole chunks, e.g. VMAPs) after the polygons and
+/// `surf_extra` sub-chunks at the end of every SURF.
+pub fn lwo2_with(
+    pivot: [f32; 3],
+    points: &[[f32; 3]],
+    polys: &[(&[u16], u16)],
+    surfaces: &[(&str, [f32; 3], f32, f32)],
+    extra: &[Vec<u8>],
+    surf_extra: &[u8],
+) -> Vec<u8> {
     let mut body = b"LWO2".to_vec();
     let tags: Vec<u8> = surfaces.iter().flat_map(|s| s0(s.0)).collect();
     body.extend(chunk(b"TAGS", &tags));
@@ -114,6 +127,9 @@ pub fn lwo2(
         ptag.extend(s.to_be_bytes());
     }
     body.extend(chunk(b"PTAG", &ptag));
+    for c in extra {
+        body.extend_from_slice(c);
+    }
     for (name, color, diff, lumi) in surfaces {
         let mut s = s0(name);
         s.extend(s0(""));
@@ -122,6 +138,7 @@ pub fn lwo2(
         s.extend(sub(b"COLR", &colr));
         s.extend(sub(b"DIFF", &[f4(*diff), vec![0, 0]].concat()));
         s.extend(sub(b"LUMI", &[f4(*lumi), vec![0, 0]].concat()));
+        s.extend_from_slice(surf_extra);
         body.extend(chunk(b"SURF", &s));
     }
     chunk(b"FORM", &body)
