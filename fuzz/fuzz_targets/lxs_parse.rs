@@ -13,6 +13,7 @@ fuzz_target!(|data: &[u8]| {
         max_include_depth: 4,
         max_array_len: 1 << 16,
         max_total_bytes: 1 << 20,
+        frame: None,
     };
     let text = String::from_utf8_lossy(data);
     let _ = lxs::parse_str(&text, "fuzz.lxs", &opts);

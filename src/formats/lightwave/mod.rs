@@ -56,11 +56,14 @@ pub fn detect(head: &str) -> bool {
     scene::looks_like_lwsc(head)
 }
 
-/// Parses LWSC text without loading objects (for fuzzing and tools): `Ok` with the number of
+/// Parses LWSC text and places its items at `frame` without loading objects (pivots of
+/// object layers are taken as the origin; for fuzzing and tools): `Ok` with the number of
 /// items, or the located error.
-pub fn parse_scene_text(name: &str, text: &str) -> Result<usize, LxsError> {
+pub fn parse_scene_text(name: &str, text: &str, frame: i64) -> Result<usize, LxsError> {
     let p = scene::read(name, text)?;
-    Ok(p.scene.objects.len() + p.scene.lights.len() + p.scene.cameras.len())
+    let time = p.scene.frame_time(frame);
+    let placed = motion::evaluate(&p.scene, time, &|_| glam::DVec3::ZERO)?;
+    Ok(placed.len())
 }
 
 /// Parses object file bytes (LWO2, LWOB) without a scene (for fuzzing and tools): `Ok` with
