@@ -105,6 +105,7 @@ const stateBadge = (s) => el("span", { class: `state state-${s}` }, s);
 
 const COLUMNS = [
   ["name", "job", (j) => el("a", { href: `#/job/${j.id}` }, j.name)],
+  ["frame", "frame", (j) => (j.frame === null || j.frame === undefined ? el("span", { class: "mute" }, "–") : String(j.frame))],
   ["state", "state", (j) => stateBadge(j.state)],
   ["spp", "spp", (j) => progress(j.spp, j.haltspp, (x) => num(x, 1))],
   ["elapsed", "time", (j) => progress(j.elapsed, j.halttime, dur)],

@@ -15,9 +15,11 @@
 //! - lists in `SceneDescription::files` every file it read besides the root (includes,
 //!   meshes), so a farm bundle carries them and a worker can import the scene again.
 //!
-//! Importers: LuxRender's `.lxs` ([`crate::lxs`]) and Indigo's `.igs` ([`indigo`]).
+//! Importers: LuxRender's `.lxs` ([`crate::lxs`]), Indigo's `.igs` ([`indigo`]) and
+//! LightWave's `.lws` ([`lightwave`]).
 
 pub mod indigo;
+pub mod lightwave;
 
 use crate::lxs::{self, Loc, LxsError, LxsErrorKind, ParseOptions, SceneDescription};
 use std::io::Read;
@@ -33,6 +35,8 @@ pub enum SceneFormat {
     Lxs,
     /// Indigo Renderer XML scene (`.igs`) with its `.igmesh` meshes and `.igm` materials.
     Indigo,
+    /// LightWave scene (`.lws`, LWSC 3-5) with LWO2/LWOB objects, imported at one frame.
+    LightWave,
 }
 
 impl SceneFormat {
@@ -40,12 +44,13 @@ impl SceneFormat {
         match self {
             SceneFormat::Lxs => "LuxRender .lxs",
             SceneFormat::Indigo => "Indigo .igs",
+            SceneFormat::LightWave => "LightWave .lws",
         }
     }
 }
 
 /// File name extensions a user may submit as a scene (lower case, without the dot).
-pub const SCENE_EXTENSIONS: &[&str] = &["lxs", "igs"];
+pub const SCENE_EXTENSIONS: &[&str] = &["lxs", "igs", "lws"];
 
 /// The format of the scene file at `path`: by extension first, then by its first bytes
 /// (a scene saved without its usual extension).
@@ -58,6 +63,7 @@ pub fn detect(path: &Path) -> Result<SceneFormat, SceneError> {
     match ext.as_str() {
         "lxs" | "lxo" | "lxm" => return Ok(SceneFormat::Lxs),
         "igs" => return Ok(SceneFormat::Indigo),
+        "lws" => return Ok(SceneFormat::LightWave),
         _ => {}
     }
     let mut head = [0u8; 512];
@@ -82,6 +88,9 @@ pub fn detect_content(head: &[u8]) -> Option<SceneFormat> {
         return Some(SceneFormat::Indigo);
     }
     let text = String::from_utf8_lossy(head);
+    if lightwave::detect(&text) {
+        return Some(SceneFormat::LightWave);
+    }
     let first = text
         .lines()
         .map(str::trim)
@@ -118,6 +127,7 @@ pub fn load(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, SceneE
     match detect(path)? {
         SceneFormat::Lxs => lxs::parse_file(path, opts),
         SceneFormat::Indigo => indigo::load(path, opts),
+        SceneFormat::LightWave => lightwave::load(path, opts),
     }
 }
 
@@ -157,6 +167,10 @@ mod tests {
             Some(SceneFormat::Indigo)
         );
         assert_eq!(detect_content(b""), None);
+        assert_eq!(
+            detect_content(b"LWSC\n5\n\nFirstFrame 1\n"),
+            Some(SceneFormat::LightWave)
+        );
     }
 
     #[test]

@@ -7,6 +7,7 @@ pub mod farm_remote;
 pub mod farm_render;
 pub mod fetch;
 pub mod flm;
+pub mod frames;
 pub mod jobs;
 pub mod parse;
 pub mod regress;

@@ -159,6 +159,8 @@ mod tests {
         assert!(pick_scene(&[PathBuf::from("a.ply")], "").is_err());
         let igs = vec![PathBuf::from("m/mats.igm"), PathBuf::from("s.IGS")];
         assert_eq!(pick_scene(&igs, "").unwrap(), PathBuf::from("s.IGS"));
+        let lws = vec![PathBuf::from("shot.lws"), PathBuf::from("Objects/box.lwo")];
+        assert_eq!(pick_scene(&lws, "").unwrap(), PathBuf::from("shot.lws"));
         let two = vec![PathBuf::from("a.lxs"), PathBuf::from("b.igs")];
         let e = pick_scene(&two, "").unwrap_err();
         assert!(e.to_string().contains("several"), "{e}");
