@@ -4,6 +4,9 @@
 //! and span types of our own scene evaluate as the specification says, heading +90° turns +Z
 //! into +X, and broken scenes give located errors.
 
+// Key values are written exactly as the sample files print them.
+#![allow(clippy::excessive_precision)]
+
 mod lightwave_util;
 mod render_util;
 

@@ -91,7 +91,7 @@ impl Lwo2 {
                 self.pols_start = 0;
             }
             b"PNTS" => {
-                if b.remaining() % 12 != 0 {
+                if !b.remaining().is_multiple_of(12) {
                     return Err(b.error("PNTS length is not a multiple of 12"));
                 }
                 let layer = self.layer();

@@ -202,7 +202,7 @@ impl<'a> Reader<'a> {
         if let Some((_, what)) = keywords::UNSUPPORTED_WHEN_ON.iter().find(|(k, _)| *k == kw) {
             let on = t
                 .get(1)
-                .is_some_and(|v| v.parse::<f64>().map_or(true, |x| x != 0.0));
+                .is_some_and(|v| v.parse::<f64>().ok().is_none_or(|x| x != 0.0));
             if on {
                 self.warn_once(kw, loc, format!("{kw}: {what} is not rendered by luxfarm"));
             }

@@ -107,8 +107,12 @@ pub fn pick_scene(files: &[PathBuf], wanted: &str) -> Result<PathBuf> {
     match top.as_slice() {
         [one] => Ok((**one).clone()),
         [] => Err(WireError::Bundle(format!(
-            "not a scene: the bundle holds no scene file ({})",
-            luxfarm::formats::SCENE_EXTENSIONS.join(", ")
+            "not a scene: the bundle holds no {} scene file",
+            luxfarm::formats::SCENE_EXTENSIONS
+                .iter()
+                .map(|e| format!(".{e}"))
+                .collect::<Vec<_>>()
+                .join(" or ")
         ))),
         _ => Err(WireError::Bundle(format!(
             "the bundle holds several scene files ({}); name one with `scene`",
