@@ -15,6 +15,7 @@
 
 pub mod buffer;
 pub mod compare;
+pub mod effects;
 pub mod error;
 pub mod image_output;
 pub mod imaging;
@@ -25,7 +26,9 @@ pub use buffer::{check_size, BufferType, Film, MAX_AXIS, MAX_PIXELS, PIXEL_VALUE
 pub use compare::{compare, Comparison};
 pub use error::FilmError;
 pub use image_output::{Channels, ExrCompression, ImageOutput, ZBufNorm};
-pub use imaging::{ClampMethod, ColorSpaceParams, Flavour, GroupParams, Kernel, TonemapParams};
+pub use imaging::{
+    ClampMethod, ColorSpaceParams, Effects, Flavour, GroupParams, Kernel, TonemapParams,
+};
 pub use outlier::OutlierRejector;
 pub use params::FilmParams;
 pub mod flm;
