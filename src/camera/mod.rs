@@ -259,6 +259,25 @@ impl Camera {
         })
     }
 
+    /// The depth the Z buffer records for a hit at distance `t` along a ray this camera made:
+    /// the distance from the lens, since rays start on the near clipping plane (`hither` in
+    /// front of the lens along the view axis; along the ray for the environment camera).
+    pub fn hit_depth(&self, ray: &Ray, t: f32) -> f32 {
+        if matches!(self.model, CameraModel::Environment(_)) {
+            return t + self.hither;
+        }
+        let forward = match &self.fixed {
+            Some(a) => a.transform_vector3a(Vec3A::Z),
+            None => to_f32(self.motion.at(ray.time).transform_vector3(DVec3::Z)),
+        };
+        let cos = ray.d.dot(forward.normalize_or_zero());
+        if cos > 1e-6 {
+            t + self.hither / cos
+        } else {
+            t
+        }
+    }
+
     /// Whether the scene asked for autofocus (perspective or orthographic).
     pub fn needs_autofocus(&self) -> bool {
         self.autofocus && !matches!(self.model, CameraModel::Environment(_))

@@ -21,6 +21,7 @@ pub mod image_output;
 pub mod imaging;
 pub mod outlier;
 pub mod params;
+pub mod zbuffer;
 
 pub use buffer::{check_size, BufferType, Film, MAX_AXIS, MAX_PIXELS, PIXEL_VALUES};
 pub use compare::{compare, Comparison};
@@ -31,6 +32,7 @@ pub use imaging::{
 };
 pub use outlier::OutlierRejector;
 pub use params::FilmParams;
+pub use zbuffer::ZBuffer;
 pub mod flm;
 pub mod flm_header;
 
