@@ -17,6 +17,7 @@
 
 mod environment;
 mod lens;
+mod lens_distribution;
 mod motion;
 mod orthographic;
 mod perspective;
