@@ -67,7 +67,7 @@ impl Renderable {
             yres: film_params.yres,
             crop: film_params.crop,
         };
-        let mut camera = Camera::build(cam_desc, &fg, &mut warnings)?;
+        let mut camera = Camera::build_in(cam_desc, &fg, Some(base_dir), &mut warnings)?;
         let filter = Filter::build(desc.pixel_filter.as_ref(), &mut warnings)?;
         let sampler = Sampler::build(desc.sampler.as_ref(), &mut warnings)?;
         let integrator = Integrator::build(desc.surface_integrator.as_ref(), &mut warnings)?;
