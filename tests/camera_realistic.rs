@@ -42,5 +42,8 @@ fn lens_file_outside_the_scene_directory_is_refused() {
         Err(e) => e.to_string(),
         Ok(_) => panic!("must be refused"),
     };
-    assert!(err.contains("outside the scene directory") && err.contains(":5:"), "{err}");
+    assert!(
+        err.contains("outside the scene directory") && err.contains(":5:"),
+        "{err}"
+    );
 }

@@ -92,3 +92,30 @@ fn flm_round_trip_keeps_and_applies_the_effects() {
     let b = tonemap::tonemap_display(&g, &q.tonemap);
     assert_eq!(a.rgb, b.rgb);
 }
+
+#[test]
+fn camera_response_file_applies_after_the_colour_space() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/imaging");
+    let f = film();
+    let plain = tonemap::tonemap(&f, &film_params(&[]).tonemap);
+    let mut p = film_params(&[(
+        "cameraresponse",
+        ParamValue::String(vec!["halfblue.crf".into()]),
+    )]);
+    p.tonemap.effects.load_response(&dir).unwrap();
+    let crf = p.tonemap.effects.response.clone().unwrap();
+    let with = tonemap::tonemap(&f, &p.tonemap);
+    for (a, b) in plain.rgb.iter().zip(&with.rgb) {
+        assert_eq!(crf.map(*a), *b);
+    }
+    // the curves are linear but for blue, whose gain below 0.5 is halved (before the
+    // estimated built-in gamma is taken out): blue falls relative to green.
+    let i = 3;
+    assert!(with.rgb[i][2] / with.rgb[i][1] < plain.rgb[i][2] / plain.rgb[i][1]);
+    // a missing file is an error
+    let mut q = film_params(&[(
+        "cameraresponse",
+        ParamValue::String(vec!["nope.crf".into()]),
+    )]);
+    assert!(q.tonemap.effects.load_response(&dir).is_err());
+}

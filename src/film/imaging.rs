@@ -184,8 +184,10 @@ pub struct Effects {
     pub vignetting_scale: f32,
     pub aberration_enabled: bool,
     pub aberration_amount: f32,
-    /// `cameraresponse`: a preset name or a CRF file (empty: none).
+    /// `cameraresponse`: a CRF file (empty: none).
     pub camera_response: String,
+    /// The loaded response curves (loaded with the scene's files: [`Effects::load_response`]).
+    pub response: Option<std::sync::Arc<super::response::CameraResponse>>,
 }
 
 impl Default for Effects {
@@ -204,6 +206,7 @@ impl Default for Effects {
             aberration_enabled: false,
             aberration_amount: 0.005,
             camera_response: String::new(),
+            response: None,
         }
     }
 }
@@ -225,6 +228,17 @@ impl Effects {
     /// Whether vignetting changes the image.
     pub fn vignetting_applies(&self) -> bool {
         self.vignetting_enabled && self.vignetting_scale != 0.0
+    }
+
+    /// Loads the `cameraresponse` file from the scene directory (nothing when none is set).
+    pub fn load_response(&mut self, base_dir: &std::path::Path) -> Result<(), String> {
+        if self.camera_response.is_empty() {
+            self.response = None;
+            return Ok(());
+        }
+        let crf = super::response::CameraResponse::read(base_dir, &self.camera_response)?;
+        self.response = Some(std::sync::Arc::new(crf));
+        Ok(())
     }
 
     /// Whether chromatic aberration changes the image.

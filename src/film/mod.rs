@@ -21,6 +21,7 @@ pub mod image_output;
 pub mod imaging;
 pub mod outlier;
 pub mod params;
+pub mod response;
 pub mod zbuffer;
 
 pub use buffer::{check_size, BufferType, Film, MAX_AXIS, MAX_PIXELS, PIXEL_VALUES};

@@ -431,6 +431,7 @@ fn effects(ps: &ParamSet) -> Effects {
         aberration_enabled: ps.bool_or("abberation_enabled", aberration_enabled),
         aberration_amount: ps.float_or("abberation_amount", aberration_amount),
         camera_response: ps.string_or("cameraresponse", "").to_string(),
+        response: None,
     }
 }
 

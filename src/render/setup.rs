@@ -51,7 +51,15 @@ impl Renderable {
     /// resolve against.
     pub fn build(desc: &SceneDescription, base_dir: &Path) -> Result<Renderable, SetupError> {
         let mut warnings = Vec::new();
-        let film_params = FilmParams::from_entity(desc.film.as_ref())?;
+        let mut film_params = FilmParams::from_entity(desc.film.as_ref())?;
+        if let Err(m) = film_params.tonemap.effects.load_response(base_dir) {
+            let loc = desc
+                .film
+                .as_ref()
+                .map(|f| f.loc.clone())
+                .unwrap_or_default();
+            return Err(BuildError::new(&loc, format!("Film \"cameraresponse\": {m}")).into());
+        }
         let cam_desc = desc.camera.as_ref().ok_or_else(|| {
             BuildError::new(
                 &Loc {

@@ -37,10 +37,13 @@ pub fn before_kernel(img: &mut XyzImage, e: &Effects) {
     }
 }
 
-/// Vignetting and chromatic aberration on the RGB image (the aberrated image is vignetted, as
+/// The camera response, then vignetting and chromatic aberration on the RGB image (the aberrated image is vignetted, as
 /// LuxRender pairs them in one pass).
 pub fn after_rgb(img: &mut RgbImage, e: &Effects) {
     let (w, h) = (img.width as usize, img.height as usize);
+    if let Some(crf) = &e.response {
+        img.rgb.iter_mut().for_each(|p| *p = crf.map(*p));
+    }
     if e.aberration_applies() {
         img.rgb = aberration::apply(&img.rgb, w, h, e.aberration_amount);
     }
