@@ -284,7 +284,7 @@ fn hit_cap(o: Vec3A, d: Vec3A, radius: f32, centre_z: f32, reach: f32) -> Option
     let oc = o - c;
     let b = oc.dot(d);
     let disc = b * b - (oc.dot(oc) - r * r);
-    if !(disc >= 0.0) {
+    if disc.is_nan() || disc < 0.0 {
         return None;
     }
     let s = disc.sqrt();

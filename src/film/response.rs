@@ -28,6 +28,9 @@ pub struct CameraResponse {
     pub curves: Vec<(Vec<f32>, Vec<f32>)>,
 }
 
+/// A response curve: inputs and outputs.
+type Curve = (Vec<f32>, Vec<f32>);
+
 const LUM: [f32; 3] = [0.212_671, 0.715_160, 0.072_169];
 
 impl CameraResponse {
@@ -152,7 +155,7 @@ fn channel_header(line: &str) -> Option<(&str, usize)> {
 
 /// A `graph` line, then `I = ...` and `B = ...` from line `at`: the curve (same non-zero
 /// length, at most MAX_POINTS) and the line after it.
-fn block(lines: &[&str], at: usize) -> Option<((Vec<f32>, Vec<f32>), usize)> {
+fn block(lines: &[&str], at: usize) -> Option<(Curve, usize)> {
     let graph = lines.get(at)?;
     if !graph.starts_with("graph") || graph.len() <= "graph".len() {
         return None;
@@ -191,7 +194,7 @@ fn apply(x: f32, (from, to): &(Vec<f32>, Vec<f32>)) -> f32 {
     else {
         return x;
     };
-    if !(x > f0) {
+    if x.is_nan() || x <= f0 {
         return t0;
     }
     if x >= f1 {

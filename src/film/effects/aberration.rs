@@ -9,7 +9,7 @@ use super::bilinear;
 
 /// Returns the aberrated image of `src` (w x h).
 pub fn apply(src: &[[f32; 3]], w: usize, h: usize, amount: f32) -> Vec<[f32; 3]> {
-    if !(amount > 0.0) || !amount.is_finite() || src.len() != w * h {
+    if amount.is_nan() || amount <= 0.0 || !amount.is_finite() || src.len() != w * h {
         return src.to_vec();
     }
     (0..w * h)

@@ -26,7 +26,7 @@ pub fn half_width(radius: f32, width: usize, height: usize) -> usize {
 pub fn apply(img: Pixels<'_>, radius: f32, weight: f32) {
     let (w, h) = (img.width, img.height);
     let hw = half_width(radius, w, h);
-    if !(weight > 0.0) || hw == 0 || img.data.len() != w * h {
+    if weight.is_nan() || weight <= 0.0 || hw == 0 || img.data.len() != w * h {
         return;
     }
     let hw2 = hw * hw;

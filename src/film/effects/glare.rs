@@ -30,7 +30,8 @@ pub const MAX_BLADES: u32 = 64;
 pub fn apply(img: Pixels<'_>, g: Glare) {
     let (w, h) = (img.width, img.height);
     let blades = g.blades.min(MAX_BLADES);
-    if !(g.amount > 0.0) || !(g.radius > 0.0) || blades == 0 || w == 0 || h == 0 {
+    let positive = |v: f32| v > 0.0;
+    if !positive(g.amount) || !positive(g.radius) || blades == 0 || w == 0 || h == 0 {
         return;
     }
     if img.data.len() != w * h {
