@@ -48,8 +48,16 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
     let desc = luxfarm::formats::load(&path, &opts).map_err(|e| {
         ServerError::BadRequest(format!("scene error: {}", strip_root(&e.to_string(), root)))
     })?;
-    let params = FilmParams::from_entity(desc.film.as_ref()).map_err(|e| {
+    let mut params = FilmParams::from_entity(desc.film.as_ref()).map_err(|e| {
         ServerError::BadRequest(format!("film error: {}", strip_root(&e.to_string(), root)))
+    })?;
+    // The camera response file, read like the scene's other files (its outputs apply it).
+    let dir = path.parent().unwrap_or(root);
+    params.tonemap.effects.load_response(dir).map_err(|m| {
+        ServerError::BadRequest(format!(
+            "film error: cameraresponse: {}",
+            strip_root(&m, root)
+        ))
     })?;
     let basename = output::farm_basename(scene, &params);
     // A job's default name: the Film's filename when the scene gives one, else the scene's

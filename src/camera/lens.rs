@@ -1,10 +1,12 @@
 //! Lens and shutter sampling shared by the projective cameras.
 //!
 //! The lens point follows LuxRender: Shirley-Chiu concentric mapping of the unit square onto
-//! the unit disc, or, with `blades` >= 3, LuxRender's polygonal aperture mapping.
+//! the unit disc, or, with `blades` >= 3, LuxRender's polygonal aperture mapping, whose radial
+//! sample may follow a lens `distribution` ([`LensDistribution`]).
 //! Shutter time: uniform between `shutteropen` and `shutterclose`, or LuxRender's "gaussian"
 //! distribution (a normal of 2 standard deviations over the shutter interval).
 
+pub use super::lens_distribution::LensDistribution;
 use crate::plugin::{BuildError, Stmt};
 use crate::sampling::concentric_disc;
 use glam::Vec2;
@@ -16,6 +18,8 @@ pub enum Aperture {
     Disc,
     /// Regular polygon with this many blades (>= 3).
     Polygon(u32),
+    /// Regular polygon whose radial sample follows a non-uniform `distribution`.
+    PolygonDistributed(u32, LensDistribution),
 }
 
 impl Aperture {
@@ -24,6 +28,9 @@ impl Aperture {
         match *self {
             Aperture::Disc => concentric_disc(u),
             Aperture::Polygon(blades) => polygon(u, blades),
+            Aperture::PolygonDistributed(blades, d) => {
+                polygon(Vec2::new(d.remap(u.x), u.y), blades)
+            }
         }
     }
 }

@@ -17,16 +17,19 @@
 
 mod environment;
 mod lens;
+mod lens_distribution;
 mod motion;
 mod orthographic;
 mod perspective;
 mod projective;
+pub mod realistic;
 
 pub use environment::Environment;
 pub use lens::{Aperture, Shutter, ShutterDistribution};
 pub use motion::CameraMotion;
 pub use orthographic::Orthographic;
 pub use perspective::Perspective;
+pub use realistic::Realistic;
 
 use crate::geometry::transform::{to_f32, to_f64};
 use crate::geometry::Ray;
@@ -113,6 +116,7 @@ pub enum CameraModel {
     Perspective(Perspective),
     Orthographic(Orthographic),
     Environment(Environment),
+    Realistic(Box<Realistic>),
 }
 
 /// A camera ready to generate rays.
@@ -141,6 +145,17 @@ impl Camera {
         film: &FilmGeometry,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Camera, BuildError> {
+        Camera::build_in(desc, film, None, warnings)
+    }
+
+    /// As [`Camera::build`], with the scene directory the realistic camera's lens file is
+    /// read from (without one, a realistic camera is an error).
+    pub fn build_in(
+        desc: &CameraDesc,
+        film: &FilmGeometry,
+        base_dir: Option<&std::path::Path>,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Camera, BuildError> {
         let e = &desc.entity;
         let mut s = Stmt::new("camera", e, warnings);
         if film.xres == 0 || film.yres == 0 {
@@ -167,10 +182,10 @@ impl Camera {
             "perspective" => CameraModel::Perspective(Perspective::build(&mut s, film)?),
             "orthographic" => CameraModel::Orthographic(Orthographic::build(&mut s, film)?),
             "environment" => CameraModel::Environment(Environment::build(&s, film)),
-            "realistic" => return Err(s.err("the \"realistic\" camera is not supported")),
+            "realistic" => CameraModel::Realistic(Box::new(realistic::build(&s, film, base_dir)?)),
             other => {
                 return Err(s.err(format!(
-                    "unknown camera \"{other}\" (known: perspective, orthographic, environment)"
+                    "unknown camera \"{other}\" (known: perspective, orthographic, environment, realistic)"
                 )))
             }
         };
@@ -204,6 +219,11 @@ impl Camera {
             return None;
         }
         let time = self.shutter.time(s.time);
+        if let CameraModel::Realistic(c) = &self.model {
+            let (o, d, w) = c.ray(s.p_film, s.p_lens)?;
+            let t_far = (self.yon - self.hither) / d.z;
+            return self.to_world(o, d, t_far, time).map(|r| (r, w));
+        }
         let (o, d, t_far) = self.camera_ray(s.p_film, s.p_lens);
         self.to_world(o, d, t_far, time).map(|r| (r, 1.0))
     }
@@ -230,6 +250,8 @@ impl Camera {
                 let d = c.direction(p);
                 (d * self.hither, d, self.yon - self.hither)
             }
+            // Traced through its lens in `generate_ray`; the axis ray as a fallback.
+            CameraModel::Realistic(_) => (Vec3A::ZERO, Vec3A::Z, self.yon - self.hither),
         }
     }
 
@@ -259,9 +281,34 @@ impl Camera {
         })
     }
 
+    /// The depth the Z buffer records for a hit at distance `t` along a ray this camera made:
+    /// the distance from the lens, since rays start on the near clipping plane (`hither` in
+    /// front of the lens along the view axis; along the ray for the environment camera).
+    pub fn hit_depth(&self, ray: &Ray, t: f32) -> f32 {
+        match self.model {
+            CameraModel::Environment(_) => return t + self.hither,
+            CameraModel::Realistic(_) => return t,
+            _ => {}
+        }
+        let forward = match &self.fixed {
+            Some(a) => a.transform_vector3a(Vec3A::Z),
+            None => to_f32(self.motion.at(ray.time).transform_vector3(DVec3::Z)),
+        };
+        let cos = ray.d.dot(forward.normalize_or_zero());
+        if cos > 1e-6 {
+            t + self.hither / cos
+        } else {
+            t
+        }
+    }
+
     /// Whether the scene asked for autofocus (perspective or orthographic).
     pub fn needs_autofocus(&self) -> bool {
-        self.autofocus && !matches!(self.model, CameraModel::Environment(_))
+        self.autofocus
+            && !matches!(
+                self.model,
+                CameraModel::Environment(_) | CameraModel::Realistic(_)
+            )
     }
 
     /// The focal distance in use (projective cameras).
@@ -269,7 +316,7 @@ impl Camera {
         match &self.model {
             CameraModel::Perspective(c) => Some(c.focal_distance),
             CameraModel::Orthographic(c) => Some(c.focal_distance),
-            CameraModel::Environment(_) => None,
+            CameraModel::Environment(_) | CameraModel::Realistic(_) => None,
         }
     }
 
@@ -305,7 +352,7 @@ impl Camera {
                     self.yon - self.hither,
                 )
             }
-            CameraModel::Environment(_) => return None,
+            CameraModel::Environment(_) | CameraModel::Realistic(_) => return None,
         };
         let ray = self.to_world(o, d, t_far, time)?;
         let w2c = self.motion.at(time).inverse();
@@ -331,7 +378,7 @@ impl Camera {
         match &mut self.model {
             CameraModel::Perspective(c) => c.focal_distance = z,
             CameraModel::Orthographic(c) => c.focal_distance = z,
-            CameraModel::Environment(_) => {}
+            CameraModel::Environment(_) | CameraModel::Realistic(_) => {}
         }
     }
 }

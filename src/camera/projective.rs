@@ -2,7 +2,7 @@
 //! `frameaspectratio` and `screenwindow`) and the thin lens (`lensradius`, `focaldistance`,
 //! `blades`, `distribution`, `power`), read from the `Camera` statement.
 
-use super::lens::Aperture;
+use super::lens::{Aperture, LensDistribution};
 use super::{FilmGeometry, RasterToScreen};
 use crate::plugin::{BuildError, Stmt};
 
@@ -82,15 +82,20 @@ fn screen_window(s: &mut Stmt, film: &FilmGeometry) -> Result<RasterToScreen, Bu
 fn aperture(s: &mut Stmt) -> Aperture {
     let p = s.params();
     let blades = p.int_or("blades", 0);
-    let distribution = p.string_or("distribution", "uniform").to_string();
-    let _ = p.int("power");
+    let name = p.string_or("distribution", "uniform").to_string();
+    let power = p.int_or("power", 3);
+    let distribution = LensDistribution::from_name(&name, power).unwrap_or_else(|| {
+        s.warn(format!(
+            "lens distribution \"{name}\" unknown, using \"uniform\""
+        ));
+        LensDistribution::Uniform
+    });
+    // As LuxRender: the distribution shapes polygonal apertures; a disc is sampled uniformly.
     if blades >= 3 {
-        if distribution != "uniform" {
-            s.warn(format!(
-                "lens distribution \"{distribution}\" is not supported, using \"uniform\""
-            ));
+        match distribution {
+            LensDistribution::Uniform => Aperture::Polygon(blades as u32),
+            d => Aperture::PolygonDistributed(blades as u32, d),
         }
-        Aperture::Polygon(blades as u32)
     } else {
         Aperture::Disc
     }

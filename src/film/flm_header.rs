@@ -329,9 +329,10 @@ fn flag(b: bool) -> f32 {
 }
 
 /// Parameters luxfarm does not model but carries from a read FLM to a written one
-/// (layer update flags and the noise filter settings).
-const CARRIED: [i32; 23] = [
-    18, 19, 26, 27, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47, 48, 49,
+/// (layer delete flags and the noise filter settings; the update flags are bloom's and glare's
+/// enable switches).
+const CARRIED: [i32; 21] = [
+    19, 27, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47, 48, 49,
 ];
 
 /// The parameters LuxRender writes, in its order, with the values of `p` and the light group
@@ -356,7 +357,7 @@ pub fn params_for(p: &FilmParams, groups: &[String]) -> Vec<FlmParam> {
 
 fn params_1x(p: &FilmParams, groups: &[String]) -> Vec<FlmParam> {
     let t = &p.tonemap;
-    let e = &p.effects;
+    let e = &p.tonemap.effects;
     let cs = &t.colorspace;
     let mut v = vec![
         float(id::TONEMAPKERNEL, 0, t.kernel as i32 as f32),
@@ -388,7 +389,9 @@ fn params_1x(p: &FilmParams, groups: &[String]) -> Vec<FlmParam> {
             index: 0,
             value: FlmValue::String(e.camera_response.as_bytes().to_vec()),
         },
-        float(id::UPDATEBLOOMLAYER, 0, 0.0),
+        // LuxRender computes a bloom (glare) layer when asked to update it and applies it
+        // while it exists: an enabled effect is written as an update request.
+        float(id::UPDATEBLOOMLAYER, 0, flag(e.bloom_enabled)),
         float(id::DELETEBLOOMLAYER, 0, 0.0),
         float(id::BLOOMRADIUS, 0, e.bloom_radius),
         float(id::BLOOMWEIGHT, 0, e.bloom_weight),
@@ -396,7 +399,7 @@ fn params_1x(p: &FilmParams, groups: &[String]) -> Vec<FlmParam> {
         float(id::VIGNETTING_SCALE, 0, e.vignetting_scale),
         float(id::ABERRATION_ENABLED, 0, flag(e.aberration_enabled)),
         float(id::ABERRATION_AMOUNT, 0, e.aberration_amount),
-        float(id::UPDATEGLARELAYER, 0, 0.0),
+        float(id::UPDATEGLARELAYER, 0, flag(e.glare_enabled)),
         float(id::DELETEGLARELAYER, 0, 0.0),
         float(id::GLARE_AMOUNT, 0, e.glare_amount),
         float(id::GLARE_RADIUS, 0, e.glare_radius),
@@ -487,8 +490,22 @@ impl FilmParams {
     }
 
     fn apply_effect_params(&mut self, h: &FlmHeader) {
-        let e = &mut self.effects;
+        let e = &mut self.tonemap.effects;
         let get = |pid: i32| h.value(pid, 0).map(|v| v as f32);
+        e.bloom_enabled = get(id::UPDATEBLOOMLAYER).map_or(e.bloom_enabled, |v| v != 0.0);
+        e.glare_enabled = get(id::UPDATEGLARELAYER).map_or(e.glare_enabled, |v| v != 0.0);
+        let crf_on = get(id::CAMERA_RESPONSE_ENABLED).map(|v| v != 0.0);
+        let crf = h
+            .params
+            .iter()
+            .rev()
+            .find(|p| p.id == id::CAMERA_RESPONSE_FILE && p.index == 0)
+            .and_then(|p| p.value.as_string());
+        match (crf_on, crf) {
+            (Some(false), _) => e.camera_response.clear(),
+            (_, Some(name)) => e.camera_response = name,
+            _ => {}
+        }
         e.bloom_radius = get(id::BLOOMRADIUS).unwrap_or(e.bloom_radius);
         e.bloom_weight = get(id::BLOOMWEIGHT).unwrap_or(e.bloom_weight);
         e.vignetting_enabled =

@@ -5,7 +5,8 @@
 //! interpreting them: the Film statement sets them ([`super::params`]) and FLM headers store
 //! and restore them ([`super::flm_header`]). The `tonemap` module reads them to turn film
 //! sums into RGB (and re-exports them under its own name), so the import runs one way:
-//! tonemap -> film.
+//! tonemap -> film. The image effects' settings ([`Effects`]) live here too; their pixel
+//! operations are in [`super::effects`].
 
 /// Tonemapping kernel; the discriminant is LuxRender's id (FLM parameter 0).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -162,6 +163,88 @@ pub struct TonemapParams {
     /// Per group settings by group index; groups beyond the list use the defaults.
     pub groups: Vec<GroupParams>,
     pub flavour: Flavour,
+    /// Bloom, glare, vignetting, chromatic aberration and camera response.
+    pub effects: Effects,
+}
+
+/// The Film's image effects (fleximage's `bloom_*`, `glare_*`, `vignetting_*`,
+/// `abberation_*` and `cameraresponse`), with LuxRender's defaults; `tonemap` applies them in
+/// LuxRender's order through [`super::effects`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Effects {
+    pub bloom_enabled: bool,
+    pub bloom_radius: f32,
+    pub bloom_weight: f32,
+    pub glare_enabled: bool,
+    pub glare_amount: f32,
+    pub glare_radius: f32,
+    pub glare_blades: u32,
+    pub glare_threshold: f32,
+    pub vignetting_enabled: bool,
+    pub vignetting_scale: f32,
+    pub aberration_enabled: bool,
+    pub aberration_amount: f32,
+    /// `cameraresponse`: a CRF file (empty: none).
+    pub camera_response: String,
+    /// The loaded response curves (loaded with the scene's files: [`Effects::load_response`]).
+    pub response: Option<std::sync::Arc<super::response::CameraResponse>>,
+}
+
+impl Default for Effects {
+    fn default() -> Self {
+        Effects {
+            bloom_enabled: false,
+            bloom_radius: 0.07,
+            bloom_weight: 0.25,
+            glare_enabled: false,
+            glare_amount: 0.03,
+            glare_radius: 0.03,
+            glare_blades: 3,
+            glare_threshold: 0.5,
+            vignetting_enabled: false,
+            vignetting_scale: 0.4,
+            aberration_enabled: false,
+            aberration_amount: 0.005,
+            camera_response: String::new(),
+            response: None,
+        }
+    }
+}
+
+impl Effects {
+    /// Whether bloom changes the image.
+    pub fn bloom_applies(&self) -> bool {
+        self.bloom_enabled && self.bloom_radius > 0.0 && self.bloom_weight > 0.0
+    }
+
+    /// Whether glare changes the image.
+    pub fn glare_applies(&self) -> bool {
+        self.glare_enabled
+            && self.glare_radius > 0.0
+            && self.glare_amount > 0.0
+            && self.glare_blades > 0
+    }
+
+    /// Whether vignetting changes the image.
+    pub fn vignetting_applies(&self) -> bool {
+        self.vignetting_enabled && self.vignetting_scale != 0.0
+    }
+
+    /// Loads the `cameraresponse` file from the scene directory (nothing when none is set).
+    pub fn load_response(&mut self, base_dir: &std::path::Path) -> Result<(), String> {
+        if self.camera_response.is_empty() {
+            self.response = None;
+            return Ok(());
+        }
+        let crf = super::response::CameraResponse::read(base_dir, &self.camera_response)?;
+        self.response = Some(std::sync::Arc::new(crf));
+        Ok(())
+    }
+
+    /// Whether chromatic aberration changes the image.
+    pub fn aberration_applies(&self) -> bool {
+        self.aberration_enabled && self.aberration_amount > 0.0
+    }
 }
 
 impl Default for TonemapParams {
@@ -182,6 +265,7 @@ impl Default for TonemapParams {
             clamp_method: ClampMethod::Cut,
             groups: Vec::new(),
             flavour: Flavour::Lux1,
+            effects: Effects::default(),
         }
     }
 }

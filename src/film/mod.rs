@@ -15,19 +15,25 @@
 
 pub mod buffer;
 pub mod compare;
+pub mod effects;
 pub mod error;
 pub mod image_output;
 pub mod imaging;
 pub mod outlier;
 pub mod params;
+pub mod response;
+pub mod zbuffer;
 
 pub use buffer::{check_size, BufferType, Film, MAX_AXIS, MAX_PIXELS, PIXEL_VALUES};
 pub use compare::{block_bias, compare, BlockBias, Comparison};
 pub use error::FilmError;
 pub use image_output::{Channels, ExrCompression, ImageOutput, ZBufNorm};
-pub use imaging::{ClampMethod, ColorSpaceParams, Flavour, GroupParams, Kernel, TonemapParams};
+pub use imaging::{
+    ClampMethod, ColorSpaceParams, Effects, Flavour, GroupParams, Kernel, TonemapParams,
+};
 pub use outlier::OutlierRejector;
 pub use params::FilmParams;
+pub use zbuffer::ZBuffer;
 pub mod flm;
 pub mod flm_header;
 

@@ -7,7 +7,7 @@
 
 use super::buffer::check_size;
 pub use super::image_output::{Channels, ExrCompression, ExrOptions, ImageOutput, ZBufNorm};
-use super::imaging::{ClampMethod, ColorSpaceParams, Kernel, TonemapParams};
+use super::imaging::{ClampMethod, ColorSpaceParams, Effects, Kernel, TonemapParams};
 use super::FilmError;
 use crate::lxs::{Entity, Loc, ParamSet};
 
@@ -48,48 +48,12 @@ pub struct FilmParams {
     pub write_flm_direct: bool,
     pub usersamplingmap_filename: String,
     pub disable_noisemap_update: bool,
+    /// Tonemapping and the image effects (bloom, glare, vignetting, aberration, camera
+    /// response), applied by `tonemap` and written to FLM headers.
     pub tonemap: TonemapParams,
-    /// Imaging effects LuxRender offers but luxfarm does not apply (bloom, glare,
-    /// vignetting, aberration, noise filters, camera response): kept to write them to FLM
-    /// headers; `from_entity` warns when a scene enables one.
-    pub effects: Effects,
     /// FLM parameters luxfarm does not model, carried from a read FLM to the FLMs written
     /// from it (noise filter settings, layer flags).
     pub flm_extra: Vec<crate::film::FlmParam>,
-}
-
-/// Post-processing effects parameters (carried, not applied).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Effects {
-    pub bloom_radius: f32,
-    pub bloom_weight: f32,
-    pub vignetting_enabled: bool,
-    pub vignetting_scale: f32,
-    pub aberration_enabled: bool,
-    pub aberration_amount: f32,
-    pub glare_amount: f32,
-    pub glare_radius: f32,
-    pub glare_blades: u32,
-    pub glare_threshold: f32,
-    pub camera_response: String,
-}
-
-impl Default for Effects {
-    fn default() -> Self {
-        Effects {
-            bloom_radius: 0.07,
-            bloom_weight: 0.25,
-            vignetting_enabled: false,
-            vignetting_scale: 0.4,
-            aberration_enabled: false,
-            aberration_amount: 0.005,
-            glare_amount: 0.03,
-            glare_radius: 0.03,
-            glare_blades: 3,
-            glare_threshold: 0.5,
-            camera_response: String::new(),
-        }
-    }
 }
 
 impl Default for FilmParams {
@@ -277,7 +241,6 @@ impl FilmParams {
             usersamplingmap_filename: String::new(),
             disable_noisemap_update: false,
             tonemap: TonemapParams::default(),
-            effects: Effects::default(),
             flm_extra: Vec::new(),
         }
     }
@@ -311,8 +274,8 @@ impl FilmParams {
         p.set_outputs(ps, loc)?;
         p.usersamplingmap_filename = ps.string_or("usersamplingmap_filename", "").to_string();
         p.disable_noisemap_update = ps.bool_or("disable_noisemap_update", false);
-        p.tonemap = tonemap_params(ps, loc)?;
-        p.effects = effects(ps);
+        p.tonemap = tonemap_params(ps, loc, &e.kind)?;
+        p.tonemap.effects = effects(ps);
         // Accepted and ignored as LuxRender 1.x does (0.x warm-up of the old rejection).
         ps.int("reject_warmup");
         Ok(p)
@@ -403,11 +366,30 @@ pub fn pixel_bounds(res: u32, c0: f32, c1: f32) -> (u32, u32) {
     (start, end.saturating_sub(start).max(1))
 }
 
-fn tonemap_params(ps: &ParamSet, loc: &Loc) -> Result<TonemapParams, FilmError> {
+/// The tonemapping kernel's parameter name: `tonemapkernel`, or the legacy `multiimage`
+/// film's `tonemapper` when that film gives it and no `tonemapkernel`.
+fn kernel_key(ps: &ParamSet, kind: &str) -> &'static str {
+    if kind == "multiimage"
+        && ps.string("tonemapper").is_some()
+        && ps.string("tonemapkernel").is_none()
+    {
+        "tonemapper"
+    } else {
+        "tonemapkernel"
+    }
+}
+
+fn tonemap_params(ps: &ParamSet, loc: &Loc, kind: &str) -> Result<TonemapParams, FilmError> {
     let d = TonemapParams::default();
     let cs = ColorSpaceParams::default();
     Ok(TonemapParams {
-        kernel: choice(ps, loc, "tonemapkernel", "autolinear", Kernel::from_name)?,
+        kernel: choice(
+            ps,
+            loc,
+            kernel_key(ps, kind),
+            "autolinear",
+            Kernel::from_name,
+        )?,
         reinhard_prescale: ps.float_or("reinhard_prescale", d.reinhard_prescale),
         reinhard_postscale: ps.float_or("reinhard_postscale", d.reinhard_postscale),
         reinhard_burn: ps.float_or("reinhard_burn", d.reinhard_burn),
@@ -426,35 +408,31 @@ fn tonemap_params(ps: &ParamSet, loc: &Loc) -> Result<TonemapParams, FilmError> 
         clamp_method: choice(ps, loc, "ldr_clamp_method", "cut", ClampMethod::from_name)?,
         groups: Vec::new(),
         flavour: d.flavour,
+        effects: Effects::default(),
     })
 }
 
+/// The image effects; LuxRender's `abberation_*` spelling, and the correct one as an alias.
 fn effects(ps: &ParamSet) -> Effects {
     let d = Effects::default();
-    let e = Effects {
+    let aberration_enabled = ps.bool_or("aberration_enabled", false);
+    let aberration_amount = ps.float_or("aberration_amount", d.aberration_amount);
+    Effects {
+        bloom_enabled: ps.bool_or("bloom_enabled", d.bloom_enabled),
         bloom_radius: ps.float_or("bloom_radius", d.bloom_radius),
         bloom_weight: ps.float_or("bloom_weight", d.bloom_weight),
-        vignetting_enabled: ps.bool_or("vignetting_enabled", false),
-        vignetting_scale: ps.float_or("vignetting_scale", d.vignetting_scale),
-        aberration_enabled: ps.bool_or("abberation_enabled", false),
-        aberration_amount: ps.float_or("abberation_amount", d.aberration_amount),
+        glare_enabled: ps.bool_or("glare_enabled", d.glare_enabled),
         glare_amount: ps.float_or("glare_amount", d.glare_amount),
         glare_radius: ps.float_or("glare_radius", d.glare_radius),
         glare_blades: ps.int_or("glare_blades", 3).max(0) as u32,
         glare_threshold: ps.float_or("glare_threshold", d.glare_threshold),
+        vignetting_enabled: ps.bool_or("vignetting_enabled", d.vignetting_enabled),
+        vignetting_scale: ps.float_or("vignetting_scale", d.vignetting_scale),
+        aberration_enabled: ps.bool_or("abberation_enabled", aberration_enabled),
+        aberration_amount: ps.float_or("abberation_amount", aberration_amount),
         camera_response: ps.string_or("cameraresponse", "").to_string(),
-    };
-    for flag in ["bloom_enabled", "glare_enabled"] {
-        if ps.bool_or(flag, false) {
-            tracing::warn!("Film \"{flag}\" is set but luxfarm does not apply bloom or glare");
-        }
+        response: None,
     }
-    if e.vignetting_enabled || e.aberration_enabled || !e.camera_response.is_empty() {
-        tracing::warn!(
-            "Film vignetting, chromatic aberration and camera response are not applied by luxfarm"
-        );
-    }
-    e
 }
 
 #[cfg(test)]
@@ -528,5 +506,57 @@ mod tests {
         assert!(film(&[("xresolution", ParamValue::Integer(vec![0]))]).is_err());
         assert!(film(&[("xresolution", ParamValue::Integer(vec![70000]))]).is_err());
         assert!(film(&[("write_png_channels", ParamValue::String(vec!["BGR".into()]))]).is_err());
+    }
+
+    #[test]
+    fn multiimage_tonemapper_is_honoured() {
+        let mut ps = ParamSet::new();
+        ps.add("tonemapper", ParamValue::String(vec!["reinhard".into()]));
+        ps.add("reinhard_burn", ParamValue::Float(vec![3.0]));
+        let mut e = Entity {
+            kind: "multiimage".into(),
+            params: ps,
+            loc: Loc::default(),
+        };
+        let p = FilmParams::from_entity(Some(&e)).unwrap();
+        assert_eq!(p.tonemap.kernel, Kernel::Reinhard);
+        assert_eq!(p.tonemap.reinhard_burn, 3.0);
+        // fleximage has no such key; tonemapkernel wins when both are given
+        e.kind = "fleximage".into();
+        let p = FilmParams::from_entity(Some(&e)).unwrap();
+        assert_eq!(p.tonemap.kernel, Kernel::AutoLinear);
+        e.kind = "multiimage".into();
+        e.params
+            .add("tonemapkernel", ParamValue::String(vec!["linear".into()]));
+        let p = FilmParams::from_entity(Some(&e)).unwrap();
+        assert_eq!(p.tonemap.kernel, Kernel::Linear);
+        e.params = ParamSet::new();
+        e.params
+            .add("tonemapper", ParamValue::String(vec!["nonesuch".into()]));
+        assert!(FilmParams::from_entity(Some(&e)).is_err());
+    }
+
+    #[test]
+    fn effects_are_read_with_luxrenders_spelling() {
+        let p = film(&[
+            ("bloom_enabled", ParamValue::Bool(vec![true])),
+            ("bloom_radius", ParamValue::Float(vec![0.1])),
+            ("glare_enabled", ParamValue::Bool(vec![true])),
+            ("glare_blades", ParamValue::Integer(vec![6])),
+            ("vignetting_enabled", ParamValue::Bool(vec![true])),
+            ("abberation_enabled", ParamValue::Bool(vec![true])),
+            ("abberation_amount", ParamValue::Float(vec![0.02])),
+        ])
+        .unwrap();
+        let e = &p.tonemap.effects;
+        assert!(e.bloom_applies() && e.glare_applies());
+        assert!(e.vignetting_applies() && e.aberration_applies());
+        assert_eq!((e.bloom_radius, e.bloom_weight), (0.1, 0.25));
+        assert_eq!(e.glare_blades, 6);
+        assert_eq!(e.aberration_amount, 0.02);
+        let d = FilmParams::default();
+        let e = &d.tonemap.effects;
+        assert!(!e.bloom_applies() && !e.glare_applies());
+        assert!(!e.vignetting_applies() && !e.aberration_applies());
     }
 }

@@ -9,7 +9,7 @@
 pub mod setup;
 mod tile;
 
-use crate::film::{Film, FilmParams};
+use crate::film::{Film, FilmParams, ZBuffer};
 use crate::lxs::SceneDescription;
 use setup::{Renderable, SetupError};
 use std::path::Path;
@@ -55,6 +55,8 @@ pub struct PassStats {
 pub struct Session {
     scene: Arc<Renderable>,
     film: Film,
+    /// Depths, when the Film asks for a Z output.
+    depth: Option<ZBuffer>,
     opts: SessionOptions,
     pass: u64,
     pool: rayon::ThreadPool,
@@ -87,9 +89,13 @@ impl Session {
             .num_threads(opts.threads)
             .build()
             .map_err(|e| RenderError::Threads(e.to_string()))?;
+        let depth = fp
+            .wants_zbuf()
+            .then(|| ZBuffer::new(fp.x_pixel_count, fp.y_pixel_count));
         Ok(Session {
             scene: Arc::new(scene),
             film,
+            depth,
             opts,
             pass: 0,
             pool,
@@ -115,6 +121,21 @@ impl Session {
 
     pub fn film(&self) -> &Film {
         &self.film
+    }
+
+    /// The depth buffer, when the Film asks for a Z output (whole session; not taken with
+    /// the film).
+    pub fn zbuffer(&self) -> Option<&ZBuffer> {
+        self.depth.as_ref()
+    }
+
+    /// The depths the EXR output writes (its normalisation, the camera's clipping planes).
+    pub fn exr_depths(&self) -> Option<Vec<f32>> {
+        let cam = &self.scene.setup.camera;
+        let norm = self.scene.setup.film_params.exr.zbuf_norm;
+        self.depth
+            .as_ref()
+            .map(|z| z.depths(norm, cam.hither, cam.yon))
     }
 
     /// Passes rendered so far.
@@ -163,7 +184,7 @@ impl Session {
         let pass = self.pass;
         let (seed, stream) = (self.opts.seed, self.opts.stream);
         let cancel = &self.cancel;
-        let results: Vec<Option<(Film, Tile, tile::Discarded)>> = self.pool.install(|| {
+        let results: Vec<Option<tile::TileResult>> = self.pool.install(|| {
             list.par_iter()
                 .map(|t| {
                     if cancel.load(Ordering::Relaxed) {
@@ -180,10 +201,14 @@ impl Session {
             };
         }
         let (mut rejected, mut outliers) = (0, 0);
-        for (tf, t, d) in results.into_iter().flatten() {
+        for r in results.into_iter().flatten() {
+            let (t, d) = (r.tile, r.discarded);
             // Layouts match by construction; an error here would be a bug, not input.
-            if let Err(e) = self.film.merge_at(&tf, t.fx0, t.fy0) {
+            if let Err(e) = self.film.merge_at(&r.film, t.fx0, t.fy0) {
                 tracing::error!("tile merge failed: {e}");
+            }
+            if let (Some(z), Some(tz)) = (self.depth.as_mut(), r.depth.as_ref()) {
+                z.merge_at(tz, t.fx0, t.fy0);
             }
             rejected += d.invalid;
             outliers += d.outliers;

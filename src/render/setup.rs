@@ -51,7 +51,15 @@ impl Renderable {
     /// resolve against.
     pub fn build(desc: &SceneDescription, base_dir: &Path) -> Result<Renderable, SetupError> {
         let mut warnings = Vec::new();
-        let film_params = FilmParams::from_entity(desc.film.as_ref())?;
+        let mut film_params = FilmParams::from_entity(desc.film.as_ref())?;
+        if let Err(m) = film_params.tonemap.effects.load_response(base_dir) {
+            let loc = desc
+                .film
+                .as_ref()
+                .map(|f| f.loc.clone())
+                .unwrap_or_default();
+            return Err(BuildError::new(&loc, format!("Film \"cameraresponse\": {m}")).into());
+        }
         let cam_desc = desc.camera.as_ref().ok_or_else(|| {
             BuildError::new(
                 &Loc {
@@ -67,7 +75,7 @@ impl Renderable {
             yres: film_params.yres,
             crop: film_params.crop,
         };
-        let mut camera = Camera::build(cam_desc, &fg, &mut warnings)?;
+        let mut camera = Camera::build_in(cam_desc, &fg, Some(base_dir), &mut warnings)?;
         let filter = Filter::build(desc.pixel_filter.as_ref(), &mut warnings)?;
         let sampler = Sampler::build(desc.sampler.as_ref(), &mut warnings)?;
         let integrator = Integrator::build(desc.surface_integrator.as_ref(), &mut warnings)?;

@@ -1,8 +1,10 @@
 //! Tiles of the film buffer and the rendering of one tile into its own small film (the tile
-//! plus the filter's reach, clipped to the buffer).
+//! plus the filter's reach, clipped to the buffer), and into a depth buffer of the same
+//! region when the Film asks for a Z output (each camera ray's first hit, found by one more
+//! intersection of the primary ray; nothing is traced for depth otherwise).
 
 use super::setup::{RenderSetup, Renderable};
-use crate::film::{Film, OutlierRejector};
+use crate::film::{Film, OutlierRejector, ZBuffer};
 use crate::spectrum::{rgb_to_xyz, Rgb};
 
 pub const TILE_SIZE: u32 = 32;
@@ -54,8 +56,16 @@ pub struct Discarded {
     pub outliers: u64,
 }
 
-/// Renders `spp` samples per pixel of tile `t` for pass `pass`; returns the tile film, the
-/// tile (with its film region) and what was discarded.
+/// What a tile produced: its film, the tile (with its film region), what was discarded, and
+/// the depths of its film region when the Film asks for a Z buffer.
+pub struct TileResult {
+    pub film: Film,
+    pub tile: Tile,
+    pub discarded: Discarded,
+    pub depth: Option<ZBuffer>,
+}
+
+/// Renders `spp` samples per pixel of tile `t` for pass `pass`.
 pub fn render_tile(
     scene: &Renderable,
     t: &Tile,
@@ -63,7 +73,7 @@ pub fn render_tile(
     spp: u32,
     seed: u64,
     stream: u64,
-) -> (Film, Tile, Discarded) {
+) -> TileResult {
     let (setup, world) = (&scene.setup, &scene.world);
     let fp = &setup.film_params;
     let (bw, bh) = (fp.x_pixel_count, fp.y_pixel_count);
@@ -78,6 +88,9 @@ pub fn render_tile(
     t.fx1 = (t.x1 + rx).min(bw);
     t.fy1 = (t.y1 + ry).min(bh);
     let mut film = Film::new(t.fx1 - t.fx0, t.fy1 - t.fy0, world.groups().to_vec());
+    let mut depth = fp
+        .wants_zbuf()
+        .then(|| ZBuffer::new(t.fx1 - t.fx0, t.fy1 - t.fy0));
     // Offset from full-image raster coordinates to this tile film's coordinates.
     let ox = i64::from(fp.x_pixel_start) + i64::from(t.fx0);
     let oy = i64::from(fp.y_pixel_start) + i64::from(t.fy0);
@@ -97,6 +110,17 @@ pub fn render_tile(
                 };
                 if w.is_nan() || w <= 0.0 {
                     continue;
+                }
+                if let Some(z) = depth.as_mut() {
+                    if let Some(hit) = world.intersect(&ray) {
+                        let d = setup.camera.hit_depth(&ray, hit.t);
+                        setup.filter.splat(cs.p_film, |x, y, fw| {
+                            let (lx, ly) = (i64::from(x) - ox, i64::from(y) - oy);
+                            if lx >= 0 && ly >= 0 {
+                                z.add(lx as u32, ly as u32, d, fw);
+                            }
+                        });
+                    }
                 }
                 l.iter_mut().for_each(|c| *c = Rgb::BLACK);
                 let alpha = setup.integrator.li(world, ray, &mut st, &mut l);
@@ -124,7 +148,12 @@ pub fn render_tile(
             }
         }
     }
-    (film, t, discarded)
+    TileResult {
+        film,
+        tile: t,
+        discarded,
+        depth,
+    }
 }
 
 /// The film's `outlierrejection_k` test over this tile's film region, when enabled. Each tile

@@ -6,7 +6,9 @@
 //!    sum), adapted by the group's scale, RGB scale and temperature, summed over groups;
 //!    alpha = alpha sums / weight sums;
 //! 2. XYZ clamped to >= 0, the kernel applied (display luminance 100 cd/m^2);
-//! 3. XYZ to RGB through the film colour space, constraining colours outside the gamut.
+//!    Bloom and glare come between the clamp and the kernel ([`effects`]);
+//! 3. XYZ to RGB through the film colour space, constraining colours outside the gamut;
+//!    then the camera response, vignetting and chromatic aberration ([`effects`]).
 //!
 //! This is the "imaging applied" image (EXR with `write_exr_applyimaging`); LDR outputs then
 //! clamp with `ldr_clamp_method` and apply the `gamma`.
@@ -20,6 +22,7 @@ pub mod autolinear;
 pub mod blackbody;
 pub mod colorspace;
 pub mod contrast;
+pub mod effects;
 pub mod linear;
 pub mod maxwhite;
 pub mod reinhard;
@@ -143,11 +146,12 @@ fn finish_xyz(
     }
 }
 
-/// Step 2: clamps negative XYZ and applies the kernel in place.
+/// Step 2: clamps negative XYZ, applies bloom and glare, then the kernel, in place.
 pub fn apply_kernel(img: &mut XyzImage, params: &TonemapParams) {
     img.xyz
         .iter_mut()
         .for_each(|p| *p = p.map(|c| if c > 0.0 { c } else { 0.0 }));
+    effects::before_kernel(img, &params.effects);
     let xyz = &mut img.xyz;
     match params.kernel {
         Kernel::Reinhard if params.flavour == Flavour::Lux06 => reinhard::map_06(
@@ -189,11 +193,14 @@ pub fn to_rgb(img: XyzImage, cs: &ColorSystem) -> RgbImage {
     }
 }
 
-/// The tonemapped, linear RGB image (kernel applied, no clamping, no gamma).
+/// The tonemapped, linear RGB image: bloom, glare, kernel, colour space, camera response,
+/// vignetting and aberration applied; no clamping, no gamma.
 pub fn tonemap(film: &Film, params: &TonemapParams) -> RgbImage {
     let mut img = film_xyz(film, params);
     apply_kernel(&mut img, params);
-    to_rgb(img, &ColorSystem::new(&params.colorspace))
+    let mut rgb = to_rgb(img, &ColorSystem::new(&params.colorspace));
+    effects::after_rgb(&mut rgb, &params.effects);
+    rgb
 }
 
 /// The untonemapped linear RGB image (EXR without `write_exr_applyimaging`).

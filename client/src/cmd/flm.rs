@@ -286,6 +286,11 @@ fn apply_overrides(a: &TonemapArgs, p: &mut FilmParams) -> anyhow::Result<()> {
 fn tonemap(a: TonemapArgs) -> anyhow::Result<ExitCode> {
     let (film, header) = load(&a.file)?;
     let mut p = FilmParams::from_flm(&header);
+    // A camera response named in the FLM is read beside it, when present.
+    let dir = a.file.parent().unwrap_or(std::path::Path::new("."));
+    if let Err(m) = p.tonemap.effects.load_response(dir) {
+        tracing::warn!("camera response not applied: {m}");
+    }
     apply_overrides(&a, &mut p)?;
     let ext = a
         .output

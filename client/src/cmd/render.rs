@@ -143,7 +143,8 @@ pub fn render(args: Args) -> anyhow::Result<Vec<PathBuf>> {
     bar.finish();
     let secs = start.elapsed().as_secs_f64();
     let basename = output::basename(&args.scene, &fp, args.output.as_deref());
-    let written = output::write_outputs(session.film(), &fp, &basename)
+    let depths = session.exr_depths();
+    let written = output::write_outputs_with_z(session.film(), &fp, &basename, depths.as_deref())
         .with_context(|| format!("writing {}", basename.display()))?;
     eprintln!(
         "rendered {:.1} spp ({samples} samples) in {secs:.2} s: {:.0} samples/s; {} samples rejected (NaN/Inf/negative), {} as outliers (outlierrejection_k)",

@@ -1,0 +1,89 @@
+//! The depth (Z) buffer: rendered when the Film asks for `write_exr_ZBuf`, holding the
+//! distance from the camera to the first hit, and written as the EXR's Z channel.
+
+mod render_util;
+
+use luxfarm::output;
+use luxfarm::render::{Session, SessionOptions};
+use render_util::*;
+use std::path::Path;
+
+/// A camera at the origin looking along +y at a wall (the plane y = 5), 16x16 pixels.
+fn scene(extra_film: &str) -> String {
+    format!(
+        r#"LookAt 0 0 0 0 1 0 0 0 1
+Camera "perspective" "float fov" [40]
+Film "fleximage" "integer xresolution" [16] "integer yresolution" [16] {extra_film}
+PixelFilter "box" "float xwidth" [0.5] "float ywidth" [0.5]
+Sampler "random" "integer pixelsamples" [4]
+SurfaceIntegrator "directlighting"
+WorldBegin
+LightSource "point" "point from" [0 1 0] "color L" [1 1 1]
+Material "matte"
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+    "point P" [-100 5 -100 100 5 -100 100 5 100 -100 5 100]
+WorldEnd
+"#
+    )
+}
+
+fn session(text: &str) -> Session {
+    let path = Path::new("/tmp/luxfarm-zbuffer-test.lxs");
+    let desc = parse_text(text, path);
+    let mut s = Session::new(&desc, Path::new("/tmp"), SessionOptions::default()).unwrap();
+    assert!(s.render_pass().complete);
+    s
+}
+
+#[test]
+fn depths_of_a_wall_at_a_known_distance() {
+    let s = session(&scene(
+        r#""bool write_exr" ["true"] "bool write_exr_ZBuf" ["true"]"#,
+    ));
+    let z = s.zbuffer().expect("a Z buffer is kept").raw();
+    // pixel (8, 8): its centre is 0.5 px off the axis, 1/cos = 1.0005
+    let centre = z[8 * 16 + 8];
+    assert!((centre - 5.0).abs() < 0.01, "{centre}");
+    // pixel (0, 0): centre at ndc -0.9375 on both axes, tan = 0.9375 * tan(20°) = 0.34122,
+    // distance = 5 * sqrt(1 + 2 * 0.34122²) = 5.5517
+    let corner = z[0];
+    assert!((corner - 5.5517).abs() < 0.02, "{corner}");
+    // "None" is the EXR default: the raw depths are written
+    assert_eq!(s.exr_depths().unwrap(), z);
+}
+
+#[test]
+fn exr_gets_a_z_channel_and_normalisation_applies() {
+    let s = session(&scene(
+        r#""bool write_exr" ["true"] "bool write_exr_ZBuf" ["true"]
+           "string write_exr_zbuf_normalizationtype" ["Min/Max"] "bool write_png" ["false"]"#,
+    ));
+    let d = s.exr_depths().unwrap();
+    let (lo, hi) = d
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+    assert!(lo.abs() < 1e-6 && (hi - 1.0).abs() < 1e-6, "{lo} {hi}");
+    let dir = std::env::temp_dir().join(format!("luxfarm-zbuf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = dir.join("wall");
+    let written = output::write_outputs_with_z(s.film(), s.film_params(), &base, Some(&d)).unwrap();
+    let exr_path = written
+        .iter()
+        .find(|p| p.extension().is_some_and(|e| e == "exr"))
+        .unwrap();
+    let img = exr::prelude::read_all_flat_layers_from_file(exr_path).unwrap();
+    let names: Vec<String> = img.layer_data[0]
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    assert!(names.iter().any(|n| n == "Z"), "{names:?}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn no_z_buffer_unless_asked() {
+    let s = session(&scene(""));
+    assert!(s.zbuffer().is_none());
+}
