@@ -1,7 +1,11 @@
 //! `LightSource "cylinder"`: the side of a cylinder as an emitter (mental ray's cylinder
 //! area light), centred on `point from` ([0 0 0]), running along `vector axis` ([0 0 1];
 //! its length is the cylinder's height, centred on `from`) with `float radius` (1); the
-//! outside emits, the caps are open. Points are sampled uniformly by area.
+//! outside emits, the caps are open. Seen from outside, points are sampled uniformly by area
+//! over the part of the side that faces the reference point (the arc of angles whose outward
+//! normal sees it); from inside, over the whole side. The back of the side is then never
+//! light-sampled from outside: when it emits (`twosided`), BSDF sampling alone finds it,
+//! which MIS weighs fully, so the estimate stays unbiased.
 
 use super::primshape::{quadratic, solid_angle_pdf, Crossings, LightShape, PrimPoint};
 use crate::geometry::frame::coordinate_system;
@@ -59,25 +63,63 @@ pub fn build(p: &ParamSet, l2w: Mat4) -> Result<Cylinder, String> {
     )
 }
 
+/// The arc of the side facing a point outside: its middle angle and half-width.
+struct Arc {
+    phi0: f32,
+    half: f32,
+}
+
+impl Cylinder {
+    /// The facing arc seen from `r`, or `None` when `r` is inside (or on) the cylinder.
+    fn arc(&self, r: Vec3A) -> Option<Arc> {
+        let rel = r - self.center;
+        let across = rel - self.a * rel.dot(self.a);
+        let rho = across.length();
+        if rho <= self.radius * 1.0001 {
+            return None;
+        }
+        Some(Arc {
+            phi0: across.dot(self.t).atan2(across.dot(self.s)),
+            half: (self.radius / rho).clamp(-1.0, 1.0).acos(),
+        })
+    }
+
+    /// Density by area of the sampled part (the arc, or the whole side).
+    fn area_pdf(&self, arc: Option<&Arc>) -> f32 {
+        match arc {
+            Some(a) => 1.0 / (2.0 * a.half * self.radius * self.height),
+            None => 1.0 / self.area(),
+        }
+    }
+}
+
 impl LightShape for Cylinder {
     fn area(&self) -> f32 {
         2.0 * PI * self.radius * self.height
     }
 
     fn sample(&self, r: Vec3A, u: Vec2) -> Option<(PrimPoint, f32)> {
+        let arc = self.arc(r);
         let z = (u.x - 0.5) * self.height;
-        let phi = 2.0 * PI * u.y;
+        let phi = match &arc {
+            Some(a) => a.phi0 + (2.0 * u.y - 1.0) * a.half,
+            None => 2.0 * PI * u.y,
+        };
         let n = self.s * phi.cos() + self.t * phi.sin();
         let q = PrimPoint {
             p: self.center + self.a * z + n * self.radius,
             n,
         };
-        let pdf = solid_angle_pdf(1.0 / self.area(), r, &q);
+        let pdf = solid_angle_pdf(self.area_pdf(arc.as_ref()), r, &q);
         (pdf > 0.0 && pdf.is_finite()).then_some((q, pdf))
     }
 
     fn pdf(&self, r: Vec3A, q: &PrimPoint) -> f32 {
-        solid_angle_pdf(1.0 / self.area(), r, q)
+        let arc = self.arc(r);
+        if arc.is_some() && q.n.dot(r - q.p) <= 0.0 {
+            return 0.0;
+        }
+        solid_angle_pdf(self.area_pdf(arc.as_ref()), r, q)
     }
 
     fn intersect(&self, o: Vec3A, d: Vec3A, t_max: f32) -> Crossings {
@@ -136,7 +178,15 @@ mod tests {
             let u = Vec2::new((i % 4) as f32 / 4.0 + 0.1, (i / 4) as f32 / 4.0 + 0.1);
             let (q, pdf) = c.sample(r, u).unwrap();
             assert!(((q.p - q.p.dot(c.a) * c.a).length() - 0.5).abs() < 1e-5);
-            assert!((c.pdf(r, &q) - pdf).abs() < 1e-6 * pdf);
+            assert!(q.n.dot(r - q.p) > 0.0, "only the facing side is sampled");
+            assert!((c.pdf(r, &q) - pdf).abs() < 1e-5 * pdf);
         }
+        // The back is never light-sampled from outside; from inside, all of the side is.
+        let back = PrimPoint {
+            p: Vec3A::new(-0.5, 0.0, 0.0),
+            n: -Vec3A::X,
+        };
+        assert_eq!(c.pdf(r, &back), 0.0);
+        assert!(c.pdf(Vec3A::new(0.1, 0.0, 0.0), &back) > 0.0);
     }
 }
