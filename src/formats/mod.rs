@@ -15,7 +15,9 @@
 //! - lists in `SceneDescription::files` every file it read besides the root (includes,
 //!   meshes), so a farm bundle carries them and a worker can import the scene again.
 //!
-//! Only LuxRender's `.lxs` has an importer today.
+//! Importers: LuxRender's `.lxs` ([`crate::lxs`]) and mental ray's `.mi` ([`mi`]).
+
+pub mod mi;
 
 use crate::lxs::{self, Loc, LxsError, LxsErrorKind, ParseOptions, SceneDescription};
 use std::io::Read;
@@ -29,18 +31,21 @@ pub type SceneError = LxsError;
 pub enum SceneFormat {
     /// LuxRender 1.x scene text (`.lxs`; `.lxo`/`.lxm` are its Include fragments).
     Lxs,
+    /// mental ray scene text (`.mi`).
+    MentalRay,
 }
 
 impl SceneFormat {
     pub fn name(self) -> &'static str {
         match self {
             SceneFormat::Lxs => "LuxRender .lxs",
+            SceneFormat::MentalRay => "mental ray .mi",
         }
     }
 }
 
 /// File name extensions a user may submit as a scene (lower case, without the dot).
-pub const SCENE_EXTENSIONS: &[&str] = &["lxs"];
+pub const SCENE_EXTENSIONS: &[&str] = &["lxs", "mi"];
 
 /// The format of the scene file at `path`: by extension first, then by its first bytes
 /// (a scene saved without its usual extension).
@@ -52,6 +57,7 @@ pub fn detect(path: &Path) -> Result<SceneFormat, SceneError> {
         .unwrap_or_default();
     match ext.as_str() {
         "lxs" | "lxo" | "lxm" => return Ok(SceneFormat::Lxs),
+        "mi" => return Ok(SceneFormat::MentalRay),
         _ => {}
     }
     let mut head = [0u8; 512];
@@ -73,6 +79,9 @@ pub fn detect(path: &Path) -> Result<SceneFormat, SceneError> {
 /// Recognises a format from the start of a file.
 pub fn detect_content(head: &[u8]) -> Option<SceneFormat> {
     let text = String::from_utf8_lossy(head);
+    if mi::looks_like(&text) {
+        return Some(SceneFormat::MentalRay);
+    }
     let first = text
         .lines()
         .map(str::trim)
@@ -108,6 +117,7 @@ pub fn detect_content(head: &[u8]) -> Option<SceneFormat> {
 pub fn load(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, SceneError> {
     match detect(path)? {
         SceneFormat::Lxs => lxs::parse_file(path, opts),
+        SceneFormat::MentalRay => mi::parse_file(path, opts),
     }
 }
 
