@@ -63,8 +63,15 @@ fn world_mesh(entity: &Entity, to_world: DMat4) -> (Vec<DVec3>, Vec<[usize; 3]>)
         .map(|v| to_world.transform_point3(DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)))
         .collect();
     let mut tris = Vec::new();
-    if let Some(ix) = entity.params.ints("indices").or_else(|| entity.params.ints("triindices")) {
-        tris.extend(ix.chunks(3).map(|c| [c[0] as usize, c[1] as usize, c[2] as usize]));
+    if let Some(ix) = entity
+        .params
+        .ints("indices")
+        .or_else(|| entity.params.ints("triindices"))
+    {
+        tris.extend(
+            ix.chunks(3)
+                .map(|c| [c[0] as usize, c[1] as usize, c[2] as usize]),
+        );
     }
     if let Some(q) = entity.params.ints("quadindices") {
         for c in q.chunks(4) {
@@ -77,14 +84,22 @@ fn world_mesh(entity: &Entity, to_world: DMat4) -> (Vec<DVec3>, Vec<[usize; 3]>)
 }
 
 fn bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
-    let lo = pts.iter().fold(DVec3::splat(f64::INFINITY), |a, p| a.min(*p));
-    let hi = pts.iter().fold(DVec3::splat(f64::NEG_INFINITY), |a, p| a.max(*p));
+    let lo = pts
+        .iter()
+        .fold(DVec3::splat(f64::INFINITY), |a, p| a.min(*p));
+    let hi = pts
+        .iter()
+        .fold(DVec3::splat(f64::NEG_INFINITY), |a, p| a.max(*p));
     (lo, hi)
 }
 
 fn area(pts: &[DVec3], tris: &[[usize; 3]]) -> f64 {
     tris.iter()
-        .map(|t| 0.5 * (pts[t[1]] - pts[t[0]]).cross(pts[t[2]] - pts[t[0]]).length())
+        .map(|t| {
+            0.5 * (pts[t[1]] - pts[t[0]])
+                .cross(pts[t[2]] - pts[t[0]])
+                .length()
+        })
         .sum()
 }
 
@@ -134,7 +149,9 @@ fn camera_objects_and_light_match_the_lxs_twin() {
         let i = b
             .iter()
             .position(|(ob, oa, oe)| {
-                (ob.0 - bb.0).length() < 0.1 && (ob.1 - bb.1).length() < 0.1 && oe == emits
+                (ob.0 - bb.0).length() < 0.1
+                    && (ob.1 - bb.1).length() < 0.1
+                    && oe == emits
                     && (oa - ar).abs() < 1e-4 * ar
             })
             .unwrap_or_else(|| panic!("no .lxs shape with bounds {bb:?}, area {ar}"));
@@ -159,7 +176,9 @@ fn camera_objects_and_light_match_the_lxs_twin() {
 fn for_comparison(d: &mut SceneDescription) {
     let set = |e: &mut Entity, name: &str, v: ParamValue| e.params.add(name, v);
     let film = d.film.as_mut().unwrap();
-    film.params.params.retain(|p| p.name != "outlierrejection_k");
+    film.params
+        .params
+        .retain(|p| p.name != "outlierrejection_k");
     set(film, "xresolution", ParamValue::Integer(vec![128]));
     set(film, "yresolution", ParamValue::Integer(vec![128]));
     let mut sampler = Entity {
@@ -200,7 +219,10 @@ fn renders_agree_in_block_means() {
     assert!((a_mi - 13650.0).abs() < 0.01 && (a_lxs_m2 - 0.01365).abs() < 1e-8);
     let radiance_mi = 6.0e6 / (4.0 * std::f64::consts::PI * a_mi);
     let mi_l = l_mi.entity.params.color("L").unwrap()[0] as f64;
-    assert!((mi_l - radiance_mi).abs() < 1e-4 * radiance_mi, "importer's L {mi_l}");
+    assert!(
+        (mi_l - radiance_mi).abs() < 1e-4 * radiance_mi,
+        "importer's L {mi_l}"
+    );
     let power = l_lxs.entity.params.float("power").unwrap() as f64;
     let y_white = f64::from(illuminant_y(Rgb::WHITE));
     let radiance_lxs = power * 17.0 / (a_lxs_m2 * std::f64::consts::PI * y_white);

@@ -64,17 +64,37 @@ fn malformed_scenes_give_located_errors() {
     // (the replaced text, its replacement, where the error is, its kind)
     let cases: &[(&str, &str, &str, K)] = &[
         // 1. A statement mental ray does not have.
-        ("options \"opt\"", "optoins \"opt\"", "optoins", K::UnknownStatement),
+        (
+            "options \"opt\"",
+            "optoins \"opt\"",
+            "optoins",
+            K::UnknownStatement,
+        ),
         // 2. A string without its closing quote.
-        ("camera \"cam\"", "camera \"cam", "\"cam\n", K::UnterminatedString),
+        (
+            "camera \"cam\"",
+            "camera \"cam",
+            "\"cam\n",
+            K::UnterminatedString,
+        ),
         // 3. A vertex with a word among its coordinates.
         ("    1 0 0\n", "    1 zero 0\n", "zero", K::Syntax),
         // 4. A polygon naming a vertex record that does not exist.
         ("p 0 1 2 3", "p 0 1 2 9", "9\n", K::InvalidValue),
         // 5. An object whose group never ends: the next statement cannot be in a group.
-        ("  end group\nend object\n", "", "instance \"quad_inst\"", K::Unsupported),
+        (
+            "  end group\nend object\n",
+            "",
+            "instance \"quad_inst\"",
+            K::Unsupported,
+        ),
         // 6. A stray end.
-        ("end options\n", "end options\nend camera\n", "end camera", K::UnknownStatement),
+        (
+            "end options\n",
+            "end options\nend camera\n",
+            "end camera",
+            K::UnknownStatement,
+        ),
         // 7. A transform with 15 numbers.
         (
             "instance \"quad_inst\" \"quad\"\n",
@@ -90,25 +110,65 @@ fn malformed_scenes_give_located_errors() {
             K::InvalidValue,
         ),
         // 9. An instance of something never defined.
-        ("\"quad_inst\" \"quad\"", "\"quad_inst\" \"nothing\"", "\"nothing\"", K::Undefined),
+        (
+            "\"quad_inst\" \"quad\"",
+            "\"quad_inst\" \"nothing\"",
+            "\"nothing\"",
+            K::Undefined,
+        ),
         // 10. A render statement naming a missing root.
-        ("render \"root\"", "render \"rooot\"", "\"rooot\"", K::Undefined),
+        (
+            "render \"root\"",
+            "render \"rooot\"",
+            "\"rooot\"",
+            K::Undefined,
+        ),
         // 11. A camera resolution of zero.
-        ("resolution 32 32", "resolution 0 32", "0 32", K::InvalidValue),
+        (
+            "resolution 32 32",
+            "resolution 0 32",
+            "0 32",
+            K::InvalidValue,
+        ),
         // 12. A number too large for its type.
-        ("resolution 32 32", "resolution 99999999999999999999 32", "99999999999999999999", K::InvalidValue),
+        (
+            "resolution 32 32",
+            "resolution 99999999999999999999 32",
+            "99999999999999999999",
+            K::InvalidValue,
+        ),
         // 13. A shader parameter list without its closing parenthesis.
-        ("  \"color\" 1 1 1\n)\n", "  \"color\" 1 1 1\n", "light \"pt\"", K::Syntax),
+        (
+            "  \"color\" 1 1 1\n)\n",
+            "  \"color\" 1 1 1\n",
+            "light \"pt\"",
+            K::Syntax,
+        ),
         // 14. A light whose area primitive has a negative radius.
-        ("  origin 0 0 5\n", "  origin 0 0 5\n  disc 0 0 -1 -2\n", "disc", K::InvalidValue),
+        (
+            "  origin 0 0 5\n",
+            "  origin 0 0 5\n  disc 0 0 -1 -2\n",
+            "disc",
+            K::InvalidValue,
+        ),
         // 15. A missing .mi include.
-        (OPTIONS, "$include \"missing.mi\"\noptions \"opt\"\n  trace depth 2 2 4\nend options\n", "$include", K::MissingInclude),
+        (
+            OPTIONS,
+            "$include \"missing.mi\"\noptions \"opt\"\n  trace depth 2 2 4\nend options\n",
+            "$include",
+            K::MissingInclude,
+        ),
         // 16. A stray character.
         ("  focal 50\n", "  focal 50 @\n", "@", K::Syntax),
         // 17. $endif without $ifdef.
         (OPTIONS, "$endif\n", "$endif", K::UnmatchedEnd),
         // 18. An instgroup naming a missing instance.
-        ("\"cam_inst\" \"quad_inst\" \"pt_inst\"", "\"cam_inst\" \"quad_inst\" \"pt_inst\" \"ghost\"", "\"ghost\"", K::Undefined),
+        (
+            "\"cam_inst\" \"quad_inst\" \"pt_inst\"",
+            "\"cam_inst\" \"quad_inst\" \"pt_inst\" \"ghost\"",
+            "\"ghost\"",
+            K::Undefined,
+        ),
     ];
     let mut failures = Vec::new();
     for (i, (part, with, at, kind)) in cases.iter().enumerate() {

@@ -28,8 +28,11 @@ impl Cylinder {
     /// The cylinder centred on `center` whose axis vector (its height) is `axis`.
     pub fn new(center: Vec3A, axis: Vec3A, radius: f32) -> Result<Cylinder, String> {
         let height = axis.length();
-        if !(height > 0.0 && height.is_finite() && radius > 0.0 && radius.is_finite())
-            || !center.is_finite()
+        if !(height > 0.0
+            && height.is_finite()
+            && radius > 0.0
+            && radius.is_finite()
+            && center.is_finite())
         {
             return Err(format!(
                 "cylinder needs a non-zero axis and a positive radius, got axis {axis} radius {radius}"

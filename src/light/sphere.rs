@@ -24,7 +24,7 @@ struct Cone {
 
 impl Sphere {
     pub fn new(center: Vec3A, radius: f32) -> Result<Sphere, String> {
-        if !(radius > 0.0 && radius.is_finite()) || !center.is_finite() {
+        if !(radius > 0.0 && radius.is_finite() && center.is_finite()) {
             return Err(format!("sphere needs a positive radius, got {radius}"));
         }
         Ok(Sphere { center, radius })

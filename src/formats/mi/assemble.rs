@@ -125,7 +125,10 @@ impl<'s> Walk<'s> {
             return Ok(());
         }
         let Some(inst) = s.instances.get(name) else {
-            return Err(undefined(loc, format!("\"{name}\" is neither an instance nor an instgroup")));
+            return Err(undefined(
+                loc,
+                format!("\"{name}\" is neither an instance nor an instgroup"),
+            ));
         };
         if inst.hide {
             return Ok(());
@@ -162,7 +165,10 @@ impl<'s> Walk<'s> {
         } else {
             return Err(undefined(
                 &inst.item_loc,
-                format!("instance \"{}\" places \"{item}\", which is not defined", inst.name),
+                format!(
+                    "instance \"{}\" places \"{item}\", which is not defined",
+                    inst.name
+                ),
             ));
         }
         Ok(())
@@ -257,7 +263,10 @@ fn camera_and_film(
         None => {
             // A camera instance outside the root group: placed by its own transform.
             let inst = s.instances.get(name).ok_or_else(|| {
-                undefined(&render.camera.1, format!("camera instance \"{name}\" is not defined"))
+                undefined(
+                    &render.camera.1,
+                    format!("camera instance \"{name}\" is not defined"),
+                )
             })?;
             let cam = s.cameras.get(&inst.item).ok_or_else(|| {
                 undefined(&inst.item_loc, format!("\"{}\" is not a camera", inst.item))
@@ -285,7 +294,11 @@ fn place_lights(
     let mut emitters: HashMap<String, (Entity, Loc)> = HashMap::new();
     for p in &walk.lights {
         let l = p.item;
-        let shader = l.shader.as_ref().map(|r| resolve_shader(s, r)).transpose()?;
+        let shader = l
+            .shader
+            .as_ref()
+            .map(|r| resolve_shader(s, r))
+            .transpose()?;
         let l2w = local_to_world(p.world_to_local);
         match lights::light_entity(l, shader, &l2w, w) {
             LightOut::Source(entity) => desc.lights.push(LightDesc {
@@ -296,8 +309,11 @@ fn place_lights(
             }),
             LightOut::Object(inst) => {
                 let at = l.area.as_ref().map_or(&l.loc, |a| &a.1).clone();
-                let parts: Vec<&Geometry> =
-                    walk.geometry.iter().filter(|g| g.inst.name == inst).collect();
+                let parts: Vec<&Geometry> = walk
+                    .geometry
+                    .iter()
+                    .filter(|g| g.inst.name == inst)
+                    .collect();
                 if parts.is_empty() {
                     return Err(undefined(
                         &at,
@@ -314,7 +330,10 @@ fn place_lights(
                     }
                 }
                 let entity = lights::object_area_entity(l, shader, area, w);
-                if emitters.insert(inst.clone(), (entity, at.clone())).is_some() {
+                if emitters
+                    .insert(inst.clone(), (entity, at.clone()))
+                    .is_some()
+                {
                     w.push(Diagnostic {
                         loc: at,
                         message: format!("instance \"{inst}\" is the emitter of two object lights: the last one is used"),
@@ -379,8 +398,18 @@ impl<'s> Materials<'s> {
             // mental ray 3.13+ instances may name a material shader (an MDL material)
             // directly.
             None => match self.scene.shaders.get(name) {
-                Some(sh) => shaders::material_entity(name, &sh.loc, Some((&sh.kind, &sh.params, &sh.loc)), w),
-                None => return Err(undefined(loc, format!("material \"{name}\" is not defined"))),
+                Some(sh) => shaders::material_entity(
+                    name,
+                    &sh.loc,
+                    Some((&sh.kind, &sh.params, &sh.loc)),
+                    w,
+                ),
+                None => {
+                    return Err(undefined(
+                        loc,
+                        format!("material \"{name}\" is not defined"),
+                    ))
+                }
             },
         };
         let i = desc.materials.len();
@@ -435,7 +464,11 @@ fn mesh_entity(part: &MeshPart) -> MiResult<Entity> {
     for t in &part.tris {
         for i in t {
             idx.push(i32::try_from(*i).map_err(|_| {
-                LxsError::new(LxsErrorKind::ArrayTooLong, loc.clone(), "mesh has too many vertices")
+                LxsError::new(
+                    LxsErrorKind::ArrayTooLong,
+                    loc.clone(),
+                    "mesh has too many vertices",
+                )
             })?);
         }
     }
@@ -445,7 +478,11 @@ fn mesh_entity(part: &MeshPart) -> MiResult<Entity> {
         ps.push(param("N", ParamValue::Normal(n.clone()), loc));
     }
     if let Some(uv) = &part.uv {
-        ps.push(param("uv", ParamValue::Float(uv.iter().flatten().copied().collect()), loc));
+        ps.push(param(
+            "uv",
+            ParamValue::Float(uv.iter().flatten().copied().collect()),
+            loc,
+        ));
     }
     Ok(Entity {
         kind: "trianglemesh".into(),
@@ -454,7 +491,12 @@ fn mesh_entity(part: &MeshPart) -> MiResult<Entity> {
     })
 }
 
-fn shape(entity: Entity, to_world: DMat4, material: Option<usize>, light: Option<AreaLightDesc>) -> ShapeDesc {
+fn shape(
+    entity: Entity,
+    to_world: DMat4,
+    material: Option<usize>,
+    light: Option<AreaLightDesc>,
+) -> ShapeDesc {
     ShapeDesc {
         entity,
         object_to_world: Xform::fixed(to_world),
@@ -490,14 +532,20 @@ fn place_geometry(
         if let Some((why, at)) = &obj.unsupported {
             w.push(Diagnostic {
                 loc: at.clone(),
-                message: format!("object \"{}\": '{why}' geometry is not supported; the object is left out", obj.name),
+                message: format!(
+                    "object \"{}\": '{why}' geometry is not supported; the object is left out",
+                    obj.name
+                ),
             });
             continue;
         }
         if !obj.visible {
             w.push(Diagnostic {
                 loc: obj.loc.clone(),
-                message: format!("object \"{}\" is 'visible off': luxfarm renders it visible", obj.name),
+                message: format!(
+                    "object \"{}\" is 'visible off': luxfarm renders it visible",
+                    obj.name
+                ),
             });
         }
         let ps = parts
@@ -519,7 +567,10 @@ fn place_geometry(
                         warned_no_material = true;
                         w.push(Diagnostic {
                             loc: g.inst.loc.clone(),
-                            message: format!("instance \"{}\" has no material: LuxRender's default matte", g.inst.name),
+                            message: format!(
+                                "instance \"{}\" has no material: LuxRender's default matte",
+                                g.inst.name
+                            ),
                         });
                     }
                     None
@@ -558,7 +609,11 @@ fn place_geometry(
                         .zip(idx.iter())
                         .map(|(part, m)| Ok(shape(mesh_entity(part)?, DMat4::IDENTITY, *m, None)))
                         .collect::<MiResult<Vec<_>>>()?;
-                    let loc = s.objects.get(g.object).map(|o| o.loc.clone()).unwrap_or_default();
+                    let loc = s
+                        .objects
+                        .get(g.object)
+                        .map(|o| o.loc.clone())
+                        .unwrap_or_default();
                     desc.objects.push(ObjectDesc {
                         name: format!("{}#{}", g.object, desc.objects.len()),
                         shapes,
@@ -577,7 +632,8 @@ fn place_geometry(
             continue;
         }
         for (part, m) in ps.iter().zip(idx.iter()) {
-            desc.shapes.push(shape(mesh_entity(part)?, to_world, *m, light.clone()));
+            desc.shapes
+                .push(shape(mesh_entity(part)?, to_world, *m, light.clone()));
         }
     }
     Ok(())

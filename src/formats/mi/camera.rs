@@ -113,7 +113,10 @@ pub fn parse(c: &mut Cursor, name: String, loc: Loc, max_len: usize) -> MiResult
             }
             "framebuffer" => {
                 if cam.framebuffers.len() >= max_len {
-                    return Err(c.error(crate::lxs::LxsErrorKind::ArrayTooLong, "too many framebuffers"));
+                    return Err(c.error(
+                        crate::lxs::LxsErrorKind::ArrayTooLong,
+                        "too many framebuffers",
+                    ));
                 }
                 let name = c.string("a framebuffer name")?;
                 cam.framebuffers.push(framebuffer(c, name, at)?);
@@ -260,7 +263,10 @@ fn push_window(params: &mut ParamSet, w: [f64; 4], xres: u32, yres: u32, loc: &L
         } else {
             [-1.0, 1.0, -1.0 / a, 1.0 / a]
         };
-        if w.iter().zip(default).all(|(x, d)| (x - d).abs() <= 1e-6 * d.abs()) {
+        if w.iter()
+            .zip(default)
+            .all(|(x, d)| (x - d).abs() <= 1e-6 * d.abs())
+        {
             return;
         }
     }
@@ -278,8 +284,16 @@ pub fn film_entity(
     let (xres, yres) = cam.resolution.as_ref().map_or((768, 576), |r| (r.0, r.1));
     let loc = cam.resolution.as_ref().map_or(&cam.loc, |r| &r.2);
     let mut params = ParamSet::new();
-    params.push(param("xresolution", ParamValue::Integer(vec![xres as i32]), loc));
-    params.push(param("yresolution", ParamValue::Integer(vec![yres as i32]), loc));
+    params.push(param(
+        "xresolution",
+        ParamValue::Integer(vec![xres as i32]),
+        loc,
+    ));
+    params.push(param(
+        "yresolution",
+        ParamValue::Integer(vec![yres as i32]),
+        loc,
+    ));
     if let Some((n, at)) = haltspp {
         params.push(param("haltspp", ParamValue::Integer(vec![n]), &at));
     }
@@ -306,13 +320,20 @@ pub fn film_entity(
     }
     if let Some((file, at)) = file {
         let path = std::path::Path::new(&file);
-        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("luxout");
+        let stem = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("luxout");
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase)
             .unwrap_or_default();
-        params.push(param("filename", ParamValue::String(vec![stem.to_string()]), &at));
+        params.push(param(
+            "filename",
+            ParamValue::String(vec![stem.to_string()]),
+            &at,
+        ));
         let (exr, png, tga) = match ext.as_str() {
             "exr" => (true, false, false),
             "png" => (false, true, false),
@@ -320,7 +341,9 @@ pub fn film_entity(
             other => {
                 warnings.push(Diagnostic {
                     loc: at.clone(),
-                    message: format!("image format \"{other}\" is not written by luxfarm: PNG instead"),
+                    message: format!(
+                        "image format \"{other}\" is not written by luxfarm: PNG instead"
+                    ),
                 });
                 (false, true, false)
             }
@@ -377,7 +400,10 @@ mod tests {
         let cam = camera("focal infinity aperture 4 aspect 2 resolution 20 10 end camera");
         let e = camera_entity(&cam, &mut Vec::new());
         assert_eq!(e.kind, "orthographic");
-        assert_eq!(e.params.floats("screenwindow"), Some(&[-2.0, 2.0, -1.0, 1.0][..]));
+        assert_eq!(
+            e.params.floats("screenwindow"),
+            Some(&[-2.0, 2.0, -1.0, 1.0][..])
+        );
         let mut c = Cursor::new("resolution 0 10 end camera", "t.mi".into());
         assert!(parse(&mut c, "c".into(), Loc::default(), 100).is_err());
     }

@@ -70,6 +70,8 @@ impl<'a> Cursor<'a> {
         Ok(self.peek_token()?.line)
     }
 
+    /// The next token (a fallible read, so not `Iterator::next`).
+    #[allow(clippy::should_implement_trait)]
     pub fn next(&mut self) -> MiResult<Tok<'a>> {
         let t = match self.peeked.take() {
             Some(t) => t,

@@ -97,7 +97,8 @@ pub fn parse_instance(
     };
     if c.at_punct(b'(')? {
         super::params::parse_list(c, max_len)?;
-        inst.ignored.push(("instance parameters".into(), c.last_loc()));
+        inst.ignored
+            .push(("instance parameters".into(), c.last_loc()));
     }
     loop {
         let at = c.loc()?;
@@ -129,7 +130,9 @@ pub fn parse_instance(
                             break;
                         }
                         if names.len() >= max_len {
-                            return Err(c.error(LxsErrorKind::ArrayTooLong, "material array too long"));
+                            return Err(
+                                c.error(LxsErrorKind::ArrayTooLong, "material array too long")
+                            );
                         }
                         names.push(c.string("a material name")?);
                         if !c.eat_punct(b',')? && !c.at_punct(b']')? {
@@ -218,9 +221,15 @@ mod tests {
         );
         let i = parse_instance(&mut c, "i".into(), Loc::default(), 100).unwrap();
         assert_eq!(i.item, "obj");
-        assert_eq!(i.material, InstMaterial::Array(vec!["a".into(), "b".into()]));
+        assert_eq!(
+            i.material,
+            InstMaterial::Array(vec!["a".into(), "b".into()])
+        );
         assert_eq!(i.transform.unwrap().determinant(), 8.0);
-        let mut c = Cursor::new("\"o\" transform 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 1 end instance", "t.mi".into());
+        let mut c = Cursor::new(
+            "\"o\" transform 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 1 end instance",
+            "t.mi".into(),
+        );
         let e = parse_instance(&mut c, "i".into(), Loc::default(), 100).unwrap_err();
         assert!(e.message.contains("singular"), "{e}");
     }

@@ -142,17 +142,25 @@ impl<'a> Lexer<'a> {
                 self.pos += 1;
                 let w = self.word_from(self.pos);
                 if w.is_empty() {
-                    return Err(self.err(start, LxsErrorKind::Syntax, "'$' without a directive name"));
+                    return Err(self.err(
+                        start,
+                        LxsErrorKind::Syntax,
+                        "'$' without a directive name",
+                    ));
                 }
                 Tok::Directive(w)
             }
             b'<' => {
                 let end = self.text[start..]
-                    .find(|c| c == '>' || c == '\n')
+                    .find(['>', '\n'])
                     .map(|i| start + i)
                     .filter(|&e| self.byte(e) == Some(b'>'))
                     .ok_or_else(|| {
-                        self.err(start, LxsErrorKind::Syntax, "'<' without its '>' on the same line")
+                        self.err(
+                            start,
+                            LxsErrorKind::Syntax,
+                            "'<' without its '>' on the same line",
+                        )
                     })?;
                 self.pos = end + 1;
                 Tok::Angle(&self.text[start + 1..end])
@@ -274,7 +282,9 @@ mod tests {
 
     #[test]
     fn tokens_of_a_statement() {
-        let t = toks("shader \"a#b\" \"one_color\" ( \"color\" 1 .5 -2e-1, ) # done\n$include <base.mi>");
+        let t = toks(
+            "shader \"a#b\" \"one_color\" ( \"color\" 1 .5 -2e-1, ) # done\n$include <base.mi>",
+        );
         assert_eq!(
             t,
             vec![
@@ -306,7 +316,13 @@ mod tests {
 
     #[test]
     fn malformed_tokens_are_located() {
-        for (text, col) in [("  \"open", 3), (" 1.2.3", 2), ("x @", 3), ("$ x", 1), ("<a", 1)] {
+        for (text, col) in [
+            ("  \"open", 3),
+            (" 1.2.3", 2),
+            ("x @", 3),
+            ("$ x", 1),
+            ("<a", 1),
+        ] {
             let mut l = Lexer::new(text, "f.mi".into());
             let e = loop {
                 match l.next_token() {

@@ -176,7 +176,7 @@ fn area(c: &mut Cursor, l: &mut MiLight, prim: AreaPrim, at: Loc) -> MiResult<()
         *f = v;
     }
     if let AreaPrim::Disc(_, r) | AreaPrim::Sphere(r) | AreaPrim::Cylinder(_, r) = &prim {
-        if !(*r > 0.0) {
+        if r.is_nan() || *r <= 0.0 {
             return Err(LxsError::new(
                 LxsErrorKind::InvalidValue,
                 at,
@@ -201,7 +201,11 @@ enum Model {
     Base { color: [f64; 3], cone: Option<f64> },
 }
 
-fn model(l: &MiLight, shader: Option<(&str, &ShaderParams, &Loc)>, w: &mut Vec<Diagnostic>) -> Model {
+fn model(
+    l: &MiLight,
+    shader: Option<(&str, &ShaderParams, &Loc)>,
+    w: &mut Vec<Diagnostic>,
+) -> Model {
     let energy = l.energy.as_ref().map(|e| e.0);
     let Some((kind, p, sloc)) = shader else {
         w.push(Diagnostic {
@@ -220,7 +224,9 @@ fn model(l: &MiLight, shader: Option<(&str, &ShaderParams, &Loc)>, w: &mut Vec<D
     if p.is_connected("color") {
         w.push(Diagnostic {
             loc: sloc.clone(),
-            message: format!("\"color\" of {kind} is connected to another shader: its default is used"),
+            message: format!(
+                "\"color\" of {kind} is connected to another shader: its default is used"
+            ),
         });
     }
     let colour = |default: [f64; 3]| {
@@ -297,7 +303,10 @@ fn notes(l: &MiLight, physical: bool, w: &mut Vec<Diagnostic>) {
     for (what, at) in &l.ignored {
         w.push(Diagnostic {
             loc: at.clone(),
-            message: format!("light \"{}\": \"{what}\" is not used by luxfarm's path tracer", l.name),
+            message: format!(
+                "light \"{}\": \"{what}\" is not used by luxfarm's path tracer",
+                l.name
+            ),
         });
     }
     if let (Some((_, at)), false) = (&l.energy, physical) {
@@ -319,7 +328,11 @@ fn sample_params(l: &MiLight, ps: &mut ParamSet, loc: &Loc) {
     ps.push(param("nsamples", ParamValue::Integer(vec![n]), loc));
     if s.level > 0 {
         ps.push(param("lownsamples", ParamValue::Integer(vec![low]), loc));
-        ps.push(param("lowlevel", ParamValue::Integer(vec![s.level as i32]), loc));
+        ps.push(param(
+            "lowlevel",
+            ParamValue::Integer(vec![s.level as i32]),
+            loc,
+        ));
     }
 }
 
@@ -386,7 +399,10 @@ pub fn light_entity(
             AreaPrim::User => {
                 w.push(Diagnostic {
                     loc: at.clone(),
-                    message: format!("light \"{}\": user area lights are not supported; the light is left out", l.name),
+                    message: format!(
+                        "light \"{}\": user area lights are not supported; the light is left out",
+                        l.name
+                    ),
                 });
                 return LightOut::Nothing;
             }
@@ -396,7 +412,11 @@ pub fn light_entity(
                 "rectangle"
             }
             AreaPrim::Disc(n, r) => {
-                ps.push(param("normal", ParamValue::Normal(vec![n.map(|x| x as f32)]), at));
+                ps.push(param(
+                    "normal",
+                    ParamValue::Normal(vec![n.map(|x| x as f32)]),
+                    at,
+                ));
                 ps.push(param("radius", float(*r), at));
                 "disc"
             }
@@ -420,7 +440,10 @@ pub fn light_entity(
         if !(a > 0.0 && a.is_finite()) {
             w.push(Diagnostic {
                 loc: at.clone(),
-                message: format!("light \"{}\": the area primitive has no area; the light is left out", l.name),
+                message: format!(
+                    "light \"{}\": the area primitive has no area; the light is left out",
+                    l.name
+                ),
             });
             return LightOut::Nothing;
         }
@@ -454,7 +477,11 @@ pub fn light_entity(
         }
         (Some(o), Some(d), Some(spread)) => {
             ps.push(param("from", point(o), loc));
-            ps.push(param("to", point([o[0] + d[0], o[1] + d[1], o[2] + d[2]]), loc));
+            ps.push(param(
+                "to",
+                point([o[0] + d[0], o[1] + d[1], o[2] + d[2]]),
+                loc,
+            ));
             ps.push(param("spread", float(spread), loc));
             if let Some(c) = cone {
                 ps.push(param("cone", float(c), loc));
@@ -494,7 +521,11 @@ pub fn object_area_entity(
     let m = model(l, shader, w);
     notes(l, matches!(m, Model::Physical { .. }), w);
     let loc = l.area.as_ref().map_or(&l.loc, |a| &a.1);
-    let a = if area > 0.0 && area.is_finite() { area } else { 1.0 };
+    let a = if area > 0.0 && area.is_finite() {
+        area
+    } else {
+        1.0
+    };
     let (col, scale, cos_exp, two_sided, k) = match m {
         Model::Physical { color, cos_exp, .. } => (
             color,
@@ -522,8 +553,8 @@ pub fn object_area_entity(
 
 #[cfg(test)]
 mod tests {
-    use super::*;
     use super::super::params::ShaderRef;
+    use super::*;
 
     fn light(text: &str) -> MiLight {
         let mut c = Cursor::new(text, "t.mi".into());
@@ -540,12 +571,29 @@ mod tests {
     #[test]
     fn the_sample_object_light() {
         let l = light("= \"Emitter_mat\"\n origin 0.0 0.0 0.0\n object \"Light_inst\"\n 16 1 1 1 1\n visible on\n end light");
-        assert_eq!(l.area.as_ref().unwrap().0, AreaPrim::Object("Light_inst".into()));
-        assert_eq!(l.samples, Samples { u: 16, v: 1, level: 1, low_u: 1, low_v: 1 });
+        assert_eq!(
+            l.area.as_ref().unwrap().0,
+            AreaPrim::Object("Light_inst".into())
+        );
+        assert_eq!(
+            l.samples,
+            Samples {
+                u: 16,
+                v: 1,
+                level: 1,
+                low_u: 1,
+                low_v: 1
+            }
+        );
         assert!(l.visible);
         let p = ShaderParams::default();
         let mut w = Vec::new();
-        let e = object_area_entity(&l, Some(("physical_light", &p, &Loc::default())), 2.0, &mut w);
+        let e = object_area_entity(
+            &l,
+            Some(("physical_light", &p, &Loc::default())),
+            2.0,
+            &mut w,
+        );
         assert_eq!(e.params.int("nsamples"), Some(16));
         assert_eq!(e.params.int("lowlevel"), Some(1));
         // color 1 (energy default) over 4π·2.

@@ -279,7 +279,11 @@ fn group(c: &mut Cursor, loc: Loc, tagged: bool, max: usize) -> MiResult<Group> 
 /// A vertex record after `v`.
 fn vertex(c: &mut Cursor, nvec: usize) -> MiResult<VertexRec> {
     let v = index(c, nvec, "vector index")?;
-    let mut rec = VertexRec { v, n: None, t: None };
+    let mut rec = VertexRec {
+        v,
+        n: None,
+        t: None,
+    };
     loop {
         match c.peek()? {
             Tok::Word("n") => {
@@ -366,7 +370,10 @@ pub fn mesh_parts(obj: &MiObject, warnings: &mut Vec<Diagnostic>) -> Vec<MeshPar
             let pts: Vec<DVec3> = loop_refs
                 .iter()
                 .map(|&r| {
-                    let v = g.verts.get(r as usize).map_or([0.0; 3], |rec| vec3(g, rec.v));
+                    let v = g
+                        .verts
+                        .get(r as usize)
+                        .map_or([0.0; 3], |rec| vec3(g, rec.v));
                     DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
                 })
                 .collect();
@@ -409,8 +416,12 @@ pub fn mesh_parts(obj: &MiObject, warnings: &mut Vec<Diagnostic>) -> Vec<MeshPar
         }
         for gather in local.into_values() {
             if let Some(part) = parts.get_mut(gather.part) {
-                part.n = gather.normals.filter(|n| n.len() == part.p.len() && !n.is_empty());
-                part.uv = gather.uvs.filter(|u| u.len() == part.p.len() && !u.is_empty());
+                part.n = gather
+                    .normals
+                    .filter(|n| n.len() == part.p.len() && !n.is_empty());
+                part.uv = gather
+                    .uvs
+                    .filter(|u| u.len() == part.p.len() && !u.is_empty());
             }
         }
         if fallbacks > 0 {
@@ -477,12 +488,18 @@ mod tests {
     fn bad_indices_are_located() {
         for (text, line) in [
             ("group 0 0 0\n v 1\n end group end object", 2),
-            ("group 0 0 0 1 1 1 2 2 2\n v 0\n v 1 n 7\n end group end object", 3),
+            (
+                "group 0 0 0 1 1 1 2 2 2\n v 0\n v 1 n 7\n end group end object",
+                3,
+            ),
             ("group 0 0 0\n v 0\n p 0 0 1\n end group end object", 3),
             ("group 0 0 0\n v 0\n p 0 0\n end group end object", 3),
             ("group 0 0\n end group end object", 2),
             ("group 0 0 0\n v 0\n hole 0 0 0\n end group end object", 3),
-            ("tagged on group 0 0 0\n v 0\n p -1 0 0 0\n end group end object", 3),
+            (
+                "tagged on group 0 0 0\n v 0\n p -1 0 0 0\n end group end object",
+                3,
+            ),
         ] {
             let e = object(text).unwrap_err();
             assert_eq!(e.loc.line, line, "{text}: {e}");

@@ -181,8 +181,16 @@ pub fn pixel_filter(o: &Options, warnings: &mut Vec<Diagnostic>) -> Option<Entit
     let xs = x.unwrap_or(default);
     let ys = y.unwrap_or(xs);
     let mut params = ParamSet::new();
-    params.push(param("xwidth", ParamValue::Float(vec![(xs / 2.0) as f32]), loc));
-    params.push(param("ywidth", ParamValue::Float(vec![(ys / 2.0) as f32]), loc));
+    params.push(param(
+        "xwidth",
+        ParamValue::Float(vec![(xs / 2.0) as f32]),
+        loc,
+    ));
+    params.push(param(
+        "ywidth",
+        ParamValue::Float(vec![(ys / 2.0) as f32]),
+        loc,
+    ));
     Some(Entity {
         kind: lux.into(),
         params,

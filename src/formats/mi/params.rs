@@ -86,7 +86,10 @@ impl ShaderParams {
 /// A shader as used by a material or a light: a named shader, or one defined in place.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ShaderRef {
-    Named { name: String, loc: Loc },
+    Named {
+        name: String,
+        loc: Loc,
+    },
     Inline {
         kind: String,
         params: ShaderParams,

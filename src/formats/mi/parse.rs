@@ -262,7 +262,10 @@ impl<'o> Reader<'o> {
                 return Err(LxsError::new(
                     LxsErrorKind::Syntax,
                     at,
-                    format!("$include needs a \"file\" or <file>, found {}", other.describe()),
+                    format!(
+                        "$include needs a \"file\" or <file>, found {}",
+                        other.describe()
+                    ),
                 ))
             }
         };
@@ -290,19 +293,35 @@ impl<'o> Reader<'o> {
             ));
         }
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        let resolved = match resolve(&name, &dir, &canonical_dir_of(path), self.root.as_deref(), &at) {
+        let resolved = match resolve(
+            &name,
+            &dir,
+            &canonical_dir_of(path),
+            self.root.as_deref(),
+            &at,
+        ) {
             Ok(r) => r,
-            Err(e) if e.kind == LxsErrorKind::MissingInclude && STANDARD_DECLARATIONS.contains(&base.as_str()) => {
+            Err(e)
+                if e.kind == LxsErrorKind::MissingInclude
+                    && STANDARD_DECLARATIONS.contains(&base.as_str()) =>
+            {
                 self.note(at, format!("$include \"{name}\": mental ray's standard declarations, not found beside the scene and not needed"));
                 return Ok(());
             }
             Err(e) => return Err(e),
         };
-        if self.stack.iter().any(|f| f.as_deref() == Some(resolved.canonical.as_path())) {
+        if self
+            .stack
+            .iter()
+            .any(|f| f.as_deref() == Some(resolved.canonical.as_path()))
+        {
             return Err(LxsError::new(
                 LxsErrorKind::IncludeCycle,
                 at,
-                format!("$include \"{name}\" forms a cycle: {} is already being read", resolved.display.display()),
+                format!(
+                    "$include \"{name}\" forms a cycle: {} is already being read",
+                    resolved.display.display()
+                ),
             ));
         }
         let text = self.read_bounded(&resolved.canonical, &at)?;
@@ -486,7 +505,10 @@ mod tests {
         let mut names: Vec<&String> = s.shaders.keys().collect();
         names.sort();
         assert_eq!(names, vec!["w", "x"]);
-        assert_eq!(read("$ifdef A\n").unwrap_err().kind, LxsErrorKind::UnclosedBlock);
+        assert_eq!(
+            read("$ifdef A\n").unwrap_err().kind,
+            LxsErrorKind::UnclosedBlock
+        );
         assert_eq!(read("$endif").unwrap_err().kind, LxsErrorKind::UnmatchedEnd);
     }
 

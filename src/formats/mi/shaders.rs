@@ -176,9 +176,16 @@ pub fn material_entity(
         }
         "mia_material" | "mia_material_x" | "mia_material_x_passes" => mia(sp, sloc, &mut ps, w),
         other => {
-            let found = ["diffuse", "color", "tint", "base_color", "diffuse_color", "Kd"]
-                .into_iter()
-                .find(|n| !sp.is_connected(n) && sp.color(n).is_some());
+            let found = [
+                "diffuse",
+                "color",
+                "tint",
+                "base_color",
+                "diffuse_color",
+                "Kd",
+            ]
+            .into_iter()
+            .find(|n| !sp.is_connected(n) && sp.color(n).is_some());
             let how = match found {
                 Some(n) => {
                     ps.push(param("Kd", color(col(sp, n, [0.5; 3])), sloc));
@@ -223,7 +230,9 @@ fn mia(sp: &ShaderParams, loc: &Loc, ps: &mut ParamSet, w: &mut Vec<Diagnostic>)
     if transparency > 0.0 {
         w.push(Diagnostic {
             loc: loc.clone(),
-            message: format!("mia_material transparency {transparency} below 0.5 is ignored (opaque)"),
+            message: format!(
+                "mia_material transparency {transparency} below 0.5 is ignored (opaque)"
+            ),
         });
     }
     let normal_refl = if sp.boolean("brdf_fresnel").unwrap_or(false) {
@@ -245,7 +254,11 @@ fn mia(sp: &ShaderParams, loc: &Loc, ps: &mut ParamSet, w: &mut Vec<Diagnostic>)
     if metal {
         // The reflection takes the diffuse colour; nothing is left for a diffuse base.
         ps.push(param("Kd", color([0.0; 3]), loc));
-        ps.push(param("Ks", color(scale(kd, num(sp, "reflectivity", 0.6))), loc));
+        ps.push(param(
+            "Ks",
+            color(scale(kd, num(sp, "reflectivity", 0.6))),
+            loc,
+        ));
     } else {
         ps.push(param("Kd", color(kd), loc));
         ps.push(param("Ks", color(ks), loc));
@@ -291,11 +304,20 @@ mod tests {
         assert_eq!(e.kind, "glossy");
         assert!((e.params.color("Ks").unwrap()[0] - 0.12).abs() < 1e-6);
         assert_eq!(e.params.float("uroughness"), Some(0.0));
-        let e = entity(&shader("\"mia_material_x\" (\"transparency\" 1.0, \"refr_ior\" 1.5)"), &mut w);
+        let e = entity(
+            &shader("\"mia_material_x\" (\"transparency\" 1.0, \"refr_ior\" 1.5)"),
+            &mut w,
+        );
         assert_eq!(e.kind, "glass");
         assert_eq!(e.params.float("index"), Some(1.5));
-        let e = entity(&shader("\"mia_material\" (\"reflectivity\" 0, \"diffuse\" 1 0 0)"), &mut w);
-        assert_eq!((e.kind.as_str(), e.params.color("Kd")), ("matte", Some([1.0, 0.0, 0.0])));
+        let e = entity(
+            &shader("\"mia_material\" (\"reflectivity\" 0, \"diffuse\" 1 0 0)"),
+            &mut w,
+        );
+        assert_eq!(
+            (e.kind.as_str(), e.params.color("Kd")),
+            ("matte", Some([1.0, 0.0, 0.0]))
+        );
         assert!(w.is_empty(), "{w:?}");
     }
 
@@ -321,7 +343,9 @@ mod tests {
             "t.mi".into(),
         );
         let m = parse_material(&mut c, "m".into(), Loc::default(), 100).unwrap();
-        assert!(matches!(m.surface, Some(ShaderRef::Inline { ref kind, .. }) if kind == "one_color"));
+        assert!(
+            matches!(m.surface, Some(ShaderRef::Inline { ref kind, .. }) if kind == "one_color")
+        );
         assert_eq!(m.ignored.len(), 2);
     }
 }

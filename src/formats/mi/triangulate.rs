@@ -100,7 +100,7 @@ fn newell(p: &[DVec3]) -> DVec3 {
 /// The points in the plane of `normal`, seen from its side (counter-clockwise about it).
 fn project(points: &[DVec3], normal: DVec3) -> Option<Vec<DVec2>> {
     let a = normal.abs();
-    if !(a.max_element() > 0.0) || !normal.is_finite() {
+    if !normal.is_finite() || a.max_element() <= 0.0 {
         return None;
     }
     let flat = points.iter().map(|p| {
@@ -146,9 +146,9 @@ fn segments_cross(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
 /// Splices `hole` into `ring` through the shortest segment from the hole's rightmost vertex
 /// to a ring vertex that crosses no edge.
 fn bridge(p: &[DVec2], ring: &mut Vec<u32>, hole: &[u32]) -> bool {
-    let Some(hi) = (0..hole.len()).max_by(|&a, &b| {
-        p[hole[a] as usize].x.total_cmp(&p[hole[b] as usize].x)
-    }) else {
+    let Some(hi) =
+        (0..hole.len()).max_by(|&a, &b| p[hole[a] as usize].x.total_cmp(&p[hole[b] as usize].x))
+    else {
         return false;
     };
     let m = p[hole[hi] as usize];
@@ -156,7 +156,9 @@ fn bridge(p: &[DVec2], ring: &mut Vec<u32>, hole: &[u32]) -> bool {
         let mut e: Vec<(DVec2, DVec2)> = (0..ring.len())
             .map(|i| (p[ring[i] as usize], p[ring[(i + 1) % ring.len()] as usize]))
             .collect();
-        e.extend((0..hole.len()).map(|i| (p[hole[i] as usize], p[hole[(i + 1) % hole.len()] as usize])));
+        e.extend(
+            (0..hole.len()).map(|i| (p[hole[i] as usize], p[hole[(i + 1) % hole.len()] as usize])),
+        );
         e
     };
     let all = edges(ring);
@@ -201,7 +203,13 @@ fn ear_clip(p: &[DVec2], mut ring: Vec<u32>) -> Vec<[u32; 3]> {
         let is_ear = convex
             && !ring.iter().any(|&k| {
                 let q = p[k as usize];
-                k != a && k != b && k != c && q != pa && q != pb && q != pc && in_triangle(q, pa, pb, pc)
+                k != a
+                    && k != b
+                    && k != c
+                    && q != pa
+                    && q != pb
+                    && q != pc
+                    && in_triangle(q, pa, pb, pc)
             });
         if is_ear {
             tris.push([a, b, c]);
@@ -284,7 +292,10 @@ mod tests {
         let (t, m) = triangulate(&line, 4, &[], false);
         assert_eq!((t.len(), m), (2, Method::FannedFallback));
         let quad = pts(&[(0., 0.), (1., 0.), (1., 1.), (0., 1.)]);
-        assert_eq!(triangulate(&quad, 4, &[], true), (vec![[0, 1, 2], [0, 2, 3]], Method::Fan));
+        assert_eq!(
+            triangulate(&quad, 4, &[], true),
+            (vec![[0, 1, 2], [0, 2, 3]], Method::Fan)
+        );
         assert!(triangulate(&quad, 2, &[], false).0.is_empty());
     }
 }
