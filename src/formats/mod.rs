@@ -15,11 +15,12 @@
 //! - lists in `SceneDescription::files` every file it read besides the root (includes,
 //!   meshes), so a farm bundle carries them and a worker can import the scene again.
 //!
-//! Importers: LuxRender's `.lxs` ([`crate::lxs`]), Indigo's `.igs` ([`indigo`]) and
-//! LightWave's `.lws` ([`lightwave`]).
+//! Importers: LuxRender's `.lxs` ([`crate::lxs`]), Indigo's `.igs` ([`indigo`]), LightWave's
+//! `.lws` ([`lightwave`]) and mental ray's `.mi` ([`mi`]).
 
 pub mod indigo;
 pub mod lightwave;
+pub mod mi;
 
 use crate::lxs::{self, Loc, LxsError, LxsErrorKind, ParseOptions, SceneDescription};
 use std::io::Read;
@@ -37,6 +38,8 @@ pub enum SceneFormat {
     Indigo,
     /// LightWave scene (`.lws`, LWSC 3-5) with LWO2/LWOB objects, imported at one frame.
     LightWave,
+    /// mental ray scene text (`.mi`).
+    MentalRay,
 }
 
 impl SceneFormat {
@@ -45,12 +48,23 @@ impl SceneFormat {
             SceneFormat::Lxs => "LuxRender .lxs",
             SceneFormat::Indigo => "Indigo .igs",
             SceneFormat::LightWave => "LightWave .lws",
+            SceneFormat::MentalRay => "mental ray .mi",
+        }
+    }
+
+    /// The usual extension of a scene of this format (without the dot).
+    pub fn extension(self) -> &'static str {
+        match self {
+            SceneFormat::Lxs => "lxs",
+            SceneFormat::Indigo => "igs",
+            SceneFormat::LightWave => "lws",
+            SceneFormat::MentalRay => "mi",
         }
     }
 }
 
 /// File name extensions a user may submit as a scene (lower case, without the dot).
-pub const SCENE_EXTENSIONS: &[&str] = &["lxs", "igs", "lws"];
+pub const SCENE_EXTENSIONS: &[&str] = &["lxs", "igs", "lws", "mi"];
 
 /// The format of the scene file at `path`: by extension first, then by its first bytes
 /// (a scene saved without its usual extension).
@@ -64,6 +78,7 @@ pub fn detect(path: &Path) -> Result<SceneFormat, SceneError> {
         "lxs" | "lxo" | "lxm" => return Ok(SceneFormat::Lxs),
         "igs" => return Ok(SceneFormat::Indigo),
         "lws" => return Ok(SceneFormat::LightWave),
+        "mi" => return Ok(SceneFormat::MentalRay),
         _ => {}
     }
     let mut head = [0u8; 512];
@@ -90,6 +105,9 @@ pub fn detect_content(head: &[u8]) -> Option<SceneFormat> {
     let text = String::from_utf8_lossy(head);
     if lightwave::detect(&text) {
         return Some(SceneFormat::LightWave);
+    }
+    if mi::looks_like(&text) {
+        return Some(SceneFormat::MentalRay);
     }
     let first = text
         .lines()
@@ -128,6 +146,7 @@ pub fn load(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, SceneE
         SceneFormat::Lxs => lxs::parse_file(path, opts),
         SceneFormat::Indigo => indigo::load(path, opts),
         SceneFormat::LightWave => lightwave::load(path, opts),
+        SceneFormat::MentalRay => mi::parse_file(path, opts),
     }
 }
 

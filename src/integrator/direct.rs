@@ -1,8 +1,13 @@
 //! Next-event estimation shared by both integrators: shadow-ray samples of the lights with
-//! the selected strategy, and the matching MIS weight for BSDF-sampled hits on a light.
+//! the selected strategy, the matching MIS weight for BSDF-sampled hits on a light, and the
+//! emission a ray picks up where it meets an emitter ([`add_emission`]: an area light's
+//! surface, or a crossing of an area primitive, which rays pass through).
+//!
+//! `depth` is the number of bounces before a shading point (0 at the camera ray's hit): a
+//! light's shadow-ray count may drop from a depth on (`lownsamples` at `lowlevel`).
 
 use super::{add_group, DirectSettings};
-use crate::geometry::{Ray, SurfaceInteraction};
+use crate::geometry::{Interaction, Ray, SurfaceInteraction};
 use crate::light::LightSelector;
 use crate::material::Bsdf;
 use crate::sampler::SampleStream;
@@ -10,25 +15,82 @@ use crate::sampling::power_heuristic;
 use crate::scene::World;
 use crate::spectrum::Rgb;
 
-/// Expected number of shadow-ray draws on light `i` per estimate (n_i in the module docs).
-pub fn light_draws(scene: &World, settings: &DirectSettings, i: usize) -> f32 {
+/// Expected number of shadow-ray draws on light `i` per estimate at a shading point `depth`
+/// bounces down the path (n_i in the integrators' module docs).
+pub fn light_draws(scene: &World, settings: &DirectSettings, i: usize, depth: u32) -> f32 {
     let n = settings.shadow_rays as f32;
     match scene.selector() {
-        LightSelector::All => scene.lights().get(i).map_or(0.0, |l| l.nsamples() as f32) * n,
+        LightSelector::All => {
+            scene
+                .lights()
+                .get(i)
+                .map_or(0.0, |l| l.nsamples_at(depth) as f32)
+                * n
+        }
         LightSelector::One(d) => n * d.discrete_pdf(i),
     }
 }
 
-/// MIS weight of a BSDF-sampled direction (density `pdf_bsdf`) that reached light `i`, whose
-/// own sampling density for that direction is `pdf_light`.
+/// MIS weight of a BSDF-sampled direction (density `pdf_bsdf`) from a shading point at
+/// `depth` that reached light `i`, whose own sampling density for it is `pdf_light`.
 pub fn bsdf_hit_weight(
     scene: &World,
     settings: &DirectSettings,
     i: usize,
     pdf_bsdf: f32,
     pdf_light: f32,
+    depth: u32,
 ) -> f32 {
-    power_heuristic(pdf_bsdf, light_draws(scene, settings, i) * pdf_light)
+    power_heuristic(pdf_bsdf, light_draws(scene, settings, i, depth) * pdf_light)
+}
+
+/// How a ray reached an emitter: it decides the MIS weight and whether illumination falls
+/// off with distance.
+#[derive(Clone, Copy, Debug)]
+pub enum Arrival<'a> {
+    /// A camera ray (through pass-through surfaces only): full weight, no distance falloff,
+    /// and lights that are not `visible` are not seen.
+    Camera,
+    /// From this shading point after a specular bounce, or with light sampling off there:
+    /// full weight.
+    Unweighted(&'a Interaction),
+    /// A BSDF sample with this solid-angle density from a shading point at this depth:
+    /// weighted against light sampling.
+    Bsdf(&'a Interaction, f32, u32),
+}
+
+/// Adds `beta ×` the emission of light `i` at `si` (a point of its surface or a crossing),
+/// toward `si.wo`, to the light groups in `l`.
+#[allow(clippy::too_many_arguments)]
+pub fn add_emission(
+    scene: &World,
+    settings: &DirectSettings,
+    i: usize,
+    si: &SurfaceInteraction,
+    arrival: Arrival,
+    beta: Rgb,
+    l: &mut [Rgb],
+) {
+    let Some(light) = scene.lights().get(i) else {
+        return;
+    };
+    let from = match arrival {
+        Arrival::Camera if !light.visible() => return,
+        Arrival::Camera => None,
+        Arrival::Unweighted(p) | Arrival::Bsdf(p, _, _) => Some(p),
+    };
+    let le = light.le_at(si, from.map(|p| (si.it.p - p.p).length_squared()));
+    if le.is_black() {
+        return;
+    }
+    let w = match arrival {
+        Arrival::Bsdf(p, pdf, depth) => {
+            let pl = light.pdf_li(p, -si.wo, Some(si));
+            bsdf_hit_weight(scene, settings, i, pdf, pl, depth)
+        }
+        _ => 1.0,
+    };
+    add_group(l, light.group(), beta * le * w);
 }
 
 /// One shadow-ray sample of light `i`: f·L·w/p (not yet divided by the number of draws).
@@ -42,6 +104,7 @@ fn sample_one(
     bsdf: &Bsdf,
     s: &mut SampleStream,
     full_weight: bool,
+    depth: u32,
 ) -> Rgb {
     let u = s.next_2d();
     let u_pick = s.next_1d();
@@ -59,13 +122,14 @@ fn sample_one(
     let w = if ls.delta || full_weight {
         1.0
     } else {
-        let eff = light_draws(scene, settings, i);
+        let eff = light_draws(scene, settings, i, depth);
         power_heuristic(eff * ls.pdf, pdf_bsdf)
     };
     f * ls.li * (w / ls.pdf)
 }
 
-/// Adds `beta ×` the light-sampled direct lighting at `si` to the light groups in `l`.
+/// Adds `beta ×` the light-sampled direct lighting at `si` (a shading point `depth` bounces
+/// down the path) to the light groups in `l`.
 #[allow(clippy::too_many_arguments)]
 pub fn sample_lights(
     scene: &World,
@@ -75,15 +139,16 @@ pub fn sample_lights(
     s: &mut SampleStream,
     beta: Rgb,
     full_weight: bool,
+    depth: u32,
     l: &mut [Rgb],
 ) {
     match scene.selector() {
         LightSelector::All => {
             for (i, light) in scene.lights().iter().enumerate() {
-                let n = light.nsamples() * settings.shadow_rays;
+                let n = light.nsamples_at(depth) * settings.shadow_rays;
                 let mut sum = Rgb::BLACK;
                 for _ in 0..n {
-                    sum += sample_one(scene, settings, i, si, bsdf, s, full_weight);
+                    sum += sample_one(scene, settings, i, si, bsdf, s, full_weight, depth);
                 }
                 add_group(l, light.group(), beta * sum / n as f32);
             }
@@ -95,7 +160,7 @@ pub fn sample_lights(
                 if q <= 0.0 || i >= scene.lights().len() {
                     continue;
                 }
-                let c = sample_one(scene, settings, i, si, bsdf, s, full_weight);
+                let c = sample_one(scene, settings, i, si, bsdf, s, full_weight, depth);
                 let g = scene.lights()[i].group();
                 add_group(l, g, beta * c / (n as f32 * q));
             }

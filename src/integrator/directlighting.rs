@@ -2,9 +2,9 @@
 //! sample, combined with MIS) at the first hit, and recursion along perfectly specular
 //! reflection/refraction up to `maxdepth` (5) times.
 
-use super::direct::{bsdf_hit_weight, escaped, sample_lights};
-use super::{add_group, DirectSettings};
-use crate::geometry::{Ray, SurfaceInteraction};
+use super::direct::{add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival};
+use super::DirectSettings;
+use crate::geometry::{Interaction, Ray, SurfaceInteraction};
 use crate::material::Bsdf;
 use crate::plugin::Stmt;
 use crate::sampler::SampleStream;
@@ -33,9 +33,20 @@ impl DirectLightingIntegrator {
         let mut alpha = 1.0;
         let mut depth = 0;
         let mut pass = 0;
+        // The last specular vertex (the camera ray has none).
+        let mut prev = Interaction::default();
         loop {
             // Matched by reference: moving the hit out of the Option would copy it.
             let hit = scene.intersect(&ray);
+            let arrival = if depth == 0 {
+                Arrival::Camera
+            } else {
+                Arrival::Unweighted(&prev)
+            };
+            let t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+            scene.crossed_lights(&ray, t_hit, |i, c| {
+                add_emission(scene, &self.direct, i, c, arrival, beta, l)
+            });
             let Some(si) = &hit else {
                 if depth == 0 {
                     alpha = 0.0;
@@ -43,8 +54,8 @@ impl DirectLightingIntegrator {
                 escaped(scene, &ray, beta, l, |_| 1.0);
                 break;
             };
-            if let Some((_, light)) = scene.area_light(si.prim) {
-                add_group(l, light.common.group, beta * light.l(si, si.wo));
+            if let Some((i, _)) = scene.area_light(si.prim) {
+                add_emission(scene, &self.direct, i, si, arrival, beta, l);
             }
             let material = scene.material(si.prim);
             if material.is_null() {
@@ -58,8 +69,8 @@ impl DirectLightingIntegrator {
             pass = 0;
             let bsdf = material.bsdf(si, s.next_1d());
             if bsdf.has_non_specular() {
-                sample_lights(scene, &self.direct, si, &bsdf, s, beta, false, l);
-                self.bsdf_sample(scene, si, &bsdf, s, beta, l);
+                sample_lights(scene, &self.direct, si, &bsdf, s, beta, false, depth, l);
+                self.bsdf_sample(scene, si, &bsdf, s, beta, depth, l);
             }
             if depth >= self.max_depth {
                 break;
@@ -68,6 +79,7 @@ impl DirectLightingIntegrator {
             match bsdf.sample_f(si.wo, u, u2) {
                 Some(bs) if bs.specular && bs.pdf > 0.0 => {
                     beta *= bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
+                    prev = si.it;
                     ray = si.it.spawn_ray(bs.wi);
                     depth += 1;
                 }
@@ -80,7 +92,9 @@ impl DirectLightingIntegrator {
         alpha
     }
 
-    /// The BSDF-sampling half of the direct-lighting MIS estimate.
+    /// The BSDF-sampling half of the direct-lighting MIS estimate at a shading point `depth`
+    /// specular bounces from the camera.
+    #[allow(clippy::too_many_arguments)]
     fn bsdf_sample(
         &self,
         scene: &World,
@@ -88,6 +102,7 @@ impl DirectLightingIntegrator {
         bsdf: &Bsdf,
         s: &mut SampleStream,
         beta: Rgb,
+        depth: u32,
         l: &mut [Rgb],
     ) {
         let (u, u2) = (s.next_1d(), s.next_2d());
@@ -99,20 +114,21 @@ impl DirectLightingIntegrator {
         }
         let tp = beta * bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
         let ray = si.it.spawn_ray(bs.wi);
-        match &scene.intersect(&ray) {
+        let hit = scene.intersect(&ray);
+        let arrival = Arrival::Bsdf(&si.it, bs.pdf, depth);
+        let t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+        scene.crossed_lights(&ray, t_hit, |i, c| {
+            add_emission(scene, &self.direct, i, c, arrival, tp, l)
+        });
+        match &hit {
             Some(hit) => {
-                if let Some((i, light)) = scene.area_light(hit.prim) {
-                    let le = light.l(hit, hit.wo);
-                    if !le.is_black() {
-                        let pl = scene.lights()[i].pdf_li(&si.it, bs.wi, Some(hit));
-                        let w = bsdf_hit_weight(scene, &self.direct, i, bs.pdf, pl);
-                        add_group(l, light.common.group, tp * le * w);
-                    }
+                if let Some((i, _)) = scene.area_light(hit.prim) {
+                    add_emission(scene, &self.direct, i, hit, arrival, tp, l);
                 }
             }
             None => escaped(scene, &ray, tp, l, |i| {
                 let pl = scene.lights()[i].pdf_li(&si.it, bs.wi, None);
-                bsdf_hit_weight(scene, &self.direct, i, bs.pdf, pl)
+                bsdf_hit_weight(scene, &self.direct, i, bs.pdf, pl, depth)
             }),
         }
     }

@@ -4,8 +4,8 @@
 //! LuxRender's distributedpath does ([`crate::material::Compositing`]): hidden emission or
 //! surfaces, overridden alpha.
 
-use super::direct::{bsdf_hit_weight, escaped, sample_lights};
-use super::{add_group, DirectSettings};
+use super::direct::{add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival};
+use super::DirectSettings;
 use crate::geometry::{Interaction, Ray};
 use crate::plugin::{BuildError, Stmt};
 use crate::sampler::SampleStream;
@@ -76,6 +76,17 @@ impl PathIntegrator {
         loop {
             // Matched by reference: moving the hit out of the Option would copy it.
             let hit = scene.intersect(&ray);
+            let arrival = if depth == 0 {
+                Arrival::Camera
+            } else if specular || !dls {
+                Arrival::Unweighted(&prev)
+            } else {
+                Arrival::Bsdf(&prev, prev_pdf, depth - 1)
+            };
+            let t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+            scene.crossed_lights(&ray, t_hit, |i, c| {
+                add_emission(scene, &self.direct, i, c, arrival, beta, l)
+            });
             let Some(si) = &hit else {
                 if depth == 0 {
                     alpha = 0.0;
@@ -87,7 +98,7 @@ impl PathIntegrator {
                         }
                         let light = &scene.lights()[i];
                         let pl = light.pdf_li(&prev, ray.d.normalize_or_zero(), None);
-                        bsdf_hit_weight(scene, &self.direct, i, prev_pdf, pl)
+                        bsdf_hit_weight(scene, &self.direct, i, prev_pdf, pl, depth - 1)
                     });
                 }
                 break;
@@ -104,17 +115,8 @@ impl PathIntegrator {
                 alpha = a;
             }
             let emission = vis.is_none_or(|v| v.emission);
-            if let Some((i, light)) = scene.area_light(si.prim).filter(|_| emission) {
-                let le = light.l(si, si.wo);
-                if !le.is_black() {
-                    let w = if specular || !dls {
-                        1.0
-                    } else {
-                        let pl = scene.lights()[i].pdf_li(&prev, -si.wo, Some(si));
-                        bsdf_hit_weight(scene, &self.direct, i, prev_pdf, pl)
-                    };
-                    add_group(l, light.common.group, beta * le * w);
-                }
+            if let Some((i, _)) = scene.area_light(si.prim).filter(|_| emission) {
+                add_emission(scene, &self.direct, i, si, arrival, beta, l);
             }
             if material.is_null() {
                 pass += 1;
@@ -131,7 +133,7 @@ impl PathIntegrator {
             let last = depth + 1 >= self.max_depth;
             let bsdf = material.bsdf(si, s.next_1d());
             if dls && bsdf.has_non_specular() {
-                sample_lights(scene, &self.direct, si, &bsdf, s, beta, last, l);
+                sample_lights(scene, &self.direct, si, &bsdf, s, beta, last, depth, l);
             }
             if last {
                 break;

@@ -2,13 +2,16 @@
 //! normal, with LuxRender's power/efficacy normalisation (defaults 100 W, 17 lm/W:
 //! `gain *= power × efficacy / (area × π × Y(L))` when that is positive and finite).
 //! One light per shape; points are sampled uniformly by area through [`ShapeSampler`].
+//! The emission profile ([`EmissionProfile`]: falloff exponent, cosine exponent, two sides,
+//! camera visibility) is luxfarm's addition; its defaults are LuxRender's area light. This is
+//! also mental ray's `object` area light: the emitting geometry is an instance's own.
 
+use super::emitter::EmissionProfile;
 use super::{power_gain, Emission, LightColor, LightCommon, LightSample, ShapeSampler};
 use crate::geometry::{Interaction, Shading, SurfaceInteraction};
 use crate::lxs::ParamSet;
 use crate::spectrum::Rgb;
 use glam::Vec2;
-use std::f32::consts::PI;
 
 #[derive(Debug)]
 pub struct AreaLight {
@@ -19,6 +22,7 @@ pub struct AreaLight {
     /// gain × power normalisation.
     pub scale: f32,
     pub area: f32,
+    pub profile: EmissionProfile,
     y: f32,
 }
 
@@ -29,25 +33,29 @@ impl AreaLight {
         shape: u32,
         area: f32,
         common: LightCommon,
+        profile: EmissionProfile,
     ) -> Self {
         let gain = params.float_or("gain", 1.0);
         let power = params.float_or("power", 100.0);
         let efficacy = params.float_or("efficacy", 17.0);
-        let scale = gain * power_gain(power, efficacy, area * PI, color.y);
+        let scale = gain * power_gain(power, efficacy, area * profile.flux_per_area(), color.y);
         AreaLight {
             common,
             shape,
             emission: color.emission.clone(),
             scale,
             area,
+            profile,
             y: color.y,
         }
     }
 
-    /// Radiance leaving the light at `si` in direction `w` (unit).
-    pub fn l(&self, si: &SurfaceInteraction, w: glam::Vec3A) -> Rgb {
-        if si.it.n.dot(w) > 0.0 {
-            self.emission.eval(si) * self.scale
+    /// Radiance leaving the light at `si` in direction `w` (unit), toward a point at squared
+    /// distance `d2` (`None`: seen by the camera; see [`EmissionProfile::factor`]).
+    pub fn le(&self, si: &SurfaceInteraction, w: glam::Vec3A, d2: Option<f32>) -> Rgb {
+        let f = self.profile.factor(si.it.n.dot(w), d2);
+        if f > 0.0 {
+            self.emission.eval(si) * (self.scale * f)
         } else {
             Rgb::BLACK
         }
@@ -67,7 +75,7 @@ impl AreaLight {
             return None;
         }
         let wi = d / d2.sqrt();
-        let cos_l = it.n.dot(-wi);
+        let cos_l = it.n.dot(-wi).abs();
         if cos_l <= 0.0 {
             return None;
         }
@@ -81,8 +89,12 @@ impl AreaLight {
             },
             ..Default::default()
         };
+        let li = self.le(&si, -wi, Some(d2));
+        if li.is_black() {
+            return None;
+        }
         Some(LightSample {
-            li: self.l(&si, -wi),
+            li,
             wi,
             pdf: pdf_area * d2 / cos_l,
             p_light: it,
@@ -103,7 +115,7 @@ impl AreaLight {
     }
 
     pub fn power(&self) -> f32 {
-        self.scale * self.area * PI * self.y
+        self.scale * self.area * self.profile.flux_per_area() * self.y
     }
 }
 
@@ -134,11 +146,8 @@ mod tests {
             emission: Emission::Const(Rgb::splat(2.0)),
             y: 2.0,
         };
-        let common = LightCommon {
-            group: 0,
-            nsamples: 1,
-        };
-        let l = AreaLight::new(&ps, &color, 0, 1.0, common);
+        let common = LightCommon::single(0);
+        let l = AreaLight::new(&ps, &color, 0, 1.0, common, EmissionProfile::default());
         let below = Interaction::default();
         let s = l.sample_li(&below, Vec2::splat(0.5), 0.0, &Square).unwrap();
         assert!((s.li.r - 2.0).abs() < 1e-6 && (s.pdf - 1.0).abs() < 1e-5);
@@ -150,7 +159,14 @@ mod tests {
             .sample_li(&above, Vec2::splat(0.5), 0.0, &Square)
             .is_none());
         // Default power 100 W × 17 lm/W: flux = π · area · Y(L · gain).
-        let l = AreaLight::new(&ParamSet::new(), &color, 0, 1.0, common);
+        let l = AreaLight::new(
+            &ParamSet::new(),
+            &color,
+            0,
+            1.0,
+            common,
+            EmissionProfile::default(),
+        );
         assert!((l.power() - 1700.0).abs() < 1e-2);
     }
 
@@ -169,10 +185,8 @@ mod tests {
             &color,
             0,
             1.0,
-            LightCommon {
-                group: 0,
-                nsamples: 1,
-            },
+            LightCommon::single(0),
+            EmissionProfile::default(),
         );
         let r = Interaction::default();
         let n = 256;

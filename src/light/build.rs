@@ -1,5 +1,6 @@
 //! Building lights from their statements: [`Light::build`] for a `LightSource` (point, spot,
-//! distant, infinite, and the daylight plugins of [`super::sunsky`]) and
+//! distant, infinite, the daylight plugins of [`super::sunsky`], and the area primitives
+//! rectangle, disc, sphere, cylinder of [`super::primitive`]) and
 //! [`Light::build_area`] for an `AreaLightSource` once its shape is in the geometry. Both read
 //! the `L` colour or texture through the scene's [`TextureSet`], the parameters every light
 //! shares ([`LightCommon`]), and hand the rest to the light's own file.
@@ -10,8 +11,8 @@
 //! ```
 
 use super::{
-    sunsky, AreaLight, DistantLight, Emission, InfiniteLight, Light, LightColor, LightCommon,
-    PointLight, SpotLight,
+    sunsky, AreaLight, DistantLight, Emission, EmissionProfile, InfiniteLight, Light, LightColor,
+    LightCommon, PointLight, PrimShape, PrimitiveLight, SpotLight,
 };
 use crate::lxs::{Entity, LightDesc, ParamSet};
 use crate::plugin::BuildError;
@@ -21,7 +22,8 @@ use std::path::Path;
 use std::sync::Arc;
 
 /// The `LightSource` plugin names luxfarm builds.
-pub const KINDS: &str = "point, spot, distant, infinite, sun, sky, sunsky, area";
+pub const KINDS: &str =
+    "point, spot, distant, infinite, sun, sky, sunsky, rectangle, disc, sphere, cylinder";
 
 impl Light {
     /// Builds the light(s) of a `LightSource` statement; `group` is its film light group.
@@ -39,6 +41,12 @@ impl Light {
             return built;
         }
         let color = light_color(textures, p)?;
+        if let Some(shape) = PrimShape::build(&e.kind, p, l2w) {
+            let err =
+                |m: String| BuildError::new(&e.loc, format!("LightSource \"{}\": {m}", e.kind));
+            let light = PrimitiveLight::new(p, &color, common, shape.map_err(err)?).map_err(err)?;
+            return Ok(vec![Light::Primitive(light)]);
+        }
         Ok(vec![match e.kind.as_str() {
             "point" => Light::Point(PointLight::new(p, l2w, &color, common)),
             "spot" => Light::Spot(SpotLight::new(p, l2w, &color, common)),
@@ -77,8 +85,10 @@ impl Light {
         let p = &entity.params;
         let color = light_color(textures, p)?;
         let common = LightCommon::from_params(p, group);
+        let profile = EmissionProfile::from_params(p)
+            .map_err(|m| BuildError::new(&entity.loc, format!("AreaLightSource \"area\": {m}")))?;
         Ok(Light::Area(AreaLight::new(
-            p, &color, emitter, area, common,
+            p, &color, emitter, area, common, profile,
         )))
     }
 }

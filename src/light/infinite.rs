@@ -179,10 +179,7 @@ mod tests {
     use super::*;
 
     fn common() -> LightCommon {
-        LightCommon {
-            group: 0,
-            nsamples: 1,
-        }
+        LightCommon::single(0)
     }
 
     #[test]

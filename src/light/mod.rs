@@ -6,13 +6,21 @@
 //!   `efficacy` (default 17 lm/W) / (area × π × Y(L)) is positive and finite, the gain is
 //!   multiplied by it, so the lamp emits `power × efficacy` lumens whatever its size.
 //!   Scenes that want raw `L` write `"float power" [0]`. `nsamples` (1) shadow rays.
+//!   luxfarm adds the emission profile of [`emitter`] (`falloffexponent`, `cosineexponent`,
+//!   `twosided`, `visible`), defaulting to LuxRender's behaviour.
+//! - **rectangle**, **disc**, **sphere**, **cylinder** (luxfarm's, after mental ray's area
+//!   primitives): emitters that are not scene geometry (see [`primitive`]); rays pass
+//!   through them and pick up their emission.
 //! - **point**: intensity `L × gain` (W/sr); `power`/`efficacy` (default 0) normalise by
 //!   4π·Y(L). `from` offsets the position. luxfarm's own `falloffexponent` k (default 2, the
 //!   physical inverse square) sets the falloff 1/d^k for scenes imported from formats whose
-//!   lights do not fall off physically (LightWave, mental ray); spot lights take it too.
+//!   lights do not fall off physically (LightWave, mental ray); spot lights take it too
+//!   (see [`falloff`]).
 //! - **spot**: like point, times the falloff ((cosθ − cos total)/(cos start − cos total))⁴
 //!   between `coneangle − conedeltaangle` and `coneangle` (30°, 5°); normalisation by
-//!   2π(1 − (cos start + cos total)/2)·Y(L). Direction `from` → `to`.
+//!   2π(1 − (cos start + cos total)/2)·Y(L). Direction `from` → `to`. With luxfarm's
+//!   `spread` (the cosine of the outer half-angle, mental ray's) the cone falls off linearly
+//!   in the cosine from `cone` (inner cosine) to `spread`, as mental ray's spot shaders do.
 //! - **distant**: irradiance `L × gain` from direction `to → from` (light travels from `from`
 //!   to `to`); `theta` > 0 (degrees) spreads it over a cone of directions.
 //! - **infinite**: radiance `L × gain` (× the lat-long map `mapname`, raised to `gamma`) for
@@ -23,24 +31,36 @@
 //!   of spectral radiance from the turbidity and an analytic sky (see [`sun`], [`sky`],
 //!   [`sunsky`]).
 //!
+//! Every light's `nsamples` (1) is the number of shadow rays per direct-lighting estimate;
+//! `lownsamples` replaces it from path depth `lowlevel` on (0: never), as mental ray's
+//! `low_samples` at `low_level`.
+//!
 //! The film side: LuxRender's camera ray weight is 1 and the sample pipeline adds the
 //! radiance's XYZ times the filter weight, with the filter weight summed alongside; the
 //! pixel value is the weighted mean (no pixel-count or spp factor for eye-path integrators).
 
 pub mod area;
 mod build;
+pub mod cylinder;
+pub mod disc;
 pub mod distant;
+pub mod emitter;
+pub mod falloff;
 pub mod infinite;
 pub mod latlong;
 pub mod point;
+pub mod primitive;
+pub mod primshape;
+pub mod rectangle;
 pub mod sky;
+pub mod sphere;
 pub mod spot;
 pub mod strategy;
 pub mod sun;
 pub mod sunsky;
 pub mod sunsky_data;
 
-use crate::geometry::{Interaction, SurfaceInteraction};
+use crate::geometry::{Interaction, Ray, SurfaceInteraction};
 use crate::lxs::ParamSet;
 use crate::spectrum::Rgb;
 use glam::{DMat4, Mat4, Vec2, Vec3A};
@@ -49,8 +69,11 @@ use std::sync::Arc;
 pub use area::AreaLight;
 pub use build::KINDS;
 pub use distant::DistantLight;
+pub use emitter::EmissionProfile;
+pub use falloff::{distance_falloff, falloff_exponent, mental_ray_exponent, radiance_falloff};
 pub use infinite::InfiniteLight;
 pub use point::PointLight;
+pub use primitive::{PrimShape, PrimitiveLight, PRIMITIVE_KINDS};
 pub use sky::SkyLight;
 pub use spot::SpotLight;
 pub use strategy::{LightSelector, LightStrategy};
@@ -142,19 +165,46 @@ impl LightSample {
 }
 
 /// Parameters every light shares.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightCommon {
     /// Index of its light group in the film.
     pub group: usize,
     /// Shadow rays per direct-lighting estimate (`nsamples`).
     pub nsamples: u32,
+    /// Shadow rays from depth `low_level` on (`lownsamples`, default `nsamples`).
+    pub low_nsamples: u32,
+    /// The path depth (bounces before the shading point) where `low_nsamples` takes over
+    /// (`lowlevel`; 0: never).
+    pub low_level: u32,
 }
 
 impl LightCommon {
     pub fn from_params(params: &ParamSet, group: usize) -> LightCommon {
+        let nsamples = params.int_or("nsamples", 1).max(1) as u32;
         LightCommon {
             group,
-            nsamples: params.int_or("nsamples", 1).max(1) as u32,
+            nsamples,
+            low_nsamples: params.int_or("lownsamples", nsamples as i32).max(1) as u32,
+            low_level: params.int_or("lowlevel", 0).max(0) as u32,
+        }
+    }
+
+    /// One shadow ray at every depth, in film group `group`.
+    pub fn single(group: usize) -> LightCommon {
+        LightCommon {
+            group,
+            nsamples: 1,
+            low_nsamples: 1,
+            low_level: 0,
+        }
+    }
+
+    /// Shadow rays per estimate at a shading point `depth` bounces down the path.
+    pub fn nsamples_at(&self, depth: u32) -> u32 {
+        if self.low_level > 0 && depth >= self.low_level {
+            self.low_nsamples
+        } else {
+            self.nsamples
         }
     }
 }
@@ -166,6 +216,8 @@ pub enum Light {
     Distant(DistantLight),
     Infinite(Box<InfiniteLight>),
     Area(AreaLight),
+    /// Rectangle, disc, sphere or cylinder: an emitter that is not scene geometry.
+    Primitive(PrimitiveLight),
     Sun(SunLight),
     Sky(Box<SkyLight>),
 }
@@ -178,6 +230,7 @@ impl Light {
             Light::Distant(l) => &l.common,
             Light::Infinite(l) => &l.common,
             Light::Area(l) => &l.common,
+            Light::Primitive(l) => &l.common,
             Light::Sun(l) => &l.common,
             Light::Sky(l) => &l.common,
         }
@@ -191,12 +244,60 @@ impl Light {
         self.common().nsamples
     }
 
+    /// Shadow rays per estimate at a shading point `depth` bounces down the path.
+    pub fn nsamples_at(&self, depth: u32) -> u32 {
+        self.common().nsamples_at(depth)
+    }
+
+    /// True for the lights that are not geometry (found along rays by [`Self::crossings`]).
+    pub fn is_primitive(&self) -> bool {
+        matches!(self, Light::Primitive(_))
+    }
+
+    /// Whether camera rays see the light's emission (area emitters with `visible` false do
+    /// not; every other light is either invisible anyway or at infinity).
+    pub fn visible(&self) -> bool {
+        match self {
+            Light::Area(l) => l.profile.visible,
+            Light::Primitive(l) => l.profile.visible,
+            _ => true,
+        }
+    }
+
+    /// Calls `f` with each point where `ray` (0 < t < `t_max`) passes through the light
+    /// (primitive lights only; others are found as geometry or at infinity).
+    pub fn crossings(&self, ray: &Ray, t_max: f32, f: &mut dyn FnMut(&SurfaceInteraction)) {
+        if let Light::Primitive(l) = self {
+            l.crossings(ray, t_max, f);
+        }
+    }
+
+    /// Radiance leaving `si` (a point of this area emitter) toward `si.wo`, to a point at
+    /// squared distance `d2` (`None`: seen by the camera, which no falloff applies to).
+    pub fn le_at(&self, si: &SurfaceInteraction, d2: Option<f32>) -> Rgb {
+        match self {
+            Light::Area(l) => l.le(si, si.wo, d2),
+            Light::Primitive(l) => {
+                let q = primshape::PrimPoint {
+                    p: si.it.p,
+                    n: si.it.n,
+                };
+                l.le(&q, si.wo, d2)
+            }
+            _ => Rgb::BLACK,
+        }
+    }
+
     /// True for lights a BSDF-sampled ray can never hit (point, spot, sharp distant).
     pub fn is_delta(&self) -> bool {
         match self {
             Light::Point(_) | Light::Spot(_) => true,
             Light::Distant(l) => l.is_delta(),
-            Light::Infinite(_) | Light::Area(_) | Light::Sun(_) | Light::Sky(_) => false,
+            Light::Infinite(_)
+            | Light::Area(_)
+            | Light::Primitive(_)
+            | Light::Sun(_)
+            | Light::Sky(_) => false,
         }
     }
 
@@ -234,6 +335,7 @@ impl Light {
             Light::Distant(l) => l.sample_li(r, u),
             Light::Infinite(l) => l.sample_li(r, u),
             Light::Area(l) => l.sample_li(r, u, u_pick, shapes),
+            Light::Primitive(l) => l.sample_li(r, u),
             Light::Sun(l) => l.sample_li(r, u),
             Light::Sky(l) => l.sample_li(r, u),
         }?;
@@ -241,13 +343,15 @@ impl Light {
     }
 
     /// Solid-angle density with which [`Self::sample_li`] picks `wi` from `r`; for area
-    /// lights `hit` is where a ray along `wi` met the light.
+    /// lights `hit` is where a ray along `wi` met the light (for primitives, the crossing;
+    /// without one, the first crossing along `wi`).
     pub fn pdf_li(&self, r: &Interaction, wi: Vec3A, hit: Option<&SurfaceInteraction>) -> f32 {
         match self {
             Light::Point(_) | Light::Spot(_) => 0.0,
             Light::Distant(l) => l.pdf_li(wi),
             Light::Infinite(l) => l.pdf_li(wi),
             Light::Area(l) => hit.map_or(0.0, |h| l.pdf_li(r, h)),
+            Light::Primitive(l) => hit.map_or_else(|| l.pdf_li(r, wi), |h| l.pdf_at(r, h)),
             Light::Sun(l) => l.pdf_li(wi),
             Light::Sky(l) => l.pdf_li(wi),
         }
@@ -273,6 +377,7 @@ impl Light {
             Light::Distant(l) => l.power(),
             Light::Infinite(l) => l.power(),
             Light::Area(l) => l.power(),
+            Light::Primitive(l) => l.power(),
             Light::Sun(l) => l.power(),
             Light::Sky(l) => l.power(),
         };
@@ -292,29 +397,6 @@ pub fn power_gain(power: f32, efficacy: f32, norm: f32, y: f32) -> f32 {
         f
     } else {
         1.0
-    }
-}
-
-/// How a delta light's intensity falls off with the squared distance `d2`: `1 / d^k` for the
-/// light's `falloffexponent` k (LuxRender's lights are physical, k = 2; scenes imported
-/// from LightWave or mental ray may ask for 0 or 1). k = 2 takes the exact `1 / d2` path.
-pub fn distance_falloff(d2: f32, exponent: f32) -> f32 {
-    if exponent == 2.0 {
-        1.0 / d2
-    } else if exponent == 0.0 {
-        1.0
-    } else {
-        d2.powf(-0.5 * exponent)
-    }
-}
-
-/// The `falloffexponent` parameter of point and spot lights (2 when absent), finite and >= 0.
-pub fn falloff_exponent(params: &ParamSet) -> f32 {
-    let k = params.float_or("falloffexponent", 2.0);
-    if k.is_finite() && k >= 0.0 {
-        k
-    } else {
-        2.0
     }
 }
 

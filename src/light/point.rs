@@ -79,10 +79,7 @@ mod tests {
                 emission: Emission::Const(Rgb::splat(3.0)),
                 y: 3.0,
             };
-            let common = LightCommon {
-                group: 0,
-                nsamples: 1,
-            };
+            let common = LightCommon::single(0);
             let l = PointLight::new(&ps, Mat4::IDENTITY, &color, common);
             let s = l.sample_li(&Interaction::default()).unwrap();
             assert!((s.li.g - want).abs() < 1e-6, "k={k}: {}", s.li.g);
@@ -97,10 +94,7 @@ mod tests {
             emission: Emission::Const(Rgb::splat(3.0)),
             y: 3.0,
         };
-        let common = LightCommon {
-            group: 0,
-            nsamples: 1,
-        };
+        let common = LightCommon::single(0);
         let l = PointLight::new(&ps, Mat4::IDENTITY, &color, common);
         let s = l.sample_li(&Interaction::default()).unwrap();
         assert!((s.li.g - 3.0 / 4.0).abs() < 1e-6);

@@ -1,5 +1,11 @@
 //! Spot light: a point light restricted to a cone from `from` toward `to`, with LuxRender's
-//! fourth-power falloff between `coneangle − conedeltaangle` and `coneangle`.
+//! fourth-power falloff between `coneangle − conedeltaangle` and `coneangle` (degrees).
+//!
+//! mental ray's spot (luxfarm's addition, used when `float spread` is given): `spread` is the
+//! cosine of the outer half-angle (nothing outside it), `cone` the cosine of the inner
+//! half-angle (full intensity inside; default `spread`, a hard edge), and between them the
+//! intensity falls off linearly in the cosine, (cosθ − spread)/(cone − spread), as
+//! mental ray's `mib_light_spot` and `physical_light` shaders compute it.
 
 use super::{
     distance_falloff, falloff_exponent, point3, power_gain, LightColor, LightCommon, LightSample,
@@ -21,7 +27,42 @@ pub struct SpotLight {
     pub falloff_exponent: f32,
     cos_total: f32,
     cos_falloff: f32,
+    shape: ConeShape,
     y: f32,
+}
+
+/// How intensity falls off between the inner and the outer cone.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum ConeShape {
+    /// LuxRender: the fourth power of the normalised cosine.
+    Quartic,
+    /// mental ray: linear in the cosine.
+    Linear,
+}
+
+/// The outer and inner cone cosines and their falloff shape from the parameters.
+fn cone(params: &ParamSet) -> (f32, f32, ConeShape) {
+    if let Some(spread) = params.float("spread") {
+        let spread = if spread.is_finite() {
+            spread.clamp(-1.0, 1.0)
+        } else {
+            0.0
+        };
+        let inner = params.float_or("cone", spread);
+        let inner = if inner.is_finite() {
+            inner.clamp(spread, 1.0)
+        } else {
+            spread
+        };
+        return (spread, inner, ConeShape::Linear);
+    }
+    let cone = params.float_or("coneangle", 30.0);
+    let delta = params.float_or("conedeltaangle", 5.0);
+    (
+        cone.to_radians().cos(),
+        (cone - delta).to_radians().cos(),
+        ConeShape::Quartic,
+    )
 }
 
 impl SpotLight {
@@ -29,13 +70,10 @@ impl SpotLight {
         let gain = params.float_or("gain", 1.0);
         let power = params.float_or("power", 0.0);
         let efficacy = params.float_or("efficacy", 0.0);
-        let cone = params.float_or("coneangle", 30.0);
-        let delta = params.float_or("conedeltaangle", 5.0);
         let from = point3(params.point("from").unwrap_or([0.0; 3]));
         let to = point3(params.point("to").unwrap_or([0.0, 0.0, 1.0]));
-        let cos_total = cone.to_radians().cos();
-        let cos_falloff = (cone - delta).to_radians().cos();
-        let norm = 2.0 * PI * (1.0 - 0.5 * (cos_falloff + cos_total));
+        let (cos_total, cos_falloff, shape) = cone(params);
+        let norm = cone_solid_angle(cos_total, cos_falloff);
         let scale = gain * power_gain(power, efficacy, norm, color.y);
         let axis = l2w.transform_vector3a(to - from).normalize_or(Vec3A::Z);
         SpotLight {
@@ -46,6 +84,7 @@ impl SpotLight {
             intensity: color.emission.eval(&SurfaceInteraction::default()) * scale,
             cos_total,
             cos_falloff,
+            shape,
             y: color.y * scale,
         }
     }
@@ -53,11 +92,14 @@ impl SpotLight {
     fn falloff(&self, cos: f32) -> f32 {
         if cos < self.cos_total {
             0.0
-        } else if cos > self.cos_falloff {
+        } else if cos >= self.cos_falloff {
             1.0
         } else {
             let d = (cos - self.cos_total) / (self.cos_falloff - self.cos_total);
-            d.powi(4)
+            match self.shape {
+                ConeShape::Quartic => d.powi(4),
+                ConeShape::Linear => d,
+            }
         }
     }
 
@@ -87,8 +129,15 @@ impl SpotLight {
     }
 
     pub fn power(&self) -> f32 {
-        self.y * 2.0 * PI * (1.0 - 0.5 * (self.cos_falloff + self.cos_total))
+        self.y * cone_solid_angle(self.cos_total, self.cos_falloff)
     }
+}
+
+/// The solid angle the power normalisation divides by: the full inner cone plus half the
+/// band between the cones (LuxRender's weighting for its quartic falloff; exact for the
+/// linear one, whose mean over the band, uniform in the cosine, is ½).
+fn cone_solid_angle(cos_total: f32, cos_falloff: f32) -> f32 {
+    2.0 * PI * (1.0 - 0.5 * (cos_falloff + cos_total))
 }
 
 #[cfg(test)]
@@ -102,10 +151,7 @@ mod tests {
             emission: Emission::Const(Rgb::WHITE),
             y: 1.0,
         };
-        let common = LightCommon {
-            group: 0,
-            nsamples: 1,
-        };
+        let common = LightCommon::single(0);
         let l = SpotLight::new(&ParamSet::new(), Mat4::IDENTITY, &color, common);
         // Light at the origin pointing +z: a point straight ahead is fully lit.
         let at = |p: Vec3A| Interaction {
@@ -123,5 +169,37 @@ mod tests {
         let a = 27.5f32.to_radians();
         let s = l.sample_li(&at(Vec3A::new(a.sin(), 0.0, a.cos()))).unwrap();
         assert!(s.li.r > 0.0 && s.li.r < 1.0);
+    }
+
+    #[test]
+    fn mental_ray_spread_falls_off_linearly_in_the_cosine() {
+        // spread cos 40°, inner cone cos 20°: at 30° the intensity is the cosine's share.
+        let color = LightColor {
+            emission: Emission::Const(Rgb::splat(4.0)),
+            y: 4.0,
+        };
+        let mut ps = ParamSet::new();
+        let (c40, c20) = (40f32.to_radians().cos(), 20f32.to_radians().cos());
+        ps.add("spread", crate::lxs::ParamValue::Float(vec![c40]));
+        ps.add("cone", crate::lxs::ParamValue::Float(vec![c20]));
+        let l = SpotLight::new(&ps, Mat4::IDENTITY, &color, LightCommon::single(0));
+        let at = |deg: f32| {
+            let a = deg.to_radians();
+            Interaction {
+                p: Vec3A::new(a.sin(), 0.0, a.cos()) * 2.0,
+                ..Default::default()
+            }
+        };
+        // Distance 2: intensity 4 gives 1 on axis.
+        assert!((l.sample_li(&at(0.0)).unwrap().li.r - 1.0).abs() < 1e-5);
+        assert!((l.sample_li(&at(15.0)).unwrap().li.r - 1.0).abs() < 1e-5);
+        let want = (30f32.to_radians().cos() - c40) / (c20 - c40);
+        assert!((l.sample_li(&at(30.0)).unwrap().li.r - want).abs() < 1e-5);
+        assert!(l.sample_li(&at(41.0)).is_none());
+        // Without an inner cone the edge is hard.
+        let mut hard = ParamSet::new();
+        hard.add("spread", crate::lxs::ParamValue::Float(vec![c40]));
+        let l = SpotLight::new(&hard, Mat4::IDENTITY, &color, LightCommon::single(0));
+        assert!((l.sample_li(&at(39.0)).unwrap().li.r - 1.0).abs() < 1e-5);
     }
 }

@@ -233,10 +233,7 @@ mod tests {
     use crate::spectrum::rgb_to_xyz;
 
     fn common() -> LightCommon {
-        LightCommon {
-            group: 0,
-            nsamples: 1,
-        }
+        LightCommon::single(0)
     }
 
     fn sun(dir: [f32; 3], extra: &[(&str, f32)]) -> SunLight {

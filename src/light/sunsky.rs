@@ -42,8 +42,9 @@ mod tests {
 
     fn common() -> LightCommon {
         LightCommon {
-            group: 2,
             nsamples: 3,
+            low_nsamples: 3,
+            ..LightCommon::single(2)
         }
     }
 

@@ -11,7 +11,7 @@ pub mod builder;
 pub mod describe;
 pub mod description;
 pub mod error;
-mod include;
+pub(crate) mod include;
 pub mod lexer;
 pub mod params;
 pub mod parser;

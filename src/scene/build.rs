@@ -100,6 +100,9 @@ impl World {
         let infinite = (0..lights.len())
             .filter(|&i| lights[i].is_infinite())
             .collect();
+        let primitive = (0..lights.len())
+            .filter(|&i| lights[i].is_primitive())
+            .collect();
         let selector = LightSelector::new(opts.light_strategy, &lights);
         if lights.is_empty() {
             let loc = desc
@@ -137,6 +140,7 @@ impl World {
             prims,
             lights,
             infinite,
+            primitive,
             emitters,
             selector,
         })

@@ -44,6 +44,8 @@ pub struct World {
     prims: Vec<PrimInfo>,
     lights: Vec<Light>,
     infinite: Vec<usize>,
+    /// Indices of the lights that are not geometry (area primitives), found along rays.
+    primitive: Vec<usize>,
     /// World shape of each area light (`AreaLight::shape` indexes this).
     emitters: Vec<ShapeId>,
     selector: LightSelector,
@@ -72,6 +74,21 @@ impl World {
 
     pub fn selector(&self) -> &LightSelector {
         &self.selector
+    }
+
+    /// Calls `f(light index, crossing)` for every point where `ray` (0 < t < `t_max`) passes
+    /// through an area primitive (lights that are not geometry and do not stop rays).
+    pub fn crossed_lights(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        mut f: impl FnMut(usize, &SurfaceInteraction),
+    ) {
+        for &i in &self.primitive {
+            if let Some(light) = self.lights.get(i) {
+                light.crossings(ray, t_max, &mut |si| f(i, si));
+            }
+        }
     }
 
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {

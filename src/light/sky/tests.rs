@@ -6,10 +6,7 @@ use crate::lxs::ParamValue;
 use crate::spectrum::rgb_to_xyz;
 
 fn common() -> LightCommon {
-    LightCommon {
-        group: 0,
-        nsamples: 1,
-    }
+    LightCommon::single(0)
 }
 
 fn sky(dir: [f32; 3], extra: &[(&str, f32)]) -> SkyLight {

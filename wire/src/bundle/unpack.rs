@@ -71,15 +71,14 @@ pub fn unpack(bytes: &[u8], file_name: &str, dest: &Path, limits: Limits) -> Res
     };
     match detect(bytes, file_name)? {
         Kind::Lxs => {
-            let by_content = match luxfarm::formats::detect_content(bytes) {
-                Some(luxfarm::formats::SceneFormat::Indigo) => "scene.igs",
-                _ => "scene.lxs",
-            };
+            let format = luxfarm::formats::detect_content(bytes)
+                .unwrap_or(luxfarm::formats::SceneFormat::Lxs);
+            let by_content = format!("scene.{}", format.extension());
             let base = Path::new(file_name)
                 .file_name()
                 .and_then(|s| s.to_str())
                 .filter(|s| super::is_scene_file(Path::new(s)))
-                .unwrap_or(by_content);
+                .unwrap_or(&by_content);
             let rel = safe_relative(base)?;
             budget.entry()?;
             budget.copy(bytes, &dest.join(&rel))?;
