@@ -9,6 +9,7 @@
 use crate::codec;
 use crate::error::{Result, ServerError};
 use luxfarm::atomic_write::write_bytes_atomic;
+use luxfarm::fileio::SceneFiles;
 pub use luxfarm::film::Film;
 use luxfarm::film::FilmParams;
 pub use luxfarm::halt::Convergence;
@@ -46,6 +47,12 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
     };
     let path = root.join(scene);
     let desc = luxfarm::formats::load(&path, &opts).map_err(|e| {
+        ServerError::BadRequest(format!("scene error: {}", strip_root(&e.to_string(), root)))
+    })?;
+    // Every file the scene names must lie inside the bundle, as the workers will require.
+    let base = path.parent().unwrap_or(root);
+    let files = SceneFiles::confined(root, base).map_err(ServerError::internal)?;
+    luxfarm_wire::bundle::check_scene_files(&desc, &files).map_err(|e| {
         ServerError::BadRequest(format!("scene error: {}", strip_root(&e.to_string(), root)))
     })?;
     let params = FilmParams::from_entity(desc.film.as_ref()).map_err(|e| {

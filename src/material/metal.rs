@@ -9,6 +9,7 @@ use super::bsdf::Lobes;
 use super::bxdf::microfacet::{Blinn, MicrofacetReflection};
 use super::nk_data::NkTable;
 use super::{Builder, MaterialError};
+use crate::fileio::FileError;
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;
 use crate::spectrum::Rgb;
@@ -40,30 +41,20 @@ pub fn roughness_pair(
 }
 
 fn load_nk(b: &mut Builder, e: &Entity, name: &str) -> NkTable {
-    let path = b.ctx.base_dir.join(name);
-    if path.is_file() {
-        match std::fs::read_to_string(&path)
-            .map_err(|err| err.to_string())
-            .and_then(|t| NkTable::parse(&t))
-        {
+    // A preset name is not a file name; anything else is looked up as a file first (through
+    // the scene's confined file access), as LuxRender does.
+    let loc = param_loc(&e.params, "name", &e.loc);
+    match b.ctx.files.read_to_string(name) {
+        Ok(text) => match NkTable::parse(&text) {
             Ok(t) => return t,
-            Err(err) => {
-                let loc = param_loc(&e.params, "name", &e.loc);
-                b.warn(
-                    &loc,
-                    format!(
-                        "cannot read nk file {}: {err}; using aluminium",
-                        path.display()
-                    ),
-                );
-            }
-        }
-    } else if NkTable::preset(name).is_none() {
-        let loc = param_loc(&e.params, "name", &e.loc);
-        b.warn(
+            Err(err) => b.warn(&loc, format!("nk file \"{name}\": {err}; using aluminium")),
+        },
+        Err(FileError::NotFound { .. }) if NkTable::preset(name).is_some() => {}
+        Err(FileError::NotFound { .. }) => b.warn(
             &loc,
             format!("metal \"{name}\" not found, using the default (aluminium)"),
-        );
+        ),
+        Err(err) => b.warn(&loc, format!("cannot read nk file: {err}; using aluminium")),
     }
     NkTable::preset(name)
         .or_else(|| NkTable::preset("aluminium"))

@@ -25,11 +25,11 @@ pub mod velvet;
 
 pub use bsdf::{Bsdf, BsdfSample, Lobes};
 
+use crate::fileio::SceneFiles;
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::{Diagnostic, Entity, Loc, SceneDescription};
 use crate::plugin::BuildError;
 use crate::texture::{FloatTex, TextureCtx, TextureError, TextureSet};
-use std::path::PathBuf;
 use std::sync::Arc;
 use thiserror::Error;
 
@@ -73,8 +73,9 @@ impl From<MaterialError> for BuildError {
 /// Where material files (nk data, images) are found.
 #[derive(Clone, Debug, Default)]
 pub struct MaterialCtx {
-    /// Directory of the scene's root file.
-    pub base_dir: PathBuf,
+    /// Where material files (nk data) are opened: relative to the scene's directory,
+    /// confined to it on a farm.
+    pub files: SceneFiles,
 }
 
 /// The closed set of materials.
@@ -299,7 +300,7 @@ impl MaterialSet {
         let mut textures = TextureSet::new(
             desc,
             TextureCtx {
-                base_dir: ctx.base_dir.clone(),
+                files: ctx.files.clone(),
             },
         );
         let mut set = MaterialSet::build_with_textures(desc, used, ctx, &mut textures)?;

@@ -10,6 +10,7 @@
 //! The world never sees the setup's types: it is told what it needs ([`WorldOptions`]).
 
 use crate::camera::{Camera, FilmGeometry};
+use crate::fileio::SceneFiles;
 use crate::film::{FilmError, FilmParams};
 use crate::filter::Filter;
 use crate::integrator::Integrator;
@@ -17,7 +18,6 @@ use crate::lxs::{Diagnostic, Loc, SceneDescription};
 use crate::plugin::{report_unused, warn, BuildError};
 use crate::sampler::Sampler;
 use crate::scene::{World, WorldOptions};
-use std::path::Path;
 
 /// Why a scene could not be set up for rendering; every variant names the place in the scene
 /// files.
@@ -47,9 +47,14 @@ pub struct Renderable {
 }
 
 impl Renderable {
-    /// Builds the setup, then the world; `base_dir` is the directory relative file names
-    /// resolve against.
-    pub fn build(desc: &SceneDescription, base_dir: &Path) -> Result<Renderable, SetupError> {
+    /// Builds the setup, then the world; `files` opens the files the scene names: a
+    /// directory (relative names resolve against it, as a local render does) or a
+    /// [`SceneFiles`] confined to a bundle.
+    pub fn build(
+        desc: &SceneDescription,
+        files: impl Into<SceneFiles>,
+    ) -> Result<Renderable, SetupError> {
+        let files = files.into();
         let mut warnings = Vec::new();
         let film_params = FilmParams::from_entity(desc.film.as_ref())?;
         let cam_desc = desc.camera.as_ref().ok_or_else(|| {
@@ -74,7 +79,7 @@ impl Renderable {
         let opts = WorldOptions {
             light_strategy: integrator.direct_settings().strategy,
         };
-        let world = World::build(desc, base_dir, opts, &mut warnings)?;
+        let world = World::build(desc, &files, opts, &mut warnings)?;
         if camera.needs_autofocus() {
             camera.autofocus(|r| world.intersect(r).map(|si| si.t));
         }

@@ -162,13 +162,12 @@ pub fn build(set: &mut TextureSet, t: &TextureDesc) -> Result<TexNode, TextureEr
         },
     };
     let mapping = Mapping2D::from_params(t)?;
-    let path = set.ctx.base_dir.join(&name);
     let image = set
         .images
-        .get(&path, gamma)
+        .get(&set.ctx.files, &name, gamma)
         .map_err(|message| TextureError::Image {
             loc: param_loc(p, "filename", loc),
-            path: path.display().to_string(),
+            path: name.clone(),
             message,
         })?;
     Ok(TexNode::Image(ImageTex {

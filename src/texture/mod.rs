@@ -19,12 +19,12 @@ pub mod scale;
 pub mod subtract;
 pub mod uv;
 
+use crate::fileio::SceneFiles;
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::{Diagnostic, Loc, ParamSet, SceneDescription, TextureDesc, TextureType};
 use crate::plugin::BuildError;
 use crate::spectrum::Rgb;
 use std::collections::HashMap;
-use std::path::PathBuf;
 use std::sync::Arc;
 use thiserror::Error;
 
@@ -69,8 +69,9 @@ impl From<TextureError> for BuildError {
 /// Where texture files are found.
 #[derive(Clone, Debug, Default)]
 pub struct TextureCtx {
-    /// Directory of the scene's root file: relative image names resolve against it.
-    pub base_dir: PathBuf,
+    /// Where image files are opened: relative to the scene's directory, confined to it on a
+    /// farm.
+    pub files: SceneFiles,
 }
 
 /// One node of a texture tree. Each variant is implemented in the file of its texture.

@@ -7,6 +7,7 @@ use crate::cache::Cache;
 use crate::link::{backoff, Link};
 use crate::Config;
 use anyhow::Context;
+use luxfarm::fileio::SceneFiles;
 use luxfarm::lxs::ParseOptions;
 use luxfarm::render::{Session, SessionOptions};
 use luxfarm_proto as pb;
@@ -69,6 +70,7 @@ pub async fn run_lease(
     };
     let rel = luxfarm_wire::bundle::safe_relative(&a.scene_path)?;
     let scene = dir.join(rel);
+    let root = dir.clone();
     let flags = Arc::new(Flags {
         stop: AtomicBool::new(false),
         want: AtomicBool::new(false),
@@ -87,7 +89,7 @@ pub async fn run_lease(
         let frame = a.frame;
         std::thread::Builder::new()
             .name("render".into())
-            .spawn(move || render_thread(&scene, frame, opts, &flags, &shutdown, &tx))?
+            .spawn(move || render_thread(&root, &scene, frame, opts, &flags, &shutdown, &tx))?
     };
     let hb = tokio::spawn(heartbeat_loop(
         link.clone(),
@@ -119,6 +121,7 @@ pub async fn run_lease(
 /// The render thread: passes until stopped; a delta whenever the uploader asks, and the last
 /// one at stop.
 fn render_thread(
+    root: &Path,
     scene: &Path,
     frame: Option<i64>,
     opts: SessionOptions,
@@ -131,9 +134,18 @@ fn render_thread(
         frame,
         ..ParseOptions::default()
     };
-    let desc = luxfarm::formats::load(scene, &parse).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let base = scene.parent().unwrap_or(Path::new("."));
-    let mut session = Session::new(&desc, base, opts).map_err(|e| anyhow::anyhow!("{e}"))?;
+    // Errors name files relative to the bundle, never the worker's cache path.
+    let shown = |e: &dyn std::fmt::Display| {
+        anyhow::anyhow!(
+            "{}",
+            e.to_string().replace(&format!("{}/", root.display()), "")
+        )
+    };
+    let desc = luxfarm::formats::load(scene, &parse).map_err(|e| shown(&e))?;
+    let base = scene.parent().unwrap_or(root);
+    // Every file the scene names is opened inside the bundle (luxfarm::fileio).
+    let files = SceneFiles::confined(root, base).map_err(|e| shown(&e))?;
+    let mut session = Session::new(&desc, files, opts).map_err(|e| shown(&e))?;
     *flags.cancel.lock().unwrap_or_else(|p| p.into_inner()) = Some(session.cancel_flag());
     if flags.stop.load(Ordering::SeqCst) {
         session.cancel_flag().store(true, Ordering::SeqCst);
