@@ -27,7 +27,7 @@ mod unpack;
 pub use check::{check_scene_files, FILE_PARAMS};
 pub use pack::{prepare, referenced_files, Upload};
 pub use path::safe_relative;
-pub use store::{hash_file, hex, is_hash, sha256_hex, write_canonical_tar};
+pub use store::{hash_dir, hash_file, hex, is_hash, sha256_hex, write_canonical_tar};
 pub use unpack::unpack;
 
 use crate::{Result, WireError};
