@@ -80,7 +80,10 @@ impl Farm {
                     db.set_job_state(&row.id, JobState::Failed, &reason, now)?;
                 }
                 self.touch();
-                Err(ServerError::Conflict(format!("job {} failed: {reason}", row.id)))
+                Err(ServerError::Conflict(format!(
+                    "job {} failed: {reason}",
+                    row.id
+                )))
             }
         }
     }
@@ -264,12 +267,7 @@ impl Farm {
     /// Merges one film delta of `worker`. A (lease, seq) already merged is acknowledged as a
     /// duplicate and ignored; a delta of the wrong layout is refused and leaves the job
     /// untouched.
-    pub fn upload(
-        &self,
-        worker: &str,
-        h: &pb::UploadHeader,
-        data: &[u8],
-    ) -> Result<pb::UploadAck> {
+    pub fn upload(&self, worker: &str, h: &pb::UploadHeader, data: &[u8]) -> Result<pb::UploadAck> {
         let started = Instant::now();
         self.seen(worker);
         let (_, row) = self.held_lease(worker, &h.lease_id)?;
@@ -366,13 +364,24 @@ impl Farm {
         rt: &JobRt,
         lease: &str,
     ) -> Result<pb::UploadAck> {
+        // Each lock is released before the next call takes it again (a guard made inside
+        // the struct expression would live to its end, and `grant` locks the store too).
+        let stop = self.lease_should_stop(lease);
+        let durable_seq = self.durable_seq(lease)?;
+        let budget = self.grant(row, rt, lease)?;
         Ok(pb::UploadAck {
             status: status.as_str().into(),
-            stop: self.lease_should_stop(lease),
-            durable_seq: lock(&self.db).durable_seq(lease)?,
+            stop,
+            durable_seq,
             master_instance: self.instance.clone(),
-            budget: self.grant(row, rt, lease)?,
+            budget,
         })
+    }
+
+    /// The highest sequence number of `lease` a checkpoint holds.
+    fn durable_seq(&self, lease: &str) -> Result<u64> {
+        let seq = lock(&self.db).durable_seq(lease)?;
+        Ok(seq)
     }
 
     /// A heartbeat of `worker` about its lease (empty: idle).
