@@ -51,7 +51,9 @@ pub struct Auth {
     header: Arc<RwLock<Option<MetadataValue<tonic::metadata::Ascii>>>>,
 }
 
-fn bearer(token: Option<&str>) -> Result<Option<MetadataValue<tonic::metadata::Ascii>>, ConnectError> {
+fn bearer(
+    token: Option<&str>,
+) -> Result<Option<MetadataValue<tonic::metadata::Ascii>>, ConnectError> {
     match token.filter(|t| !t.is_empty()) {
         Some(t) => Ok(Some(
             format!("Bearer {t}")
@@ -103,22 +105,23 @@ pub fn explain(s: &Status) -> String {
     }
     let hint = if text.contains("CaUsedAsEndEntity") {
         Some(
-            "the master's certificate is a CA certificate used as a server certificate: give \
-             the master a server certificate signed by a CA (`luxfarm certs` makes both) and \
-             pass the CA with --ca-cert",
+            "the master's certificate is a CA certificate (basicConstraints CA:TRUE, what \
+             `openssl req -x509` makes by default) used as a server certificate: make it with \
+             `-addext basicConstraints=critical,CA:FALSE`, or sign a server certificate with \
+             a CA and pass the CA with --ca-cert",
         )
     } else if text.contains("UnknownIssuer") {
         Some(
             "the master's certificate is signed by a CA this client does not trust: pass that \
-             CA with --ca-cert (`luxfarm certs` writes it as ca.pem)",
+             CA (or the self-signed certificate itself) with --ca-cert",
         )
     } else if text.contains("NotValidForName") {
         Some(
             "the master's certificate does not name the host in --master: make its certificate \
-             with that name (`luxfarm certs --name HOST`)",
+             with that name in subjectAltName, or reach the master by a name it holds",
         )
     } else if text.contains("Expired") {
-        Some("the master's certificate has expired: make a new one (`luxfarm certs`)")
+        Some("the master's certificate has expired: give the master a new one")
     } else {
         None
     };
@@ -141,7 +144,11 @@ pub fn channel(
 }
 
 /// A lazily connected channel to the master at `url` with a given (shared) interceptor.
-pub fn channel_with(url: &str, auth: Auth, ca_cert: Option<&Path>) -> Result<AuthChannel, ConnectError> {
+pub fn channel_with(
+    url: &str,
+    auth: Auth,
+    ca_cert: Option<&Path>,
+) -> Result<AuthChannel, ConnectError> {
     let ch = endpoint(url, ca_cert)?.connect_lazy();
     Ok(InterceptedService::new(ch, auth))
 }

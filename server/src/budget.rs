@@ -96,7 +96,10 @@ mod tests {
         // target 1000 samples, passes of 10: two leases asking in turn, rendering what they
         // are given, until the pool is empty.
         let target = Some(1000.0);
-        let mut m = HashMap::from([("a".to_string(), lease(None)), ("b".to_string(), lease(None))]);
+        let mut m = HashMap::from([
+            ("a".to_string(), lease(None)),
+            ("b".to_string(), lease(None)),
+        ]);
         let mut merged = 0.0;
         for _ in 0..200 {
             for id in ["a", "b"] {
@@ -120,7 +123,10 @@ mod tests {
     #[test]
     fn an_ended_lease_gives_back_what_it_did_not_deliver() {
         let target = Some(100.0);
-        let mut m = HashMap::from([("a".to_string(), lease(None)), ("b".to_string(), lease(None))]);
+        let mut m = HashMap::from([
+            ("a".to_string(), lease(None)),
+            ("b".to_string(), lease(None)),
+        ]);
         let a = grant(&mut m, "a", target, 0.0, 10.0).unwrap();
         assert!(a > 0.0 && a <= 100.0);
         // b takes the rest.

@@ -109,8 +109,8 @@ impl Config {
         }
         if !self.listen.ip().is_loopback() && self.tls_cert.is_none() && !self.allow_plaintext {
             return Err(format!(
-                "listening on {} (not loopback) needs TLS: --tls-cert and --tls-key (make a CA \
-                 and a server certificate with `luxfarm certs`), or --allow-plaintext behind a \
+                "listening on {} (not loopback) needs TLS: --tls-cert and --tls-key (a server \
+                 certificate, not a CA certificate, and its key), or --allow-plaintext behind a \
                  proxy that terminates TLS",
                 self.listen
             ));

@@ -80,8 +80,7 @@ pub fn check_identity(db: &Db, dir: &Path) -> Result<()> {
         )),
         (None, found) => {
             let jobs = db.job_count()?;
-            if jobs == 0 && (has_entries(&dir.join("jobs")) || has_entries(&dir.join("bundles")))
-            {
+            if jobs == 0 && (has_entries(&dir.join("jobs")) || has_entries(&dir.join("bundles"))) {
                 return refuse(
                     "farm.sqlite holds no jobs, but jobs/ or bundles/ hold a farm's files".into(),
                 );
@@ -152,8 +151,11 @@ pub fn checkpoint_rel(job: &str, generation: i64) -> String {
     format!("jobs/{job}/checkpoint-{generation}.lxd")
 }
 
+/// A worker to resume, with the lease it holds as (job id, lease id).
+pub type ResumedWorker = (WorkerRow, Option<(String, String)>);
+
 /// The workers holding open leases, each with its lease (job, lease), to resume.
-pub fn resume_workers(db: &Db) -> Result<Vec<(WorkerRow, Option<(String, String)>)>> {
+pub fn resume_workers(db: &Db) -> Result<Vec<ResumedWorker>> {
     let mut out = Vec::new();
     for lease in db.open_leases()? {
         if let Some(w) = db.worker(&lease.worker_id)? {

@@ -280,8 +280,8 @@ impl pb::worker_server::Worker for WorkerService {
         };
         let (farm, w, hh) = (self.0.clone(), worker.clone(), h.clone());
         blocking(move || farm.check_upload(&w, &hh)).await?;
-        let size = usize::try_from(h.size)
-            .map_err(|_| Status::resource_exhausted("delta too large"))?;
+        let size =
+            usize::try_from(h.size).map_err(|_| Status::resource_exhausted("delta too large"))?;
         let _receiving = self
             .0
             .receive_slots

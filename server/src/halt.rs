@@ -204,7 +204,8 @@ fn write_checkpoint(farm: &Farm, rt: &JobRt, row: &JobRow) -> Result<u64> {
     let generation = row.ckpt_gen + 1;
     let rel = checkpoint_rel(&rt.id, generation);
     let path = farm.cfg.data_dir.join(&rel);
-    scene::write_checkpoint(&film, &path).map_err(|e| ServerError::Internal(format!("{rel}: {e}")))?;
+    scene::write_checkpoint(&film, &path)
+        .map_err(|e| ServerError::Internal(format!("{rel}: {e}")))?;
     // The rename is made durable before the database points at the new file.
     std::fs::File::open(&dir)
         .and_then(|d| d.sync_all())
@@ -236,7 +237,10 @@ pub fn load_checkpoint(farm: &Farm, row: &JobRow) -> Result<Option<Film>> {
 
 /// Path of the job's final (or latest) checkpoint.
 pub fn latest_checkpoint(farm: &Farm, row: &JobRow) -> Option<std::path::PathBuf> {
-    let p = farm.cfg.data_dir.join(checkpoint_rel(&row.id, row.ckpt_gen));
+    let p = farm
+        .cfg
+        .data_dir
+        .join(checkpoint_rel(&row.id, row.ckpt_gen));
     (row.ckpt_gen > 0 && p.exists()).then_some(p)
 }
 

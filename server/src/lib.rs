@@ -42,13 +42,13 @@ pub(crate) mod grpc;
 pub(crate) mod halt;
 pub(crate) mod lease;
 pub(crate) mod metrics;
-pub(crate) mod registry;
 #[expect(
     dead_code,
     reason = "`render` and `Output::version` are unused since the module became private; the \
               output module is being rewritten (issue 12 part 2), which uses or removes them"
 )]
 pub(crate) mod output;
+pub(crate) mod registry;
 pub(crate) mod rest;
 pub(crate) mod scene;
 pub(crate) mod serve;
@@ -57,9 +57,9 @@ pub(crate) mod views;
 /// The delta codec, as `crate::codec` (checkpoints are written and read through it).
 pub(crate) use luxfarm_wire::codec;
 
+pub use admission::SubmitOptions;
 pub use config::Config;
 pub use error::ServerError;
-pub use admission::SubmitOptions;
 pub use metrics::{MergeReport, MergeTiming};
 pub use serve::{start, Running};
 

@@ -75,9 +75,9 @@ pub fn router(farm: AppState) -> Router {
         .route("/api/v1/openapi.json", get(openapi_json))
         .method_not_allowed_fallback(method_not_allowed)
         .layer(axum::extract::DefaultBodyLimit::max(body_limit))
-        .layer(axum::middleware::from_fn(move |req: Request, next: axum::middleware::Next| {
-            time_limited(timeout, req, next)
-        }))
+        .layer(axum::middleware::from_fn(
+            move |req: Request, next: axum::middleware::Next| time_limited(timeout, req, next),
+        ))
         .with_state(farm)
 }
 

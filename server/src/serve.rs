@@ -112,7 +112,10 @@ async fn client_faults(mut resp: Response) -> Response {
         .any(|p| m.starts_with(p))
     });
     if internal && decoding {
-        h.insert("grpc-status", HeaderValue::from(tonic::Code::InvalidArgument as i32));
+        h.insert(
+            "grpc-status",
+            HeaderValue::from(tonic::Code::InvalidArgument as i32),
+        );
     }
     resp
 }
@@ -245,7 +248,7 @@ async fn guard(State(farm): State<Arc<Farm>>, mut req: Request, next: Next) -> R
 fn tls_config(cert: &std::path::Path, key: &std::path::Path) -> Result<tokio_rustls::TlsAcceptor> {
     use tokio_rustls::rustls::pki_types::pem::PemObject;
     use tokio_rustls::rustls::pki_types::{CertificateDer, PrivateKeyDer};
-    let fix = "make a CA and a server certificate with `luxfarm certs`";
+    let fix = "give --tls-cert a PEM certificate chain and --tls-key its PEM private key";
     let bad = |what: &std::path::Path, e: &dyn std::fmt::Display| {
         ServerError::BadRequest(format!("TLS: {}: {e} ({fix})", what.display()))
     };

@@ -113,7 +113,10 @@ mod tests {
         assert_eq!(cache.get(&hash), None);
         // The directory is private.
         use std::os::unix::fs::PermissionsExt;
-        let mode = std::fs::metadata(dir.path().join("c")).unwrap().permissions().mode();
+        let mode = std::fs::metadata(dir.path().join("c"))
+            .unwrap()
+            .permissions()
+            .mode();
         assert_eq!(mode & 0o777, 0o700);
     }
 }

@@ -189,7 +189,10 @@ fn render_thread(
     };
     // Errors name files relative to the bundle, never the worker's cache path.
     let shown = |e: &dyn std::fmt::Display| {
-        anyhow::anyhow!("{}", e.to_string().replace(&format!("{}/", root.display()), ""))
+        anyhow::anyhow!(
+            "{}",
+            e.to_string().replace(&format!("{}/", root.display()), "")
+        )
     };
     let desc = luxfarm::formats::load(scene, &parse).map_err(|e| shown(&e))?;
     let base = scene.parent().unwrap_or(root);
@@ -197,7 +200,8 @@ fn render_thread(
     let files = SceneFiles::confined(root, base).map_err(|e| shown(&e))?;
     let mut session = Session::new(&desc, files, opts).map_err(|e| shown(&e))?;
     let fp = session.film_params();
-    let pass = f64::from(fp.x_pixel_count) * f64::from(fp.y_pixel_count)
+    let pass = f64::from(fp.x_pixel_count)
+        * f64::from(fp.y_pixel_count)
         * f64::from(session.pixel_samples().max(1));
     store_f64(&flags.pass_samples, pass);
     *flags.cancel.lock().unwrap_or_else(|p| p.into_inner()) = Some(session.cancel_flag());
@@ -239,7 +243,10 @@ fn render_thread(
         asked = false;
         let stats = session.render_pass();
         if stats.complete {
-            store_f64(&flags.samples, load_f64(&flags.samples) + stats.samples as f64);
+            store_f64(
+                &flags.samples,
+                load_f64(&flags.samples) + stats.samples as f64,
+            );
             unsent = true;
         }
     }
@@ -314,7 +321,10 @@ impl Queues {
         }
         if self.retained.len() > MAX_RETAINED {
             if let Some((seq, _)) = self.retained.pop_front() {
-                tracing::error!(seq, "the master makes no delta durable: forgetting the oldest");
+                tracing::error!(
+                    seq,
+                    "the master makes no delta durable: forgetting the oldest"
+                );
             }
         }
     }

@@ -134,10 +134,14 @@ impl Link {
             match client.clone().register(req).await {
                 Ok(r) => return self.registered(r.into_inner()),
                 Err(s) if s.code() == Code::FailedPrecondition => {
-                    return Err(Refused(format!("the master refused this worker: {}", s.message())).into())
+                    return Err(
+                        Refused(format!("the master refused this worker: {}", s.message())).into(),
+                    )
                 }
                 Err(s) if matches!(s.code(), Code::Unauthenticated | Code::PermissionDenied) => {
-                    return Err(Refused(format!("the master refused the token: {}", s.message())).into())
+                    return Err(
+                        Refused(format!("the master refused the token: {}", s.message())).into(),
+                    )
                 }
                 Err(s) => {
                     if self.shutdown.load(Ordering::Relaxed) {
@@ -190,10 +194,7 @@ impl Link {
                 self.register().await?;
                 Ok(None)
             }
-            Err(s) => Err(anyhow::anyhow!(
-                "next assignment: {}",
-                connect::explain(&s)
-            )),
+            Err(s) => Err(anyhow::anyhow!("next assignment: {}", connect::explain(&s))),
         }
     }
 

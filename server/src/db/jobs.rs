@@ -51,8 +51,7 @@ impl Db {
     pub fn job_count(&self) -> Result<u64> {
         Ok(self
             .conn
-            .query_row("SELECT COUNT(*) FROM jobs", [], |r| r.get::<_, i64>(0))?
-            as u64)
+            .query_row("SELECT COUNT(*) FROM jobs", [], |r| r.get::<_, i64>(0))? as u64)
     }
 
     /// Sets a job's state, reason and (for final states) finish time.
@@ -74,8 +73,10 @@ impl Db {
 
     /// Sets a job's reason only (a fault being retried, shown while the job goes on).
     pub fn set_job_reason(&self, id: &str, reason: &str) -> Result<()> {
-        self.conn
-            .execute("UPDATE jobs SET reason = ?2 WHERE id = ?1", params![id, reason])?;
+        self.conn.execute(
+            "UPDATE jobs SET reason = ?2 WHERE id = ?1",
+            params![id, reason],
+        )?;
         Ok(())
     }
 }

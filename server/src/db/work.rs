@@ -40,7 +40,10 @@ impl Db {
     /// One worker.
     pub fn worker(&self, id: &str) -> Result<Option<WorkerRow>> {
         let sql = format!("SELECT {WORKER_COLS} FROM workers WHERE id = ?1");
-        Ok(self.conn.query_row(&sql, [id], worker_from_row).optional()?)
+        Ok(self
+            .conn
+            .query_row(&sql, [id], worker_from_row)
+            .optional()?)
     }
 
     /// The worker whose credential has this hash.
