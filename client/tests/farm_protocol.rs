@@ -355,9 +355,15 @@ fn protocol_versions_and_leases_bound_to_their_worker() {
         let mut intruder =
             connect::worker_client(connect::channel(&url, Some(&ireg.worker_token), None).unwrap());
         // the victim's ids in the intruder's calls
-        let e = upload(&mut intruder, &vreg.worker_id, &a.lease_id, 1, &delta(8, 6, 1.0, 48.0))
-            .await
-            .expect_err("an upload into another worker's lease is refused");
+        let e = upload(
+            &mut intruder,
+            &vreg.worker_id,
+            &a.lease_id,
+            1,
+            &delta(8, 6, 1.0, 48.0),
+        )
+        .await
+        .expect_err("an upload into another worker's lease is refused");
         assert_eq!(e.code(), tonic::Code::PermissionDenied, "{e:?}");
         let e = intruder
             .report_failure(pb::FailureReport {
@@ -369,7 +375,9 @@ fn protocol_versions_and_leases_bound_to_their_worker() {
             .expect_err("a failure report for another worker's lease is refused");
         assert_eq!(e.code(), tonic::Code::PermissionDenied, "{e:?}");
         // the job is untouched
-        let v = tokio::task::spawn_blocking(move || get_json(&api)).await.unwrap();
+        let v = tokio::task::spawn_blocking(move || get_json(&api))
+            .await
+            .unwrap();
         assert_eq!(v["state"], "rendering", "{v}");
         assert_eq!(v["samples"].as_f64().unwrap_or(0.0), 0.0, "{v}");
     });
