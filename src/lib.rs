@@ -10,7 +10,8 @@
 //! Film asks for, named the same way locally and on a farm). `halt` reads the film (through
 //! `tonemap` for the convergence test) and says when a render is done. Each stage imports only
 //! the stages before it; `tests/architecture.rs` checks it. `atomic_write` sits below them
-//! all: every file written (FLM, images, the master's checkpoints) goes through it.
+//! all: every file written (FLM, images, the master's checkpoints) goes through it; `fileio`
+//! beside it opens every file a scene names (confined to the bundle on a farm).
 //!
 //! Plugin families live in one folder each, one file per plugin, built by one convention
 //! (`plugin`): `camera`, `sampler`, `filter`, `shape`, `light`, `material`, `texture`,
@@ -19,6 +20,7 @@
 pub mod accel;
 pub mod atomic_write;
 pub mod camera;
+pub mod fileio;
 pub mod film;
 pub mod filter;
 pub mod formats;

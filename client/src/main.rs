@@ -48,6 +48,8 @@ enum Command {
     Cancel(cmd::cancel::Args),
     /// List the master's workers.
     Workers(cmd::workers::Args),
+    /// Manage the master's user tokens (admin): add, list, revoke.
+    Token(cmd::token::Args),
     /// Run a master (gRPC, REST and the dashboard on one address).
     Server(cmd::server::Args),
     /// Run a worker for a master.
@@ -73,6 +75,7 @@ fn main() -> ExitCode {
         Command::Fetch(a) => cmd::fetch::run(a),
         Command::Cancel(a) => cmd::cancel::run(a),
         Command::Workers(a) => cmd::workers::run(a),
+        Command::Token(a) => cmd::token::run(a),
         Command::Server(a) => cmd::server::run(a),
         Command::Worker(a) => cmd::worker::run(a),
         Command::Bench(b) => luxfarm_bench::run(b),

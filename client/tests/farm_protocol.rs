@@ -26,6 +26,7 @@ async fn upload(
     seq: u64,
     film: &Film,
 ) -> Result<pb::UploadAck, tonic::Status> {
+    let bytes = codec::encode(film);
     let chunks = vec![
         pb::UploadChunk {
             part: Some(pb::upload_chunk::Part::Header(pb::UploadHeader {
@@ -34,11 +35,12 @@ async fn upload(
                 seq,
                 encoding: "lxd1".into(),
                 last: false,
-                size: 0,
+                size: bytes.len() as u64,
+                master_instance: String::new(),
             })),
         },
         pb::UploadChunk {
-            part: Some(pb::upload_chunk::Part::Data(codec::encode(film))),
+            part: Some(pb::upload_chunk::Part::Data(bytes)),
         },
     ];
     c.upload_delta(tokio_stream::iter(chunks))
@@ -46,19 +48,29 @@ async fn upload(
         .map(|r| r.into_inner())
 }
 
-/// Registers a one-thread worker and takes its first assignment.
+/// Registers a one-thread worker and takes its first assignment; returns a client carrying
+/// the worker's credential.
 async fn register_and_lease(
-    c: &mut pb::worker_client::WorkerClient<connect::AuthChannel>,
-) -> (pb::RegisterReply, pb::Assignment) {
-    let reg = c
+    url: &str,
+) -> (
+    pb::worker_client::WorkerClient<connect::AuthChannel>,
+    pb::RegisterReply,
+    pb::Assignment,
+) {
+    let reg = connect::worker_client(connect::channel(url, None, None).unwrap())
         .register(pb::RegisterRequest {
             name: "t".into(),
             threads: 1,
             worker_id: String::new(),
+            protocol: pb::PROTOCOL_VERSION,
+            build: pb::BUILD.into(),
+            worker_token: String::new(),
         })
         .await
         .unwrap()
         .into_inner();
+    let mut c =
+        connect::worker_client(connect::channel(url, Some(&reg.worker_token), None).unwrap());
     let a = c
         .next_assignment(pb::NextRequest {
             worker_id: reg.worker_id.clone(),
@@ -68,7 +80,7 @@ async fn register_and_lease(
         .into_inner()
         .assignment
         .expect("an assignment");
-    (reg, a)
+    (c, reg, a)
 }
 
 fn delta(w: u32, h: u32, value: f32, spp: f64) -> Film {
@@ -94,9 +106,7 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
     let id = job["id"].as_str().unwrap().to_string();
     let url = s.url();
     rt().block_on(async move {
-        let ch = connect::channel(&url, None, None).unwrap();
-        let mut c = connect::worker_client(ch);
-        let (reg, a) = register_and_lease(&mut c).await;
+        let (mut c, reg, a) = register_and_lease(&url).await;
         assert_eq!(a.job_id, id);
         assert_eq!((a.width, a.height), (8, 6));
         assert_eq!(a.frame, Some(12));
@@ -127,21 +137,23 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
                 worker_id: w.clone(),
                 lease_id: a.lease_id.clone(),
                 samples: 0.0,
+                pass_samples: 0.0,
             })
             .await
             .unwrap()
             .into_inner();
         assert!(hb.stop);
         // the last delta (empty) ends the lease; the job completes
+        let empty = Film::new(8, 6, vec!["default".into()]);
         let mut last = pb::UploadHeader {
             worker_id: w.clone(),
             lease_id: a.lease_id.clone(),
             seq: 3,
             encoding: "lxd1".into(),
             last: true,
-            size: 0,
+            size: codec::encode(&empty).len() as u64,
+            master_instance: String::new(),
         };
-        let empty = Film::new(8, 6, vec!["default".into()]);
         let chunks = vec![
             pb::UploadChunk {
                 part: Some(pb::upload_chunk::Part::Header(last.clone())),
@@ -229,8 +241,7 @@ fn fetch_takes_the_size_and_tonemapping_of_image_png() {
         r.bytes().unwrap().to_vec()
     };
     rt().block_on(async move {
-        let mut w = connect::worker_client(connect::channel(&url, None, None).unwrap());
-        let (reg, a) = register_and_lease(&mut w).await;
+        let (mut w, reg, a) = register_and_lease(&url).await;
         let d = delta(8, 6, 0.25, 1.0);
         let ack = upload(&mut w, &reg.worker_id, &a.lease_id, 1, &d)
             .await
@@ -289,5 +300,85 @@ fn fetch_takes_the_size_and_tonemapping_of_image_png() {
                 "{format} {tm:?}: {err:?}"
             );
         }
+    });
+}
+
+/// A worker of another protocol version is refused at registration with both versions named;
+/// a lease is bound to the worker holding it: another registered worker (its own credential),
+/// even knowing the worker and lease ids, can neither upload into it nor fail it.
+#[test]
+fn protocol_versions_and_leases_bound_to_their_worker() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(&dir.path().join("data"), &[]);
+    let scene = std::fs::read(small_scene(dir.path(), "b", (8, 6), "")).unwrap();
+    let (st, job) = post_job(&s, scene, "?filename=b.lxs&haltspp=3");
+    assert_eq!(st, 201, "{job}");
+    let id = job["id"].as_str().unwrap().to_string();
+    let url = s.url();
+    let api = s.api(&format!("/jobs/{id}"));
+    rt().block_on(async move {
+        // another protocol version
+        let e = connect::worker_client(connect::channel(&url, None, None).unwrap())
+            .register(pb::RegisterRequest {
+                name: "old".into(),
+                threads: 1,
+                worker_id: String::new(),
+                protocol: pb::PROTOCOL_VERSION + 1,
+                build: "9.9.9".into(),
+                worker_token: String::new(),
+            })
+            .await
+            .expect_err("another protocol version is refused");
+        assert_eq!(e.code(), tonic::Code::FailedPrecondition, "{e:?}");
+        let m = e.message();
+        assert!(
+            m.contains(&(pb::PROTOCOL_VERSION + 1).to_string())
+                && m.contains(&pb::PROTOCOL_VERSION.to_string())
+                && m.contains("9.9.9"),
+            "{m}"
+        );
+        // the victim holds the lease; the intruder registers on its own
+        let (_victim, vreg, a) = register_and_lease(&url).await;
+        let ireg = connect::worker_client(connect::channel(&url, None, None).unwrap())
+            .register(pb::RegisterRequest {
+                name: "intruder".into(),
+                threads: 1,
+                worker_id: String::new(),
+                protocol: pb::PROTOCOL_VERSION,
+                build: pb::BUILD.into(),
+                worker_token: String::new(),
+            })
+            .await
+            .unwrap()
+            .into_inner();
+        assert_ne!(ireg.worker_token, vreg.worker_token);
+        let mut intruder =
+            connect::worker_client(connect::channel(&url, Some(&ireg.worker_token), None).unwrap());
+        // the victim's ids in the intruder's calls
+        let e = upload(
+            &mut intruder,
+            &vreg.worker_id,
+            &a.lease_id,
+            1,
+            &delta(8, 6, 1.0, 48.0),
+        )
+        .await
+        .expect_err("an upload into another worker's lease is refused");
+        assert_eq!(e.code(), tonic::Code::PermissionDenied, "{e:?}");
+        let e = intruder
+            .report_failure(pb::FailureReport {
+                worker_id: vreg.worker_id.clone(),
+                lease_id: a.lease_id.clone(),
+                reason: "forged".into(),
+            })
+            .await
+            .expect_err("a failure report for another worker's lease is refused");
+        assert_eq!(e.code(), tonic::Code::PermissionDenied, "{e:?}");
+        // the job is untouched
+        let v = tokio::task::spawn_blocking(move || get_json(&api))
+            .await
+            .unwrap();
+        assert_eq!(v["state"], "rendering", "{v}");
+        assert_eq!(v["samples"].as_f64().unwrap_or(0.0), 0.0, "{v}");
     });
 }

@@ -1,7 +1,10 @@
 //! Connecting to a master: a channel over http:// or https:// (rustls, with an optional extra
-//! CA certificate for self-signed masters) and an interceptor adding the bearer token.
+//! CA certificate for a private CA) and an interceptor adding the bearer token (which a worker
+//! replaces with its own credential once registered). TLS failures are explained
+//! ([`explain`]): what went wrong with the certificate and what to do.
 
 use std::path::Path;
+use std::sync::{Arc, RwLock};
 use std::time::Duration;
 use tonic::metadata::MetadataValue;
 use tonic::service::interceptor::InterceptedService;
@@ -41,33 +44,90 @@ pub fn endpoint(url: &str, ca_cert: Option<&Path>) -> Result<Endpoint, ConnectEr
     Ok(ep)
 }
 
-/// Adds `authorization: Bearer TOKEN` to every call when a token is set.
+/// Adds `authorization: Bearer TOKEN` to every call when a token is set. Clones share the
+/// token: [`Auth::set`] changes it for all of them.
 #[derive(Clone)]
 pub struct Auth {
-    header: Option<MetadataValue<tonic::metadata::Ascii>>,
+    header: Arc<RwLock<Option<MetadataValue<tonic::metadata::Ascii>>>>,
+}
+
+fn bearer(
+    token: Option<&str>,
+) -> Result<Option<MetadataValue<tonic::metadata::Ascii>>, ConnectError> {
+    match token.filter(|t| !t.is_empty()) {
+        Some(t) => Ok(Some(
+            format!("Bearer {t}")
+                .parse()
+                .map_err(|_| ConnectError::Token)?,
+        )),
+        None => Ok(None),
+    }
 }
 
 impl Auth {
     /// An interceptor for `token` (none or empty: no header).
     pub fn new(token: Option<&str>) -> Result<Auth, ConnectError> {
-        let header = match token.filter(|t| !t.is_empty()) {
-            Some(t) => Some(
-                format!("Bearer {t}")
-                    .parse()
-                    .map_err(|_| ConnectError::Token)?,
-            ),
-            None => None,
-        };
-        Ok(Auth { header })
+        Ok(Auth {
+            header: Arc::new(RwLock::new(bearer(token)?)),
+        })
+    }
+
+    /// Replaces the token of this interceptor and of its clones.
+    pub fn set(&self, token: Option<&str>) -> Result<(), ConnectError> {
+        let h = bearer(token)?;
+        *self.header.write().unwrap_or_else(|p| p.into_inner()) = h;
+        Ok(())
     }
 }
 
 impl tonic::service::Interceptor for Auth {
     fn call(&mut self, mut req: Request<()>) -> Result<Request<()>, Status> {
-        if let Some(h) = &self.header {
-            req.metadata_mut().insert("authorization", h.clone());
+        let header = self
+            .header
+            .read()
+            .unwrap_or_else(|p| p.into_inner())
+            .clone();
+        if let Some(h) = header {
+            req.metadata_mut().insert("authorization", h);
         }
         Ok(req)
+    }
+}
+
+/// A failed call explained: certificate errors say what to do, others are shown as they are.
+pub fn explain(s: &Status) -> String {
+    let mut text = s.message().to_string();
+    let mut source = std::error::Error::source(s);
+    while let Some(e) = source {
+        text.push_str(": ");
+        text.push_str(&e.to_string());
+        source = e.source();
+    }
+    let hint = if text.contains("CaUsedAsEndEntity") {
+        Some(
+            "the master's certificate is a CA certificate (basicConstraints CA:TRUE, what \
+             `openssl req -x509` makes by default) used as a server certificate: make it with \
+             `-addext basicConstraints=critical,CA:FALSE`, or sign a server certificate with \
+             a CA and pass the CA with --ca-cert",
+        )
+    } else if text.contains("UnknownIssuer") {
+        Some(
+            "the master's certificate is signed by a CA this client does not trust: pass that \
+             CA (or the self-signed certificate itself) with --ca-cert",
+        )
+    } else if text.contains("NotValidForName") {
+        Some(
+            "the master's certificate does not name the host in --master: make its certificate \
+             with that name in subjectAltName, or reach the master by a name it holds",
+        )
+    } else if text.contains("Expired") {
+        Some("the master's certificate has expired: give the master a new one")
+    } else {
+        None
+    };
+    match hint {
+        Some(h) => format!("{text} ({h})"),
+        None => text,
     }
 }
 
@@ -80,8 +140,17 @@ pub fn channel(
     token: Option<&str>,
     ca_cert: Option<&Path>,
 ) -> Result<AuthChannel, ConnectError> {
+    channel_with(url, Auth::new(token)?, ca_cert)
+}
+
+/// A lazily connected channel to the master at `url` with a given (shared) interceptor.
+pub fn channel_with(
+    url: &str,
+    auth: Auth,
+    ca_cert: Option<&Path>,
+) -> Result<AuthChannel, ConnectError> {
     let ch = endpoint(url, ca_cert)?.connect_lazy();
-    Ok(InterceptedService::new(ch, Auth::new(token)?))
+    Ok(InterceptedService::new(ch, auth))
 }
 
 /// A Jobs client over an authenticated channel.

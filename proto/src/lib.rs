@@ -17,4 +17,12 @@ pub const MAX_MESSAGE_BYTES: usize = 16 * 1024 * 1024;
 /// Size of the chunks bundles, films and outputs are streamed in (bytes).
 pub const CHUNK_BYTES: usize = 1024 * 1024;
 
+/// The version of the worker protocol (registration, assignments, uploads, heartbeats) this
+/// build speaks. Worker and master exchange it at registration and refuse a different one.
+/// 2: worker credentials, durable sequence numbers, sample budgets.
+pub const PROTOCOL_VERSION: u32 = 2;
+
+/// This build's version (the luxfarm release), shown when versions disagree.
+pub const BUILD: &str = env!("CARGO_PKG_VERSION");
+
 pub mod connect;

@@ -23,6 +23,10 @@ pub struct Config {
     /// PEM private key for TLS (with --tls-cert).
     #[arg(long, requires = "tls_cert")]
     pub tls_key: Option<PathBuf>,
+    /// Serve plain HTTP on a non-loopback address (behind a proxy that terminates TLS);
+    /// without it such an address needs --tls-cert and --tls-key.
+    #[arg(long)]
+    pub allow_plaintext: bool,
     /// Seconds without a heartbeat after which a worker loses its lease.
     #[arg(long, default_value_t = 30.0)]
     pub worker_timeout: f64,
@@ -38,6 +42,34 @@ pub struct Config {
     /// Most bytes a bundle may unpack to.
     #[arg(long, default_value_t = 4 << 30)]
     pub max_unpacked: u64,
+    /// Memory budget of one job (bytes): its film, a checkpoint copy and one decoded delta
+    /// per merge slot. A submission whose film needs more is refused, naming the figure.
+    #[arg(long, default_value_t = 4 << 30)]
+    pub max_job_memory: u64,
+    /// Halt rule given to a job that has none (samples per pixel); the job says so.
+    #[arg(long, default_value_t = 256.0)]
+    pub default_haltspp: f64,
+    /// Largest haltspp a job may ask for.
+    #[arg(long, default_value_t = 1_000_000.0)]
+    pub max_haltspp: f64,
+    /// Largest halttime a job may ask for (seconds).
+    #[arg(long, default_value_t = 604_800.0)]
+    pub max_halttime: f64,
+    /// Connections served at once; more wait in the listen queue.
+    #[arg(long, default_value_t = 512)]
+    pub max_connections: usize,
+    /// Seconds a connection may take to send a request's headers.
+    #[arg(long, default_value_t = 10.0)]
+    pub header_timeout: f64,
+    /// Seconds an idle connection (no request in progress) stays open.
+    #[arg(long, default_value_t = 120.0)]
+    pub idle_timeout: f64,
+    /// Seconds a REST request may take, its body included.
+    #[arg(long, default_value_t = 900.0)]
+    pub request_timeout: f64,
+    /// Submissions unpacked at once (the others wait before their bundle is unpacked).
+    #[arg(long, default_value_t = 2)]
+    pub max_unpacking: usize,
 }
 
 impl Config {
@@ -49,24 +81,61 @@ impl Config {
             token: None,
             tls_cert: None,
             tls_key: None,
+            allow_plaintext: false,
             worker_timeout: 30.0,
             upload_interval: 10.0,
             checkpoint_interval: 30.0,
             max_upload: 1 << 30,
             max_unpacked: 4 << 30,
+            max_job_memory: 4 << 30,
+            default_haltspp: 256.0,
+            max_haltspp: 1_000_000.0,
+            max_halttime: 604_800.0,
+            max_connections: 512,
+            header_timeout: 10.0,
+            idle_timeout: 120.0,
+            request_timeout: 900.0,
+            max_unpacking: 2,
         }
     }
 
-    /// Refuses unsafe combinations (no token on a non-loopback address).
+    /// Refuses unsafe combinations (no token, or no TLS, on a non-loopback address).
     pub fn validate(&self) -> Result<(), String> {
         if !self.listen.ip().is_loopback() && self.token.as_deref().unwrap_or("").is_empty() {
             return Err(format!(
-                "listening on {} (not loopback) needs --token",
+                "listening on {} (not loopback) needs --token (an admin token)",
                 self.listen
             ));
         }
-        if self.upload_interval <= 0.0 || self.worker_timeout <= 0.0 {
-            return Err("--upload-interval and --worker-timeout must be positive".into());
+        if !self.listen.ip().is_loopback() && self.tls_cert.is_none() && !self.allow_plaintext {
+            return Err(format!(
+                "listening on {} (not loopback) needs TLS: --tls-cert and --tls-key (a server \
+                 certificate, not a CA certificate, and its key), or --allow-plaintext behind a \
+                 proxy that terminates TLS",
+                self.listen
+            ));
+        }
+        let positive = [
+            ("--upload-interval", self.upload_interval),
+            ("--worker-timeout", self.worker_timeout),
+            ("--checkpoint-interval", self.checkpoint_interval),
+            ("--default-haltspp", self.default_haltspp),
+            ("--max-haltspp", self.max_haltspp),
+            ("--max-halttime", self.max_halttime),
+            ("--header-timeout", self.header_timeout),
+            ("--idle-timeout", self.idle_timeout),
+            ("--request-timeout", self.request_timeout),
+        ];
+        for (name, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{name} must be a positive number"));
+            }
+        }
+        if self.max_connections == 0 || self.max_unpacking == 0 {
+            return Err("--max-connections and --max-unpacking must be at least 1".into());
+        }
+        if self.default_haltspp > self.max_haltspp {
+            return Err("--default-haltspp must not exceed --max-haltspp".into());
         }
         Ok(())
     }

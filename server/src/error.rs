@@ -24,13 +24,29 @@ pub enum ServerError {
     /// Missing or wrong bearer token.
     #[error("missing or invalid bearer token")]
     Unauthorized,
+    /// The caller's role does not allow the request (or the job is another user's).
+    #[error("{0}")]
+    Forbidden(String),
     /// The output does not exist yet (no samples merged).
     #[error("{0}")]
     NotReady(String),
-    #[error("database: {0}")]
+    /// The caller acted on a previous run of the master (it restarted): start over.
+    #[error("{0}")]
+    Restarted(String),
+    /// The master is shutting down (or otherwise cannot take the request now): retry later.
+    #[error("{0}")]
+    Unavailable(String),
+    /// The store failed (the database file is `farm.sqlite` in the data directory).
+    #[error("database farm.sqlite: {0}")]
     Db(#[from] rusqlite::Error),
     #[error("i/o: {0}")]
     Io(#[from] std::io::Error),
+    /// A file of the data directory could not be read or written (path relative to it).
+    #[error("{path}: {source}")]
+    File {
+        path: String,
+        source: std::io::Error,
+    },
     #[error("{0}")]
     Internal(String),
 }
@@ -65,10 +81,15 @@ impl ServerError {
             ServerError::NotFound(_) => StatusCode::NOT_FOUND,
             ServerError::Conflict(_) => StatusCode::CONFLICT,
             ServerError::Unauthorized => StatusCode::UNAUTHORIZED,
-            ServerError::NotReady(_) => StatusCode::SERVICE_UNAVAILABLE,
-            ServerError::Db(_) | ServerError::Io(_) | ServerError::Internal(_) => {
-                StatusCode::INTERNAL_SERVER_ERROR
+            ServerError::Forbidden(_) => StatusCode::FORBIDDEN,
+            ServerError::Restarted(_) => StatusCode::CONFLICT,
+            ServerError::NotReady(_) | ServerError::Unavailable(_) => {
+                StatusCode::SERVICE_UNAVAILABLE
             }
+            ServerError::Db(_)
+            | ServerError::Io(_)
+            | ServerError::File { .. }
+            | ServerError::Internal(_) => StatusCode::INTERNAL_SERVER_ERROR,
         }
     }
 
@@ -81,14 +102,26 @@ impl ServerError {
             ServerError::NotFound(_) => "not_found",
             ServerError::Conflict(_) => "conflict",
             ServerError::Unauthorized => "unauthorized",
+            ServerError::Forbidden(_) => "forbidden",
+            ServerError::Restarted(_) => "restarted",
             ServerError::NotReady(_) => "not_ready",
-            ServerError::Db(_) | ServerError::Io(_) | ServerError::Internal(_) => "internal",
+            ServerError::Unavailable(_) => "unavailable",
+            ServerError::Db(_)
+            | ServerError::Io(_)
+            | ServerError::File { .. }
+            | ServerError::Internal(_) => "internal",
         }
     }
 
     /// Shorthand for an internal error from anything displayable.
     pub fn internal(e: impl std::fmt::Display) -> ServerError {
         ServerError::Internal(e.to_string())
+    }
+
+    /// An I/O error about a file of the data directory, named relative to it.
+    pub fn file(path: impl Into<String>) -> impl FnOnce(std::io::Error) -> ServerError {
+        let path = path.into();
+        move |source| ServerError::File { path, source }
     }
 }
 
@@ -130,8 +163,13 @@ impl From<ServerError> for tonic::Status {
             ServerError::NotFound(_) => Code::NotFound,
             ServerError::Conflict(_) => Code::FailedPrecondition,
             ServerError::Unauthorized => Code::Unauthenticated,
-            ServerError::NotReady(_) => Code::Unavailable,
-            ServerError::Db(_) | ServerError::Io(_) | ServerError::Internal(_) => Code::Internal,
+            ServerError::Forbidden(_) => Code::PermissionDenied,
+            ServerError::Restarted(_) => Code::Aborted,
+            ServerError::NotReady(_) | ServerError::Unavailable(_) => Code::Unavailable,
+            ServerError::Db(_)
+            | ServerError::Io(_)
+            | ServerError::File { .. }
+            | ServerError::Internal(_) => Code::Internal,
         };
         tonic::Status::new(code, e.to_string())
     }

@@ -1,8 +1,15 @@
 //! The master's shared state: the store, the jobs being rendered (their merged films) and the
-//! workers, plus job submission, queries and cancellation. Leases and uploads are in
-//! [`crate::lease`], halting and checkpoints in [`crate::halt`].
+//! workers, plus job submission and queries. Leases and uploads are in `lease`, halting,
+//! checkpoints and cancel in `halt`, identities in `auth`.
+//!
+//! Opening a data directory ([`Farm::open`]) checks it first (`datadir`): a database that
+//! does not match the directory is refused, a job whose checkpoint or bundle is missing fails
+//! alone with the file named. Workers and their open leases are taken back from the store, so
+//! workers carry on after a restart and upload again what the master had not made durable.
 
+use crate::admission::{self, SubmitOptions};
 use crate::config::Config;
+use crate::datadir;
 use crate::db::{Db, JobRow, JobState, NewJob};
 use crate::error::{Result, ServerError};
 use crate::metrics::{MergeReport, Metrics};
@@ -11,7 +18,7 @@ use crate::scene::{self, SceneInfo};
 use luxfarm_wire::bundle::{self, Limits};
 use std::collections::{HashMap, VecDeque};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
@@ -23,7 +30,8 @@ pub fn now_ms() -> i64 {
         .unwrap_or(0)
 }
 
-/// A fresh random-looking id with a prefix (time, counter and process id hashed).
+/// A fresh unique id with a prefix (time, counter and process id hashed). Ids are names, not
+/// secrets: credentials come from [`secret`].
 pub fn new_id(prefix: &str) -> String {
     use sha2::{Digest, Sha256};
     static COUNTER: AtomicU64 = AtomicU64::new(0);
@@ -39,26 +47,18 @@ pub fn new_id(prefix: &str) -> String {
     format!("{prefix}{}", &bundle::hex(&h.finalize())[..16])
 }
 
+/// 32 random bytes from the operating system, in hex, after `prefix` (credentials).
+pub fn secret(prefix: &str) -> Result<String> {
+    let mut b = [0u8; 32];
+    getrandom::getrandom(&mut b)
+        .map_err(|e| ServerError::Internal(format!("no random numbers: {e}")))?;
+    Ok(format!("{prefix}{}", bundle::hex(&b)))
+}
+
 /// Locks a std mutex, recovering from poisoning (a panicked holder leaves consistent data
 /// here: every critical section is a plain update).
 pub fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
-}
-
-/// Submission options (halt overrides, seed, priority, scene choice).
-#[derive(Clone, Debug, Default)]
-pub struct SubmitOptions {
-    /// Job name (default: the scene's file stem).
-    pub name: Option<String>,
-    pub haltspp: Option<f64>,
-    pub halttime: Option<f64>,
-    pub haltthreshold: Option<f64>,
-    pub seed: Option<u64>,
-    pub priority: Option<i32>,
-    /// Path of the .lxs inside a bundle holding several.
-    pub scene: Option<String>,
-    /// The animation frame to render (animated scene formats).
-    pub frame: Option<i64>,
 }
 
 /// One lease of a rendering job, as the master tracks it in memory.
@@ -70,6 +70,25 @@ pub struct LeaseRt {
     pub ended: bool,
     /// Samples merged from this lease.
     pub samples: f64,
+    /// Samples the lease may render in all (None: unbounded); see `budget`.
+    pub budget: Option<f64>,
+    /// Samples the worker says it rendered, and the samples of one of its passes.
+    pub rendered: f64,
+    pub pass_samples: f64,
+}
+
+impl LeaseRt {
+    /// A fresh lease with the budget it was granted.
+    pub fn new(budget: Option<f64>) -> LeaseRt {
+        LeaseRt {
+            stop: false,
+            ended: false,
+            samples: 0.0,
+            budget,
+            rendered: 0.0,
+            pass_samples: 0.0,
+        }
+    }
 }
 
 /// A job being rendered: its merged film and leases.
@@ -80,7 +99,7 @@ pub struct JobRt {
     /// Bumped on every merge (ETag of previews, checkpoint trigger).
     pub version: AtomicU64,
     /// Set when the job ends: no merge is accepted after the final checkpoint.
-    pub closed: std::sync::atomic::AtomicBool,
+    pub closed: AtomicBool,
     pub leases: Mutex<HashMap<String, LeaseRt>>,
     pub state: Mutex<RunState>,
 }
@@ -92,6 +111,8 @@ pub struct RunState {
     pub halting: Option<(JobState, String, Instant)>,
     pub checkpoint_version: u64,
     pub last_checkpoint: Instant,
+    /// The last checkpoint failure (file and reason), retried every checkpoint interval.
+    pub checkpoint_error: Option<String>,
     /// (time, merged samples) over the last minute, for samples per second.
     pub history: VecDeque<(Instant, f64)>,
     /// Spp at the last convergence test, the test's state and its last result.
@@ -131,44 +152,68 @@ pub struct Farm {
     /// held back by HTTP/2 flow control, so the master's memory stays bounded under load
     /// (a waiting worker keeps rendering into its film).
     pub receive_slots: tokio::sync::Semaphore,
+    /// Submissions unpacked at once (`--max-unpacking`).
+    pub unpack_slots: tokio::sync::Semaphore,
+    /// Cores the merge slots were sized by (admission control counts decoded deltas).
+    pub cores: usize,
+    /// This run of the master: workers seeing it change upload again what was not durable.
+    pub instance: String,
+    /// Set on SIGTERM/SIGINT: no new leases or uploads, in-flight work finishes.
+    pub draining: AtomicBool,
 }
 
 impl Farm {
-    /// Opens the data directory and store, and prepares unfinished jobs for resumption.
+    /// Opens the data directory and store, checks that they match, and prepares unfinished
+    /// jobs, their workers and leases for resumption.
     pub fn open(cfg: Config) -> Result<Arc<Farm>> {
-        for sub in ["bundles", "scenes", "jobs", "tmp"] {
-            std::fs::create_dir_all(cfg.data_dir.join(sub))?;
-        }
-        clear_dir(&cfg.data_dir.join("tmp"))?;
+        datadir::prepare_layout(&cfg.data_dir)?;
         let db = Db::open(&cfg.data_dir.join("farm.sqlite"))?;
-        let now = now_ms();
-        for lease in db.open_leases()? {
-            db.end_lease(&lease.id, "master restart", now)?;
-        }
-        for job in db.jobs()? {
-            if job.state == JobState::Rendering {
-                let dropped = db.drop_uncheckpointed(&job.id)?;
-                tracing::info!(job = %job.id, dropped, "resuming job from its checkpoint");
-            }
-        }
+        datadir::check_identity(&db, &cfg.data_dir)?;
+        datadir::check_jobs(&db, &cfg.data_dir, now_ms())?;
+        let workers = datadir::resume_workers(&db)?
+            .into_iter()
+            .map(|(w, lease)| {
+                let rt = WorkerRt {
+                    id: w.id.clone(),
+                    name: w.name,
+                    threads: w.threads,
+                    // A worker gets a full timeout from the restart to come back.
+                    last_seen: Instant::now(),
+                    last_seen_ms: w.last_seen_ms,
+                    lease,
+                    lost: false,
+                    samples: 0.0,
+                };
+                (w.id, rt)
+            })
+            .collect();
         let (changed, _) = tokio::sync::watch::channel(0);
         let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
         Ok(Arc::new(Farm {
+            unpack_slots: tokio::sync::Semaphore::new(cfg.max_unpacking),
             cfg,
             db: Mutex::new(db),
             jobs: Mutex::new(HashMap::new()),
-            workers: Mutex::new(HashMap::new()),
+            workers: Mutex::new(workers),
             metrics: Metrics::default(),
             changed,
             work_available: tokio::sync::Notify::new(),
             merge_slots: tokio::sync::Semaphore::new(cores),
             receive_slots: tokio::sync::Semaphore::new(4 * cores),
+            cores,
+            instance: new_id("m"),
+            draining: AtomicBool::new(false),
         }))
     }
 
     /// Tells watchers that something changed.
     pub fn touch(&self) {
         self.changed.send_modify(|v| *v += 1);
+    }
+
+    /// True once the master is shutting down.
+    pub fn is_draining(&self) -> bool {
+        self.draining.load(Ordering::SeqCst)
     }
 
     /// Directory of a job's checkpoints and outputs.
@@ -197,7 +242,8 @@ impl Farm {
     }
 
     /// Accepts an upload (raw .lxs, .zip or .tar): unpacks it safely, checks the scene parses
-    /// within its own directory, stores it content-addressed and queues a job.
+    /// within its own directory and passes admission control, stores it content-addressed and
+    /// queues a job.
     pub fn submit(&self, bytes: &[u8], file_name: &str, opts: &SubmitOptions) -> Result<JobRow> {
         if bytes.len() as u64 > self.cfg.max_upload {
             return Err(ServerError::TooLarge(format!(
@@ -206,7 +252,12 @@ impl Farm {
                 self.cfg.max_upload
             )));
         }
-        check_overrides(opts)?;
+        if self.is_draining() {
+            return Err(ServerError::Unavailable(
+                "the master is shutting down: submit again once it is back".into(),
+            ));
+        }
+        admission::check_overrides(&self.cfg, opts)?;
         let staging = self.cfg.data_dir.join("tmp").join(new_id("s"));
         std::fs::create_dir_all(&staging)?;
         let result = self.submit_staged(bytes, file_name, opts, &staging);
@@ -232,11 +283,7 @@ impl Farm {
         let files = bundle::unpack(bytes, file_name, &unpacked, limits)?;
         let scene_rel = bundle::pick_scene(&files, opts.scene.as_deref().unwrap_or(""))?;
         let info = scene::inspect(&unpacked, &scene_rel, opts.frame)?;
-        if opts.haltthreshold.or(info.haltthreshold).is_some() && !scene::CONVERGENCE_AVAILABLE {
-            return Err(ServerError::BadRequest(
-                "haltthreshold is not supported yet (the convergence test is not built)".into(),
-            ));
-        }
+        let admitted = admission::admit(&self.cfg, self.cores, &info, opts)?;
         let tar_tmp = staging.join("bundle.tar");
         let hash = bundle::write_canonical_tar(&unpacked, &files, &tar_tmp)?;
         let bundle_path = self.bundle_path(&hash);
@@ -250,9 +297,10 @@ impl Farm {
         let id = new_id("j");
         let name = opts
             .name
-            .clone()
+            .as_deref()
+            .map(admission::clean_name)
             .filter(|n| !n.is_empty())
-            .unwrap_or_else(|| info.name.clone());
+            .unwrap_or_else(|| admission::clean_name(&info.name));
         let seed = opts.seed.unwrap_or_else(|| now_ms() as u64);
         let scene_path = scene_rel.to_string_lossy().replace('\\', "/");
         lock(&self.db).insert_job(&NewJob {
@@ -262,13 +310,15 @@ impl Farm {
             bundle_hash: &hash,
             scene_path: &scene_path,
             seed: seed & (i64::MAX as u64),
-            haltspp: opts.haltspp.or(info.haltspp),
-            halttime: opts.halttime.or(info.halttime),
-            haltthreshold: opts.haltthreshold.or(info.haltthreshold),
+            haltspp: admitted.haltspp,
+            halttime: admitted.halttime,
+            haltthreshold: admitted.haltthreshold,
             width: info.width,
             height: info.height,
             submitted_ms: now_ms(),
             frame: opts.frame,
+            owner: &opts.owner,
+            notes: &admitted.notes,
         })?;
         tracing::info!(job = %id, %name, bundle = %hash, "job queued");
         self.metrics.jobs_submitted.fetch_add(1, Ordering::Relaxed);
@@ -288,35 +338,4 @@ impl Farm {
             lost_workers: lock(&self.workers).values().filter(|w| w.lost).count(),
         })
     }
-}
-
-/// Refuses nonsensical overrides.
-fn check_overrides(o: &SubmitOptions) -> Result<()> {
-    let bad = |what: &str| ServerError::BadRequest(format!("{what} must be a positive number"));
-    if o.haltspp.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
-        return Err(bad("haltspp"));
-    }
-    if o.halttime.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
-        return Err(bad("halttime"));
-    }
-    if o.haltthreshold
-        .is_some_and(|v| !(v.is_finite() && v > 0.0 && v < 1.0))
-    {
-        return Err(ServerError::BadRequest(
-            "haltthreshold must be in (0, 1)".into(),
-        ));
-    }
-    Ok(())
-}
-
-fn clear_dir(dir: &Path) -> Result<()> {
-    for entry in std::fs::read_dir(dir)? {
-        let path = entry?.path();
-        if path.is_dir() {
-            std::fs::remove_dir_all(&path)?;
-        } else {
-            std::fs::remove_file(&path)?;
-        }
-    }
-    Ok(())
 }

@@ -1,8 +1,12 @@
-//! The gRPC services (`luxfarm.v1.Jobs` for clients, `luxfarm.v1.Worker` for workers) over the
-//! shared [`Farm`].
+//! The gRPC services (`luxfarm.v1.Jobs` for clients, `luxfarm.v1.Worker` for workers,
+//! `luxfarm.v1.Admin` for tokens) over the shared [`Farm`]. The caller's [`Identity`] comes
+//! from the request's extensions (set by the identity layer in `serve`): worker calls act for
+//! the authenticated worker whatever worker id a message names.
 
+use crate::admission::SubmitOptions;
+use crate::auth::Identity;
 use crate::error::ServerError;
-use crate::farm::{Farm, SubmitOptions};
+use crate::farm::Farm;
 use crate::output::tonemap::TonemapOverride;
 use crate::views;
 use luxfarm_proto as pb;
@@ -12,8 +16,28 @@ use std::time::Duration;
 use tokio_stream::{Stream, StreamExt};
 use tonic::{Request, Response, Status, Streaming};
 
-/// Largest film delta upload (bytes).
-const MAX_DELTA: usize = 4 << 30;
+/// The caller's identity (the identity layer always sets one on guarded routes).
+fn identity<T>(req: &Request<T>) -> Result<Identity, Status> {
+    req.extensions()
+        .get::<Identity>()
+        .cloned()
+        .ok_or_else(|| Status::unauthenticated("missing or invalid bearer token"))
+}
+
+/// The authenticated worker's id.
+fn worker_id<T>(req: &Request<T>) -> Result<String, Status> {
+    Ok(identity(req)?.worker()?.to_string())
+}
+
+/// A stream item, with a request that could not be decoded reported as the client's fault.
+fn item<T>(r: Option<Result<T, Status>>) -> Result<Option<T>, Status> {
+    match r {
+        Some(Err(s)) if s.code() == tonic::Code::Internal => {
+            Err(Status::invalid_argument(s.message().to_string()))
+        }
+        other => other.transpose(),
+    }
+}
 
 type BoxStream<T> = Pin<Box<dyn Stream<Item = Result<T, Status>> + Send>>;
 
@@ -45,12 +69,13 @@ impl pb::jobs_server::Jobs for JobsService {
         &self,
         req: Request<Streaming<pb::SubmitChunk>>,
     ) -> Result<Response<pb::JobInfo>, Status> {
+        let who = identity(&req)?;
         let mut stream = req.into_inner();
         let mut header = None;
         let mut data = Vec::new();
         let limit = self.0.cfg.max_upload;
-        while let Some(chunk) = stream.next().await {
-            match chunk?.part {
+        while let Some(chunk) = item(stream.next().await)? {
+            match chunk.part {
                 Some(pb::submit_chunk::Part::Header(h)) => header = Some(h),
                 Some(pb::submit_chunk::Part::Data(d)) => {
                     if (data.len() + d.len()) as u64 > limit {
@@ -74,7 +99,14 @@ impl pb::jobs_server::Jobs for JobsService {
             priority: h.priority,
             scene: Some(h.scene),
             frame: h.frame,
+            owner: who.owner(),
         };
+        let _unpacking = self
+            .0
+            .unpack_slots
+            .acquire()
+            .await
+            .map_err(|e| Status::internal(e.to_string()))?;
         let farm = self.0.clone();
         let view = blocking(move || {
             let row = farm.submit(&data, &h.file_name, &opts)?;
@@ -100,10 +132,11 @@ impl pb::jobs_server::Jobs for JobsService {
     }
 
     async fn cancel_job(&self, req: Request<pb::JobRef>) -> Result<Response<pb::JobInfo>, Status> {
+        let who = identity(&req)?;
         let farm = self.0.clone();
         let id = req.into_inner().id;
         let view = blocking(move || {
-            let row = crate::halt::cancel(&farm, &id)?;
+            let row = crate::halt::cancel(&farm, &id, &who)?;
             views::job_view(&farm, &row)
         })
         .await?;
@@ -192,18 +225,16 @@ impl pb::worker_server::Worker for WorkerService {
         req: Request<pb::RegisterRequest>,
     ) -> Result<Response<pb::RegisterReply>, Status> {
         let r = req.into_inner();
-        let id = self.0.register(&r.name, r.threads, &r.worker_id)?;
-        Ok(Response::new(pb::RegisterReply {
-            worker_id: id,
-            heartbeat_interval: (self.0.cfg.worker_timeout / 6.0).clamp(0.2, 5.0),
-        }))
+        let farm = self.0.clone();
+        let reply = blocking(move || farm.register(&r)).await?;
+        Ok(Response::new(reply))
     }
 
     async fn next_assignment(
         &self,
         req: Request<pb::NextRequest>,
     ) -> Result<Response<pb::NextReply>, Status> {
-        let worker = req.into_inner().worker_id;
+        let worker = worker_id(&req)?;
         let deadline = tokio::time::Instant::now() + Duration::from_secs(5);
         loop {
             let notified = self.0.work_available.notified();
@@ -223,6 +254,7 @@ impl pb::worker_server::Worker for WorkerService {
         &self,
         req: Request<pb::BundleRequest>,
     ) -> Result<Response<Self::FetchBundleStream>, Status> {
+        worker_id(&req)?;
         let hash = req.into_inner().hash;
         if !luxfarm_wire::bundle::is_hash(&hash) {
             return Err(Status::invalid_argument("not a bundle hash"));
@@ -238,33 +270,48 @@ impl pb::worker_server::Worker for WorkerService {
         &self,
         req: Request<Streaming<pb::UploadChunk>>,
     ) -> Result<Response<pb::UploadAck>, Status> {
+        let worker = worker_id(&req)?;
+        let mut stream = req.into_inner();
+        // The header comes first and is checked (lease held, job open, size bounded) before
+        // a byte of the body is read.
+        let h = match item(stream.next().await)?.and_then(|c| c.part) {
+            Some(pb::upload_chunk::Part::Header(h)) => h,
+            _ => return Err(Status::invalid_argument("an upload starts with its header")),
+        };
+        let (farm, w, hh) = (self.0.clone(), worker.clone(), h.clone());
+        blocking(move || farm.check_upload(&w, &hh)).await?;
+        let size =
+            usize::try_from(h.size).map_err(|_| Status::resource_exhausted("delta too large"))?;
         let _receiving = self
             .0
             .receive_slots
             .acquire()
             .await
             .map_err(|e| Status::internal(e.to_string()))?;
-        let mut stream = req.into_inner();
-        let mut header = None;
-        let mut data = Vec::new();
-        while let Some(chunk) = stream.next().await {
-            match chunk?.part {
-                Some(pb::upload_chunk::Part::Header(h)) => {
-                    // One allocation instead of doubling (pages are only touched as filled).
-                    let hint = usize::try_from(h.size).unwrap_or(0).min(MAX_DELTA);
-                    data.reserve_exact(hint.saturating_sub(data.len()));
-                    header = Some(h);
-                }
+        // One allocation (pages are only touched as filled).
+        let mut data = Vec::with_capacity(size);
+        while let Some(chunk) = item(stream.next().await)? {
+            match chunk.part {
                 Some(pb::upload_chunk::Part::Data(d)) => {
-                    if data.len() + d.len() > MAX_DELTA {
-                        return Err(Status::resource_exhausted("delta too large"));
+                    if data.len() + d.len() > size {
+                        return Err(Status::invalid_argument(format!(
+                            "the delta is longer than the {size} bytes its header announced"
+                        )));
                     }
                     data.extend_from_slice(&d);
+                }
+                Some(pb::upload_chunk::Part::Header(_)) => {
+                    return Err(Status::invalid_argument("an upload has one header"))
                 }
                 None => {}
             }
         }
-        let h = header.ok_or_else(|| Status::invalid_argument("missing upload header"))?;
+        if data.len() != size {
+            return Err(Status::invalid_argument(format!(
+                "the delta has {} bytes, its header announced {size}",
+                data.len()
+            )));
+        }
         let farm = self.0.clone();
         let span = tracing::info_span!("upload", lease = %h.lease_id, seq = h.seq);
         let _slot = self
@@ -273,41 +320,83 @@ impl pb::worker_server::Worker for WorkerService {
             .acquire()
             .await
             .map_err(|e| Status::internal(e.to_string()))?;
-        let (status, stop) = blocking(move || {
+        let ack = blocking(move || {
             let _e = span.enter();
-            farm.upload(&h, &data)
+            farm.upload(&worker, &h, &data)
         })
         .await?;
-        Ok(Response::new(pb::UploadAck {
-            status: match status {
-                crate::lease::UploadStatus::Merged => "merged".into(),
-                crate::lease::UploadStatus::Duplicate => "duplicate".into(),
-            },
-            stop,
-        }))
+        Ok(Response::new(ack))
     }
 
     async fn heartbeat(
         &self,
         req: Request<pb::HeartbeatRequest>,
     ) -> Result<Response<pb::HeartbeatReply>, Status> {
+        let worker = worker_id(&req)?;
         let r = req.into_inner();
         let farm = self.0.clone();
-        let (stop, unknown_worker) =
-            blocking(move || Ok(farm.heartbeat(&r.worker_id, &r.lease_id))).await?;
-        Ok(Response::new(pb::HeartbeatReply {
-            stop,
-            unknown_worker,
-        }))
+        let reply = blocking(move || Ok(farm.heartbeat(&worker, &r))).await?;
+        Ok(Response::new(reply))
     }
 
     async fn report_failure(
         &self,
         req: Request<pb::FailureReport>,
     ) -> Result<Response<pb::FailureAck>, Status> {
+        let worker = worker_id(&req)?;
         let r = req.into_inner();
         let farm = self.0.clone();
-        blocking(move || farm.lease_failed(&r.worker_id, &r.lease_id, &r.reason)).await?;
+        blocking(move || farm.lease_failed(&worker, &r.lease_id, &r.reason)).await?;
         Ok(Response::new(pb::FailureAck {}))
+    }
+}
+
+/// The admin service: user tokens.
+pub struct AdminService(pub Arc<Farm>);
+
+fn token_info(t: crate::db::TokenRow) -> pb::TokenInfo {
+    pb::TokenInfo {
+        id: t.id,
+        name: t.name,
+        role: t.role,
+        created_ms: t.created_ms,
+        revoked_ms: t.revoked_ms,
+    }
+}
+
+#[tonic::async_trait]
+impl pb::admin_server::Admin for AdminService {
+    async fn add_token(
+        &self,
+        req: Request<pb::AddTokenRequest>,
+    ) -> Result<Response<pb::AddTokenReply>, Status> {
+        let r = req.into_inner();
+        let farm = self.0.clone();
+        let (row, token) = blocking(move || farm.add_token(&r.name, &r.role)).await?;
+        Ok(Response::new(pb::AddTokenReply {
+            info: Some(token_info(row)),
+            token,
+        }))
+    }
+
+    async fn list_tokens(
+        &self,
+        _: Request<pb::ListTokensRequest>,
+    ) -> Result<Response<pb::ListTokensReply>, Status> {
+        let farm = self.0.clone();
+        let rows = blocking(move || farm.tokens()).await?;
+        Ok(Response::new(pb::ListTokensReply {
+            tokens: rows.into_iter().map(token_info).collect(),
+        }))
+    }
+
+    async fn revoke_token(
+        &self,
+        req: Request<pb::RevokeTokenRequest>,
+    ) -> Result<Response<pb::TokenInfo>, Status> {
+        let id = req.into_inner().id;
+        let farm = self.0.clone();
+        let row = blocking(move || farm.revoke_token(&id)).await?;
+        Ok(Response::new(token_info(row)))
     }
 }

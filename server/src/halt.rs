@@ -1,4 +1,4 @@
-//! Halt rules, checkpoints and the end of a job.
+//! Halt rules, checkpoints, the end of a job, cancel and the drain at shutdown.
 //!
 //! The halt rules themselves are the core's (`luxfarm::halt`, shared with `luxfarm render`);
 //! this module asks them at the master's moments, on the merged film: haltspp and haltthreshold
@@ -7,7 +7,17 @@
 //! is told to stop and the master waits for the last deltas (at most two upload intervals plus
 //! a margin), then writes the outputs the Film asks for (`luxfarm::output`) and marks the job
 //! done.
+//!
+//! Checkpoints make acknowledged deltas durable: the film is written atomically (file and
+//! directory synced), then the ledger rows it holds are committed with its generation. Faults
+//! stay with their job: a checkpoint that cannot be written is named (file and reason) on the
+//! job and retried every checkpoint interval while the job renders on (its workers keep the
+//! deltas not yet durable); a final checkpoint that fails keeps the job halting and retried; a
+//! cancel ends the job even then, saying what its film holds. One job's fault never stops the
+//! others' halting or checkpoints.
 
+use crate::auth::Identity;
+use crate::datadir::checkpoint_rel;
 use crate::db::{JobRow, JobState};
 use crate::error::{Result, ServerError};
 use crate::farm::{lock, now_ms, Farm, JobRt};
@@ -83,42 +93,49 @@ pub fn begin_halt(farm: &Farm, rt: &JobRt, reason: String) {
     farm.touch();
 }
 
-/// Periodic work: halttime, halting deadlines, worker timeouts and checkpoints.
+/// Periodic work: worker timeouts, then for every loaded job on its own (one job's fault
+/// never stops another's): halttime, halting deadlines and checkpoints.
 pub fn tick(farm: &Farm) -> Result<()> {
     expire_workers(farm)?;
     let jobs: Vec<Arc<JobRt>> = lock(&farm.jobs).values().cloned().collect();
     for rt in jobs {
-        let row = farm.job_row(&rt.id)?;
-        let first_lease = lock(&rt.state).first_lease_ms;
-        if let Some(first) = first_lease {
-            let elapsed = (now_ms() - first) as f64 / 1000.0;
-            let rules = rules(&row, &rt);
-            if let Some(reason) = rules.time_reached(elapsed) {
-                begin_halt(farm, &rt, reason.to_string());
-            }
-        }
-        let halting = lock(&rt.state).halting.clone();
-        if let Some((state, reason, since)) = halting {
-            let all_in = lock(&rt.leases).values().all(|l| l.ended);
-            let deadline = Duration::from_secs_f64(farm.cfg.upload_interval * 2.0 + 5.0);
-            if all_in || since.elapsed() > deadline {
-                finish(farm, &rt, state, &reason)?;
-                continue;
-            }
-        }
-        let due = {
-            let st = lock(&rt.state);
-            st.last_checkpoint.elapsed().as_secs_f64() >= farm.cfg.checkpoint_interval
-                && rt.version.load(Ordering::Relaxed) != st.checkpoint_version
-        };
-        if due {
-            checkpoint(farm, &rt, &row)?;
+        if let Err(e) = tick_job(farm, &rt) {
+            tracing::error!(job = %rt.id, error = %e, "job upkeep failed");
         }
     }
     Ok(())
 }
 
-/// Ends the leases of workers silent for longer than the timeout (their merged samples stay).
+fn tick_job(farm: &Farm, rt: &Arc<JobRt>) -> Result<()> {
+    let row = farm.job_row(&rt.id)?;
+    let first_lease = lock(&rt.state).first_lease_ms;
+    if let Some(first) = first_lease {
+        let elapsed = (now_ms() - first) as f64 / 1000.0;
+        if let Some(reason) = rules(&row, rt).time_reached(elapsed) {
+            begin_halt(farm, rt, reason.to_string());
+        }
+    }
+    let halting = lock(&rt.state).halting.clone();
+    if let Some((state, reason, since)) = halting {
+        let all_in = lock(&rt.leases).values().all(|l| l.ended);
+        let deadline = Duration::from_secs_f64(farm.cfg.upload_interval * 2.0 + 5.0);
+        if all_in || since.elapsed() > deadline {
+            return finish(farm, rt, state, &reason);
+        }
+    }
+    let due = {
+        let st = lock(&rt.state);
+        st.last_checkpoint.elapsed().as_secs_f64() >= farm.cfg.checkpoint_interval
+            && rt.version.load(Ordering::Relaxed) != st.checkpoint_version
+    };
+    if due {
+        checkpoint(farm, rt, &row)?;
+    }
+    Ok(())
+}
+
+/// Ends the leases of workers silent for longer than the timeout (their merged samples stay;
+/// their unused budget returns to the job's pool).
 fn expire_workers(farm: &Farm) -> Result<()> {
     let timeout = Duration::from_secs_f64(farm.cfg.worker_timeout);
     let mut lost = Vec::new();
@@ -147,54 +164,110 @@ fn expire_workers(farm: &Farm) -> Result<()> {
 }
 
 /// Writes the job's merged film atomically as the next checkpoint generation and commits the
-/// ledger rows it contains.
+/// ledger rows it contains. A failure is recorded on the job (file and reason), to be retried
+/// after the checkpoint interval, and returned.
 pub fn checkpoint(farm: &Farm, rt: &JobRt, row: &JobRow) -> Result<()> {
+    let result = write_checkpoint(farm, rt, row);
+    let mut st = lock(&rt.state);
+    st.last_checkpoint = Instant::now();
+    match &result {
+        Ok(version) => {
+            st.checkpoint_version = *version;
+            if st.checkpoint_error.take().is_some() {
+                drop(st);
+                lock(&farm.db).set_job_reason(&rt.id, "")?;
+                farm.touch();
+            }
+        }
+        Err(e) => {
+            let reason = format!("checkpoint failed: {e} (retrying)");
+            tracing::error!(job = %rt.id, %reason);
+            st.checkpoint_error = Some(reason.clone());
+            drop(st);
+            let _ = lock(&farm.db).set_job_reason(&rt.id, &reason);
+            farm.touch();
+        }
+    }
+    result.map(|_| ())
+}
+
+/// The checkpoint itself; returns the film version it holds.
+fn write_checkpoint(farm: &Farm, rt: &JobRt, row: &JobRow) -> Result<u64> {
     let (film, version, max_rowid) = {
         let film = lock(&rt.film);
         let max_rowid = lock(&farm.db).ledger_max_rowid()?;
         (film.clone(), rt.version.load(Ordering::Relaxed), max_rowid)
     };
     let dir = farm.job_dir(&rt.id);
-    std::fs::create_dir_all(&dir)?;
+    let dir_rel = format!("jobs/{}", rt.id);
+    std::fs::create_dir_all(&dir).map_err(ServerError::file(dir_rel.clone()))?;
     let generation = row.ckpt_gen + 1;
-    let path = dir.join(format!("checkpoint-{generation}.lxd"));
-    scene::write_checkpoint(&film, &path)?;
+    let rel = checkpoint_rel(&rt.id, generation);
+    let path = farm.cfg.data_dir.join(&rel);
+    scene::write_checkpoint(&film, &path)
+        .map_err(|e| ServerError::Internal(format!("{rel}: {e}")))?;
+    // The rename is made durable before the database points at the new file.
+    std::fs::File::open(&dir)
+        .and_then(|d| d.sync_all())
+        .map_err(ServerError::file(dir_rel))?;
     lock(&farm.db).commit_checkpoint(&rt.id, generation, max_rowid)?;
-    let old = dir.join(format!("checkpoint-{}.lxd", row.ckpt_gen));
-    if old.exists() {
+    let old = farm.cfg.data_dir.join(checkpoint_rel(&rt.id, row.ckpt_gen));
+    if row.ckpt_gen > 0 && old.exists() {
         let _ = std::fs::remove_file(old);
     }
-    let mut st = lock(&rt.state);
-    st.checkpoint_version = version;
-    st.last_checkpoint = Instant::now();
     tracing::debug!(job = %rt.id, generation, "checkpoint written");
-    Ok(())
+    Ok(version)
 }
 
-/// The job's latest checkpoint film, if any.
+/// The job's latest checkpoint film, if any. A missing or unreadable checkpoint is an error
+/// naming the file.
 pub fn load_checkpoint(farm: &Farm, row: &JobRow) -> Result<Option<Film>> {
     if row.ckpt_gen == 0 {
         return Ok(None);
     }
-    let path = farm
-        .job_dir(&row.id)
-        .join(format!("checkpoint-{}.lxd", row.ckpt_gen));
-    scene::read_checkpoint(&path).map(Some)
+    let rel = checkpoint_rel(&row.id, row.ckpt_gen);
+    scene::read_checkpoint(&farm.cfg.data_dir.join(&rel))
+        .map(Some)
+        .map_err(|e| match e {
+            ServerError::Io(source) => ServerError::File { path: rel, source },
+            ServerError::Internal(m) => ServerError::Internal(format!("{rel}: {m}")),
+            other => other,
+        })
 }
 
 /// Path of the job's final (or latest) checkpoint.
 pub fn latest_checkpoint(farm: &Farm, row: &JobRow) -> Option<std::path::PathBuf> {
     let p = farm
-        .job_dir(&row.id)
-        .join(format!("checkpoint-{}.lxd", row.ckpt_gen));
+        .cfg
+        .data_dir
+        .join(checkpoint_rel(&row.id, row.ckpt_gen));
     (row.ckpt_gen > 0 && p.exists()).then_some(p)
 }
 
 /// Ends a job: stops its leases, writes the final checkpoint (and the outputs when done), sets
 /// the final state and drops the job from memory.
+///
+/// When the final checkpoint cannot be written the job stays halting, with the fault named,
+/// and the end is tried again at the next tick; `force` (a cancel) ends it anyway, saying so.
 pub fn finish(farm: &Farm, rt: &Arc<JobRt>, state: JobState, reason: &str) -> Result<()> {
+    finish_with(farm, rt, state, reason, false)
+}
+
+fn finish_with(
+    farm: &Farm,
+    rt: &Arc<JobRt>,
+    state: JobState,
+    reason: &str,
+    force: bool,
+) -> Result<()> {
     if rt.closed.swap(true, Ordering::SeqCst) {
         return Ok(());
+    }
+    {
+        let mut st = lock(&rt.state);
+        if st.halting.is_none() || force {
+            st.halting = Some((state, reason.to_string(), Instant::now()));
+        }
     }
     let row = farm.job_row(&rt.id)?;
     let now = now_ms();
@@ -205,35 +278,54 @@ pub fn finish(farm: &Farm, rt: &Arc<JobRt>, state: JobState, reason: &str) -> Re
             lock(&farm.db).end_lease(id, state.as_str(), now)?;
         }
     }
-    checkpoint(farm, rt, &row)?;
+    let mut reason = reason.to_string();
+    if let Err(e) = checkpoint(farm, rt, &row) {
+        if !force {
+            // Merges stay closed off (every lease has ended); the next tick tries again.
+            rt.closed.store(false, Ordering::SeqCst);
+            return Err(e);
+        }
+        reason = format!(
+            "{reason}; the final checkpoint could not be written ({e}): the film holds the \
+             samples of the last checkpoint"
+        );
+    }
     if state == JobState::Done {
         let film = lock(&rt.film).clone();
         let dir = farm.job_dir(&rt.id).join("out");
         if let Err(e) = scene::write_outputs(&film, &rt.info, &dir) {
             tracing::error!(job = %rt.id, error = %e, "writing outputs failed");
-            lock(&farm.db).set_job_state(&rt.id, JobState::Failed, &e.to_string(), now)?;
-            lock(&farm.jobs).remove(&rt.id);
+            let why = format!("writing the outputs failed: {e}");
+            lock(&farm.db).set_job_state(&rt.id, JobState::Failed, &why, now)?;
+            forget(farm, rt);
             return Ok(());
         }
     }
-    lock(&farm.db).set_job_state(&rt.id, state, reason, now)?;
+    lock(&farm.db).set_job_state(&rt.id, state, &reason, now)?;
+    forget(farm, rt);
+    tracing::info!(job = %rt.id, state = state.as_str(), %reason, "job finished");
+    Ok(())
+}
+
+/// Drops an ended job from memory and frees its workers.
+fn forget(farm: &Farm, rt: &JobRt) {
     lock(&farm.jobs).remove(&rt.id);
     for w in lock(&farm.workers).values_mut() {
         if w.lease.as_ref().is_some_and(|(j, _)| *j == rt.id) {
             w.lease = None;
         }
     }
-    tracing::info!(job = %rt.id, state = state.as_str(), reason, "job finished");
     farm.metrics.jobs_finished.fetch_add(1, Ordering::Relaxed);
     farm.touch();
     farm.work_available.notify_waiters();
-    Ok(())
 }
 
-/// Cancels a queued or rendering job. Workers on it are told to stop; what was merged is
-/// kept (film.flm stays downloadable).
-pub fn cancel(farm: &Farm, id: &str) -> Result<JobRow> {
+/// Cancels a queued or rendering job for `who` (its submitter or an admin). Workers on it are
+/// told to stop; what was merged is kept (film.flm stays downloadable). A cancel always ends
+/// the job, even when its final checkpoint cannot be written.
+pub fn cancel(farm: &Farm, id: &str, who: &Identity) -> Result<JobRow> {
     let row = farm.job_row(id)?;
+    who.check_manage(&row.owner)?;
     if row.state.is_final() {
         return Err(ServerError::Conflict(format!(
             "job {id} is already {}",
@@ -242,7 +334,7 @@ pub fn cancel(farm: &Farm, id: &str) -> Result<JobRow> {
     }
     let rt = lock(&farm.jobs).get(id).cloned();
     match rt {
-        Some(rt) => finish(farm, &rt, JobState::Cancelled, "cancelled by user")?,
+        Some(rt) => finish_with(farm, &rt, JobState::Cancelled, "cancelled by user", true)?,
         None => {
             lock(&farm.db).set_job_state(id, JobState::Cancelled, "cancelled by user", now_ms())?
         }
@@ -250,4 +342,25 @@ pub fn cancel(farm: &Farm, id: &str) -> Result<JobRow> {
     tracing::info!(job = %id, "job cancelled");
     farm.touch();
     farm.job_row(id)
+}
+
+/// The shutdown drain's last step, once no upload is in flight: a checkpoint of every loaded
+/// job whose film changed since its last one. Returns how many failed.
+pub fn checkpoint_all(farm: &Farm) -> usize {
+    let jobs: Vec<Arc<JobRt>> = lock(&farm.jobs).values().cloned().collect();
+    let mut failed = 0;
+    for rt in jobs {
+        let changed = rt.version.load(Ordering::Relaxed) != lock(&rt.state).checkpoint_version;
+        if !changed {
+            continue;
+        }
+        let result = farm
+            .job_row(&rt.id)
+            .and_then(|row| checkpoint(farm, &rt, &row));
+        if let Err(e) = result {
+            tracing::error!(job = %rt.id, error = %e, "final checkpoint at shutdown failed");
+            failed += 1;
+        }
+    }
+    failed
 }

@@ -1,9 +1,24 @@
-//! The worker side of the master: registration, assignments (leases with their own stream
-//! ids), film delta uploads with the (lease, sequence) ledger, and heartbeats.
+//! The worker side of the master: jobs loaded for rendering, assignments (leases with their
+//! own stream ids and sample budgets), film delta uploads with the (lease, sequence) ledger,
+//! heartbeats and failure reports. Every call is made by an authenticated worker and accepted
+//! only for leases it holds.
+//!
+//! ```text
+//! NextAssignment --assign--> lease (stream id, budget from the job's haltspp)
+//! UploadDelta header --check_upload--> (lease held, job open, size bounded) before any byte
+//!   of the body is read; body --upload--> decode, ledger check, merge under the film lock,
+//!   acknowledgement (durable sequence number, master instance, budget, stop)
+//! Heartbeat --heartbeat--> stop, durable sequence number, budget
+//! ```
+//!
+//! A job that cannot be loaded (a missing or unreadable checkpoint or scene) fails alone, with
+//! the file named, and its workers are told their lease is over.
 
-use crate::db::{JobRow, JobState};
+use crate::admission::film_bytes;
+use crate::budget;
+use crate::db::{JobRow, JobState, LeaseRow};
 use crate::error::{Result, ServerError};
-use crate::farm::{lock, new_id, now_ms, Farm, JobRt, LeaseRt, RunState, WorkerRt};
+use crate::farm::{lock, new_id, now_ms, Farm, JobRt, LeaseRt, RunState};
 use crate::metrics::MergeTiming;
 use crate::scene;
 use luxfarm_proto as pb;
@@ -19,53 +34,61 @@ pub enum UploadStatus {
     Duplicate,
 }
 
-impl Farm {
-    /// Registers a worker (a known id re-registers after a master restart).
-    pub fn register(&self, name: &str, threads: u32, old_id: &str) -> Result<String> {
-        let id = if old_id.is_empty() || old_id.len() > 64 {
-            new_id("w")
-        } else {
-            old_id.to_string()
-        };
-        let now = now_ms();
-        lock(&self.db).upsert_worker(&id, name, threads, now)?;
-        lock(&self.workers).insert(
-            id.clone(),
-            WorkerRt {
-                id: id.clone(),
-                name: name.to_string(),
-                threads,
-                last_seen: Instant::now(),
-                last_seen_ms: now,
-                lease: None,
-                lost: false,
-                samples: 0.0,
-            },
-        );
-        tracing::info!(worker = %id, %name, threads, "worker registered");
-        self.touch();
-        Ok(id)
-    }
-
-    /// Marks a worker as seen; false when unknown (it must register again).
-    pub fn seen(&self, worker_id: &str) -> bool {
-        let mut workers = lock(&self.workers);
-        match workers.get_mut(worker_id) {
-            Some(w) => {
-                w.last_seen = Instant::now();
-                w.last_seen_ms = now_ms();
-                w.lost = false;
-                true
-            }
-            None => false,
+impl UploadStatus {
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            UploadStatus::Merged => "merged",
+            UploadStatus::Duplicate => "duplicate",
         }
     }
+}
 
-    /// The runtime of a job, loading it (film from its checkpoint, or a new film) on first use.
+/// Largest encoded delta for a film of `film` bytes: its raw size plus what compression can
+/// add in the worst case, plus the header (light group names).
+fn max_delta(film: u64) -> u64 {
+    film.saturating_add(film / 64)
+        .saturating_add(8 << 20)
+        .min(luxfarm_wire::codec::MAX_DECODED + (8 << 20))
+}
+
+impl Farm {
+    /// The runtime of a job, loading it (film from its checkpoint, or a new film; its open
+    /// leases from the store) on first use. A job that cannot be loaded fails, alone, with the
+    /// reason, and the caller gets a Conflict.
     pub fn job_rt(&self, row: &JobRow) -> Result<Arc<JobRt>> {
         if let Some(rt) = lock(&self.jobs).get(&row.id) {
             return Ok(rt.clone());
         }
+        if row.state.is_final() {
+            return Err(ServerError::Conflict(format!(
+                "job {} is {}",
+                row.id,
+                row.state.as_str()
+            )));
+        }
+        match self.load_job(row) {
+            Ok(rt) => Ok(lock(&self.jobs).entry(row.id.clone()).or_insert(rt).clone()),
+            Err(e) => {
+                let reason = format!("the job cannot be loaded: {e}");
+                tracing::error!(job = %row.id, %reason);
+                let now = now_ms();
+                {
+                    let db = lock(&self.db);
+                    for l in db.open_leases_of(&row.id)? {
+                        db.end_lease(&l.id, "job failed", now)?;
+                    }
+                    db.set_job_state(&row.id, JobState::Failed, &reason, now)?;
+                }
+                self.touch();
+                Err(ServerError::Conflict(format!(
+                    "job {} failed: {reason}",
+                    row.id
+                )))
+            }
+        }
+    }
+
+    fn load_job(&self, row: &JobRow) -> Result<Arc<JobRt>> {
         let info = scene::inspect(
             &self.scene_dir(&row.bundle_hash),
             row.scene_path.as_ref(),
@@ -76,44 +99,50 @@ impl Farm {
             None => scene::new_film(&info),
         };
         let samples = film.total_samples();
-        let rt = Arc::new(JobRt {
+        let mut leases = HashMap::new();
+        {
+            let db = lock(&self.db);
+            for l in db.open_leases_of(&row.id)? {
+                let mut rt = LeaseRt::new(l.budget);
+                rt.samples = db.lease_merged(&l.id)?;
+                leases.insert(l.id, rt);
+            }
+        }
+        Ok(Arc::new(JobRt {
             id: row.id.clone(),
             info,
             film: Mutex::new(film),
             version: 0.into(),
             closed: false.into(),
-            leases: Mutex::new(HashMap::new()),
+            leases: Mutex::new(leases),
             state: Mutex::new(RunState {
                 halting: None,
                 checkpoint_version: 0,
                 last_checkpoint: Instant::now(),
+                checkpoint_error: None,
                 history: VecDeque::from([(Instant::now(), samples)]),
                 convergence: Default::default(),
                 first_lease_ms: row.first_lease_ms,
             }),
-        });
-        Ok(lock(&self.jobs).entry(row.id.clone()).or_insert(rt).clone())
+        }))
     }
 
     /// The next assignment for a worker: the first unfinished job by priority then submission
-    /// order that is not halting. None when there is nothing to do.
+    /// order that is not halting and still has samples to hand out. None when there is
+    /// nothing to do (or the master is shutting down).
     pub fn assign(&self, worker_id: &str) -> Result<Option<pb::Assignment>> {
         if !self.seen(worker_id) {
             return Err(ServerError::NotFound(format!(
                 "unknown worker {worker_id}: register first"
             )));
         }
+        if self.is_draining() {
+            return Ok(None);
+        }
         let jobs = lock(&self.db).jobs()?;
         for row in jobs.into_iter().filter(|j| !j.state.is_final()) {
-            let rt = match self.job_rt(&row) {
-                Ok(rt) => rt,
-                Err(e) => {
-                    tracing::error!(job = %row.id, error = %e, "job cannot be loaded");
-                    let now = now_ms();
-                    lock(&self.db).set_job_state(&row.id, JobState::Failed, &e.to_string(), now)?;
-                    self.touch();
-                    continue;
-                }
+            let Ok(rt) = self.job_rt(&row) else {
+                continue;
             };
             if lock(&rt.state).halting.is_some() {
                 continue;
@@ -135,18 +164,13 @@ impl Farm {
             stream
         };
         lock(&rt.state).first_lease_ms.get_or_insert(now);
-        lock(&rt.leases).insert(
-            lease_id.clone(),
-            LeaseRt {
-                stop: false,
-                ended: false,
-                samples: 0.0,
-            },
-        );
+        lock(&rt.leases).insert(lease_id.clone(), LeaseRt::new(None));
+        let budget = self.grant(row, rt, &lease_id)?;
         if let Some(w) = lock(&self.workers).get_mut(worker_id) {
             w.lease = Some((row.id.clone(), lease_id.clone()));
         }
-        tracing::info!(job = %row.id, lease = %lease_id, worker = %worker_id, stream, "lease granted");
+        tracing::info!(job = %row.id, lease = %lease_id, worker = %worker_id, stream, ?budget,
+            "lease granted");
         self.touch();
         Ok(pb::Assignment {
             lease_id,
@@ -162,7 +186,41 @@ impl Farm {
             width: row.width,
             height: row.height,
             frame: row.frame,
+            budget,
         })
+    }
+
+    /// Grows a lease's budget when due (see `budget`), recording it in the store.
+    fn grant(&self, row: &JobRow, rt: &JobRt, lease: &str) -> Result<Option<f64>> {
+        let before = lock(&rt.leases).get(lease).and_then(|l| l.budget);
+        let target = budget::target(row.haltspp, rt.info.pixels);
+        let after = budget::grant_for(rt, lease, target);
+        if let Some(b) = after.filter(|b| Some(*b) != before) {
+            lock(&self.db).set_lease_budget(lease, b)?;
+        }
+        Ok(after)
+    }
+
+    /// A lease of `worker`, or the reason it cannot be used: unknown (NotFound), another
+    /// worker's (Forbidden), or of a finished job (Conflict).
+    fn held_lease(&self, worker: &str, lease_id: &str) -> Result<(LeaseRow, JobRow)> {
+        let lease = lock(&self.db)
+            .lease(lease_id)?
+            .ok_or_else(|| ServerError::NotFound(format!("no lease {lease_id}")))?;
+        if lease.worker_id != worker {
+            return Err(ServerError::Forbidden(format!(
+                "lease {lease_id} is held by another worker"
+            )));
+        }
+        let row = self.job_row(&lease.job_id)?;
+        if row.state.is_final() {
+            return Err(ServerError::Conflict(format!(
+                "job {} is {}: lease {lease_id} is over",
+                row.id,
+                row.state.as_str()
+            )));
+        }
+        Ok((lease, row))
     }
 
     /// Whether the worker should stop its lease (stopped, ended, job finished or unknown).
@@ -170,42 +228,53 @@ impl Farm {
         let Ok(Some(lease)) = lock(&self.db).lease(lease_id) else {
             return true;
         };
-        let rt = lock(&self.jobs).get(&lease.job_id).cloned();
-        match rt {
-            Some(rt) => lock(&rt.leases)
+        let Ok(row) = self.job_row(&lease.job_id) else {
+            return true;
+        };
+        match self.job_rt(&row) {
+            Ok(rt) => lock(&rt.leases)
                 .get(lease_id)
                 .is_none_or(|l| l.stop || l.ended),
-            None => true,
+            Err(_) => true,
         }
     }
 
-    /// Merges one film delta. A (lease, seq) already merged is acknowledged as a duplicate and
-    /// ignored; a delta of the wrong layout is refused and leaves the job untouched.
-    pub fn upload(&self, h: &pb::UploadHeader, data: &[u8]) -> Result<(UploadStatus, bool)> {
-        let started = Instant::now();
-        self.seen(&h.worker_id);
-        let lease = lock(&self.db)
-            .lease(&h.lease_id)?
-            .ok_or_else(|| ServerError::NotFound(format!("no lease {}", h.lease_id)))?;
-        if lease.worker_id != h.worker_id {
-            return Err(ServerError::BadRequest(
-                "lease belongs to another worker".into(),
+    /// Checks an upload's header before its body is read: the lease is the caller's, its job
+    /// is open, the announced size is within what the job's film can take.
+    pub fn check_upload(&self, worker: &str, h: &pb::UploadHeader) -> Result<()> {
+        if self.is_draining() {
+            return Err(ServerError::Unavailable(
+                "the master is shutting down: upload again once it is back".into(),
             ));
         }
-        if lock(&self.db).ledger_has(&h.lease_id, h.seq)? {
-            self.metrics.duplicates.fetch_add(1, Ordering::Relaxed);
-            tracing::info!(lease = %h.lease_id, seq = h.seq, "replayed upload ignored");
-            return Ok((UploadStatus::Duplicate, self.lease_should_stop(&h.lease_id)));
-        }
-        let row = self.job_row(&lease.job_id)?;
-        if row.state.is_final() {
-            return Err(ServerError::Conflict(format!(
-                "job {} is {}: delta not merged",
-                row.id,
-                row.state.as_str()
+        if !h.master_instance.is_empty() && h.master_instance != self.instance {
+            return Err(ServerError::Restarted(format!(
+                "the master restarted (now {}): upload the deltas it has not made durable first",
+                self.instance
             )));
         }
+        let (_, row) = self.held_lease(worker, &h.lease_id)?;
+        let max = max_delta(film_bytes(&self.job_rt(&row)?.info));
+        if h.size == 0 || h.size > max {
+            return Err(ServerError::TooLarge(format!(
+                "a delta of {} bytes announced; a delta of this job's film takes 1 to {max}",
+                h.size
+            )));
+        }
+        Ok(())
+    }
+
+    /// Merges one film delta of `worker`. A (lease, seq) already merged is acknowledged as a
+    /// duplicate and ignored; a delta of the wrong layout is refused and leaves the job
+    /// untouched.
+    pub fn upload(&self, worker: &str, h: &pb::UploadHeader, data: &[u8]) -> Result<pb::UploadAck> {
+        let started = Instant::now();
+        self.seen(worker);
+        let (_, row) = self.held_lease(worker, &h.lease_id)?;
         let rt = self.job_rt(&row)?;
+        if lock(&self.db).ledger_has(&h.lease_id, h.seq)? {
+            return self.duplicate(&row, &rt, h);
+        }
         let decode_start = Instant::now();
         let delta = luxfarm_wire::codec::decode_as(&h.encoding, data)?;
         let decode = decode_start.elapsed();
@@ -224,50 +293,25 @@ impl Farm {
                 )));
             }
             let db = lock(&self.db);
-            let duplicate = db.ledger_has(&h.lease_id, h.seq)?;
-            if !duplicate {
-                film.merge(&delta)
-                    .map_err(|e| ServerError::BadRequest(format!("delta refused: {e}")))?;
-                db.ledger_insert(
-                    &h.lease_id,
-                    h.seq,
-                    &row.id,
-                    samples,
-                    data.len() as u64,
-                    now_ms(),
-                )?;
+            if db.ledger_has(&h.lease_id, h.seq)? {
+                drop(db);
+                drop(film);
+                return self.duplicate(&row, &rt, h);
             }
-            drop(db);
-            drop(film);
-            if duplicate {
-                self.metrics.duplicates.fetch_add(1, Ordering::Relaxed);
-                return Ok((UploadStatus::Duplicate, self.lease_should_stop(&h.lease_id)));
-            }
+            film.merge(&delta)
+                .map_err(|e| ServerError::BadRequest(format!("delta refused: {e}")))?;
+            db.ledger_insert(
+                &h.lease_id,
+                h.seq,
+                &row.id,
+                samples,
+                data.len() as u64,
+                now_ms(),
+            )?;
         }
         let merge = merge_start.elapsed();
         rt.version.fetch_add(1, Ordering::Relaxed);
-        let stop = {
-            let mut leases = lock(&rt.leases);
-            let l = leases.entry(h.lease_id.clone()).or_insert(LeaseRt {
-                stop: true,
-                ended: false,
-                samples: 0.0,
-            });
-            l.samples += samples;
-            if h.last {
-                l.ended = true;
-            }
-            l.stop || l.ended
-        };
-        if h.last {
-            lock(&self.db).end_lease(&h.lease_id, "stopped", now_ms())?;
-            if let Some(w) = lock(&self.workers).get_mut(&h.worker_id) {
-                w.lease = None;
-            }
-        }
-        if let Some(w) = lock(&self.workers).get_mut(&h.worker_id) {
-            w.samples += samples;
-        }
+        self.account(worker, &rt, h, samples)?;
         tracing::debug!(job = %row.id, lease = %h.lease_id, seq = h.seq, samples, "delta merged");
         crate::halt::after_merge(self, &row, &rt)?;
         let timing = MergeTiming {
@@ -278,39 +322,122 @@ impl Farm {
         self.metrics
             .record_merge(data.len() as u64, samples, timing);
         self.touch();
-        Ok((
-            UploadStatus::Merged,
-            stop || self.lease_should_stop(&h.lease_id),
-        ))
+        self.ack(UploadStatus::Merged, &row, &rt, &h.lease_id)
     }
 
-    /// A heartbeat: (stop, unknown worker).
-    pub fn heartbeat(&self, worker_id: &str, lease_id: &str) -> (bool, bool) {
-        if !self.seen(worker_id) {
-            return (true, true);
+    /// Books a merged delta to its lease and worker; the last delta ends the lease.
+    fn account(&self, worker: &str, rt: &JobRt, h: &pb::UploadHeader, samples: f64) -> Result<()> {
+        {
+            let mut leases = lock(&rt.leases);
+            let l = leases
+                .entry(h.lease_id.clone())
+                .or_insert_with(|| LeaseRt::new(None));
+            l.samples += samples;
+            l.rendered = l.rendered.max(l.samples);
+            if h.last {
+                l.ended = true;
+            }
         }
-        if lease_id.is_empty() {
-            return (false, false);
+        if h.last {
+            lock(&self.db).end_lease(&h.lease_id, "stopped", now_ms())?;
         }
-        (self.lease_should_stop(lease_id), false)
+        if let Some(w) = lock(&self.workers).get_mut(worker) {
+            w.samples += samples;
+            if h.last {
+                w.lease = None;
+            }
+        }
+        Ok(())
+    }
+
+    fn duplicate(&self, row: &JobRow, rt: &JobRt, h: &pb::UploadHeader) -> Result<pb::UploadAck> {
+        self.metrics.duplicates.fetch_add(1, Ordering::Relaxed);
+        tracing::info!(lease = %h.lease_id, seq = h.seq, "replayed upload ignored");
+        self.ack(UploadStatus::Duplicate, row, rt, &h.lease_id)
+    }
+
+    /// The acknowledgement of an upload: status, stop, durable sequence number, budget.
+    fn ack(
+        &self,
+        status: UploadStatus,
+        row: &JobRow,
+        rt: &JobRt,
+        lease: &str,
+    ) -> Result<pb::UploadAck> {
+        // Each lock is released before the next call takes it again (a guard made inside
+        // the struct expression would live to its end, and `grant` locks the store too).
+        let stop = self.lease_should_stop(lease);
+        let durable_seq = self.durable_seq(lease)?;
+        let budget = self.grant(row, rt, lease)?;
+        Ok(pb::UploadAck {
+            status: status.as_str().into(),
+            stop,
+            durable_seq,
+            master_instance: self.instance.clone(),
+            budget,
+        })
+    }
+
+    /// The highest sequence number of `lease` a checkpoint holds.
+    fn durable_seq(&self, lease: &str) -> Result<u64> {
+        let seq = lock(&self.db).durable_seq(lease)?;
+        Ok(seq)
+    }
+
+    /// A heartbeat of `worker` about its lease (empty: idle).
+    pub fn heartbeat(&self, worker: &str, r: &pb::HeartbeatRequest) -> pb::HeartbeatReply {
+        let mut reply = pb::HeartbeatReply {
+            stop: false,
+            unknown_worker: false,
+            durable_seq: 0,
+            master_instance: self.instance.clone(),
+            budget: None,
+        };
+        if !self.seen(worker) {
+            reply.unknown_worker = true;
+            reply.stop = true;
+            return reply;
+        }
+        if r.lease_id.is_empty() {
+            return reply;
+        }
+        let lease = match self.held_lease(worker, &r.lease_id) {
+            Ok((_, row)) => self.job_rt(&row).map(|rt| (row, rt)),
+            Err(e) => Err(e),
+        };
+        let Ok((row, rt)) = lease else {
+            reply.stop = true;
+            reply.durable_seq = lock(&self.db).durable_seq(&r.lease_id).unwrap_or(0);
+            return reply;
+        };
+        if let Some(l) = lock(&rt.leases).get_mut(&r.lease_id) {
+            if r.samples.is_finite() && r.samples >= 0.0 {
+                l.rendered = l.rendered.max(r.samples);
+            }
+            if r.pass_samples.is_finite() && r.pass_samples > 0.0 {
+                l.pass_samples = r.pass_samples;
+            }
+        }
+        reply.durable_seq = lock(&self.db).durable_seq(&r.lease_id).unwrap_or(0);
+        reply.budget = self.grant(&row, &rt, &r.lease_id).unwrap_or(None);
+        reply.stop = self.lease_should_stop(&r.lease_id);
+        reply
     }
 
     /// A worker could not render its lease (the scene does not build): the job fails.
-    pub fn lease_failed(&self, worker_id: &str, lease_id: &str, reason: &str) -> Result<()> {
-        let lease = lock(&self.db)
-            .lease(lease_id)?
-            .ok_or_else(|| ServerError::NotFound(format!("no lease {lease_id}")))?;
-        if lease.worker_id != worker_id {
-            return Err(ServerError::BadRequest(
-                "lease belongs to another worker".into(),
-            ));
-        }
-        let row = self.job_row(&lease.job_id)?;
-        if row.state.is_final() {
-            return Ok(());
-        }
+    pub fn lease_failed(&self, worker: &str, lease_id: &str, reason: &str) -> Result<()> {
+        let (_, row) = match self.held_lease(worker, lease_id) {
+            Ok(l) => l,
+            Err(ServerError::Conflict(_)) => return Ok(()),
+            Err(e) => return Err(e),
+        };
+        let reason: String = reason
+            .chars()
+            .map(|c| if c.is_control() && c != '\n' { ' ' } else { c })
+            .take(4000)
+            .collect();
         tracing::error!(job = %row.id, lease = %lease_id, %reason, "worker could not render the job");
-        let reason = format!("worker {worker_id}: {reason}");
+        let reason = format!("worker {worker}: {reason}");
         let rt = lock(&self.jobs).get(&row.id).cloned();
         match rt {
             Some(rt) => crate::halt::finish(self, &rt, JobState::Failed, &reason),

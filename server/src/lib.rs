@@ -2,9 +2,23 @@
 //! merges their film deltas into each job's f64 film, evaluates the halt rules, checkpoints,
 //! and serves outputs, metrics and an OpenAPI document.
 //!
-//! - `config`: command-line options; `serve`: the listener (gRPC + REST, token, TLS).
-//! - `farm`: shared state, submission, cancel; `lease`: workers, leases, uploads;
-//!   `halt`: halt rules, checkpoints, job end; `db`: the SQLite store.
+//! - `config`: command-line options; `serve`: the listener (gRPC + REST, identities, TLS,
+//!   the drain at shutdown); `conn`: connection limits and timeouts before authentication.
+//! - `farm`: shared state, submission; `datadir`: the data directory's checks at startup;
+//!   `admission`: what a job may cost and whether it can render; `auth`: identities, roles,
+//!   tokens; `registry`: worker registration (protocol versions, credentials); `lease`:
+//!   leases, uploads, heartbeats; `budget`: per-lease sample budgets (precise haltspp);
+//!   `halt`: halt rules, checkpoints, job end, cancel; `db`: the SQLite store.
+//!
+//! Durability of acknowledged deltas: a delta is acknowledged once merged into the job's film
+//! in memory, and becomes durable with the next checkpoint (the film written atomically, then
+//! the ledger rows it holds committed). Workers keep every acknowledged delta the master has
+//! not yet reported durable (`durable_seq` in acknowledgements and heartbeats) and upload
+//! those again when the master's instance changes (it restarted, after a crash or
+//! `kill -9`); the (lease, sequence) ledger merges each delta once, so nothing acknowledged is
+//! lost and nothing is counted twice, without the master writing every delta to disk.
+//! SIGTERM/SIGINT drain: no new leases or uploads, uploads in flight merged, every job
+//! checkpointed, then exit.
 //! - Bundles and film deltas are decoded with `luxfarm-wire`, which the client and the workers
 //!   share.
 //! - `scene`: what the master asks of the render core; `output`: outputs on demand.
@@ -14,8 +28,13 @@
 //! ([`Config`], [`run`], [`start`], [`Running`]) and what the capacity benchmark reads through
 //! [`Running`] ([`SubmitOptions`], [`MergeReport`]); everything else is internal.
 
+pub(crate) mod admission;
+pub(crate) mod auth;
+pub(crate) mod budget;
 pub(crate) mod config;
+pub(crate) mod conn;
 pub(crate) mod dashboard;
+pub(crate) mod datadir;
 pub(crate) mod db;
 pub(crate) mod error;
 pub(crate) mod farm;
@@ -29,6 +48,7 @@ pub(crate) mod metrics;
               output module is being rewritten (issue 12 part 2), which uses or removes them"
 )]
 pub(crate) mod output;
+pub(crate) mod registry;
 pub(crate) mod rest;
 pub(crate) mod scene;
 pub(crate) mod serve;
@@ -37,13 +57,14 @@ pub(crate) mod views;
 /// The delta codec, as `crate::codec` (checkpoints are written and read through it).
 pub(crate) use luxfarm_wire::codec;
 
+pub use admission::SubmitOptions;
 pub use config::Config;
 pub use error::ServerError;
-pub use farm::SubmitOptions;
 pub use metrics::{MergeReport, MergeTiming};
 pub use serve::{start, Running};
 
-/// Runs the master until Ctrl-C / SIGTERM, printing `listening on ADDR` once bound.
+/// Runs the master until Ctrl-C / SIGTERM, printing `listening on ADDR` once bound; a signal
+/// drains the master (see the crate docs) before it exits.
 pub async fn run(cfg: Config) -> anyhow::Result<()> {
     let mut running = start(cfg).await?;
     let addr = running.addr();
@@ -53,7 +74,13 @@ pub async fn run(cfg: Config) -> anyhow::Result<()> {
     tokio::select! {
         _ = tokio::signal::ctrl_c() => {}
         _ = term.recv() => {}
-        r = running.task_mut() => { r?; }
+        r = running.task_mut() => { r?; return Ok(()); }
     }
+    tracing::info!("signal received: draining (no new leases or uploads, checkpointing)");
+    let failed = running.drain(std::time::Duration::from_secs(30)).await;
+    if failed > 0 {
+        anyhow::bail!("{failed} job checkpoint(s) failed at shutdown");
+    }
+    tracing::info!("drained: every job checkpointed");
     Ok(())
 }

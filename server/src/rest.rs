@@ -1,13 +1,17 @@
 //! The REST API under `/api/v1` (axum), with its OpenAPI document generated from the handlers
-//! (utoipa). Thin handlers over the [`Farm`]; errors are JSON `{"error","detail"}`.
+//! (utoipa). Thin handlers over the [`Farm`]; errors are JSON `{"error","detail"}` (405 and a
+//! request that takes longer than `--request-timeout` included). Submission options are read
+//! by one parser whether they come as query parameters or multipart fields.
 
-use crate::error::{ErrorBody, Result, ServerError};
-use crate::farm::{Farm, SubmitOptions};
+use crate::admission::SubmitOptions;
+use crate::auth::Identity;
+use crate::error::{json_error, ErrorBody, Result, ServerError};
+use crate::farm::Farm;
 use crate::output::tonemap::{TonemapOverride, TonemapSettings, TonemapView};
 use crate::views::{self, JobView, WorkerView};
 use axum::body::Bytes;
 use axum::extract::rejection::QueryRejection;
-use axum::extract::{FromRequest, Multipart, Path, Query, Request, State};
+use axum::extract::{Extension, FromRequest, Multipart, Path, Query, Request, State};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
@@ -54,6 +58,7 @@ pub struct ApiDoc;
 /// The REST routes (state applied).
 pub fn router(farm: AppState) -> Router {
     let body_limit = usize::try_from(farm.cfg.max_upload).unwrap_or(usize::MAX);
+    let timeout = std::time::Duration::from_secs_f64(farm.cfg.request_timeout);
     Router::new()
         .route("/api/v1/jobs", get(list_jobs).post(submit_job))
         .route("/api/v1/jobs/{id}", get(get_job).delete(cancel_job))
@@ -68,8 +73,39 @@ pub fn router(farm: AppState) -> Router {
         .route("/api/v1/metrics", get(metrics))
         .route("/metrics", get(metrics))
         .route("/api/v1/openapi.json", get(openapi_json))
+        .method_not_allowed_fallback(method_not_allowed)
         .layer(axum::extract::DefaultBodyLimit::max(body_limit))
+        .layer(axum::middleware::from_fn(
+            move |req: Request, next: axum::middleware::Next| time_limited(timeout, req, next),
+        ))
         .with_state(farm)
+}
+
+async fn method_not_allowed(req: Request) -> Response {
+    json_error(
+        StatusCode::METHOD_NOT_ALLOWED,
+        "method_not_allowed",
+        format!("{} is not allowed on {}", req.method(), req.uri().path()),
+    )
+}
+
+/// A REST request (its body included) must be answered within `--request-timeout`.
+async fn time_limited(
+    limit: std::time::Duration,
+    req: Request,
+    next: axum::middleware::Next,
+) -> Response {
+    match tokio::time::timeout(limit, next.run(req)).await {
+        Ok(r) => r,
+        Err(_) => json_error(
+            StatusCode::REQUEST_TIMEOUT,
+            "request_timeout",
+            format!(
+                "the request took longer than {} s (--request-timeout)",
+                limit.as_secs_f64()
+            ),
+        ),
+    }
 }
 
 /// Runs blocking work off the async threads.
@@ -79,37 +115,80 @@ async fn blocking<T: Send + 'static>(f: impl FnOnce() -> Result<T> + Send + 'sta
         .map_err(ServerError::internal)?
 }
 
-/// Submission query parameters (halt overrides, seed, priority, scene, file name).
+/// Submission query parameters (halt overrides, seed, priority, scene, file name); the same
+/// names as the multipart fields, read by the same parser ([`set_option`]).
 #[derive(Debug, Default, serde::Deserialize, utoipa::IntoParams)]
 pub struct SubmitQuery {
-    /// Job name (default: the scene's file stem).
+    /// Job name (default: the Film's filename, else the scene's file stem).
     pub name: Option<String>,
-    pub haltspp: Option<f64>,
-    pub halttime: Option<f64>,
-    pub haltthreshold: Option<f64>,
-    pub seed: Option<u64>,
-    pub priority: Option<i32>,
+    #[param(value_type = Option<f64>)]
+    pub haltspp: Option<String>,
+    #[param(value_type = Option<f64>)]
+    pub halttime: Option<String>,
+    #[param(value_type = Option<f64>)]
+    pub haltthreshold: Option<String>,
+    #[param(value_type = Option<u64>)]
+    pub seed: Option<String>,
+    #[param(value_type = Option<i32>)]
+    pub priority: Option<String>,
     /// Path of the .lxs inside a bundle holding several.
     pub scene: Option<String>,
     /// Name of the uploaded file for a raw body (decides .lxs naming).
     pub filename: Option<String>,
     /// The animation frame to render (animated scene formats such as LightWave).
-    pub frame: Option<i64>,
+    #[param(value_type = Option<i64>)]
+    pub frame: Option<String>,
 }
 
 impl SubmitQuery {
-    fn options(&self) -> SubmitOptions {
-        SubmitOptions {
-            name: self.name.clone(),
-            haltspp: self.haltspp,
-            halttime: self.halttime,
-            haltthreshold: self.haltthreshold,
-            seed: self.seed,
-            priority: self.priority,
-            scene: self.scene.clone(),
-            frame: self.frame,
+    fn options(&self, owner: String) -> Result<SubmitOptions> {
+        let mut o = SubmitOptions {
+            owner,
+            ..SubmitOptions::default()
+        };
+        let fields = [
+            ("name", &self.name),
+            ("haltspp", &self.haltspp),
+            ("halttime", &self.halttime),
+            ("haltthreshold", &self.haltthreshold),
+            ("seed", &self.seed),
+            ("priority", &self.priority),
+            ("scene", &self.scene),
+            ("frame", &self.frame),
+        ];
+        for (name, value) in fields {
+            if let Some(v) = value {
+                set_option(&mut o, name, v)?;
+            }
         }
+        Ok(o)
     }
+}
+
+/// Sets one submission option from its text (a query parameter or a multipart field); empty
+/// text leaves it unset. Unknown names are ignored.
+pub fn set_option(o: &mut SubmitOptions, name: &str, text: &str) -> Result<()> {
+    let text = text.trim();
+    if text.is_empty() {
+        return Ok(());
+    }
+    fn parse<T: std::str::FromStr>(name: &str, text: &str, what: &str) -> Result<T> {
+        text.parse::<T>().map_err(|_| {
+            ServerError::BadRequest(format!("parameter {name}: {text:?} is not {what}"))
+        })
+    }
+    match name {
+        "haltspp" => o.haltspp = Some(parse(name, text, "a number")?),
+        "halttime" => o.halttime = Some(parse(name, text, "a number")?),
+        "haltthreshold" => o.haltthreshold = Some(parse(name, text, "a number")?),
+        "seed" => o.seed = Some(parse(name, text, "an integer from 0 to 2^64-1")?),
+        "priority" => o.priority = Some(parse(name, text, "an integer from -2^31 to 2^31-1")?),
+        "frame" => o.frame = Some(parse(name, text, "an integer")?),
+        "name" => o.name = Some(text.to_string()),
+        "scene" => o.scene = Some(text.to_string()),
+        _ => {}
+    }
+    Ok(())
 }
 
 /// Query parameters, with a JSON 400 when they do not parse.
@@ -129,10 +208,24 @@ fn query<T>(q: std::result::Result<Query<T>, QueryRejection>) -> Result<T> {
               (status = 401, body = ErrorBody)))]
 async fn submit_job(
     State(farm): State<AppState>,
+    Extension(who): Extension<Identity>,
     q: std::result::Result<Query<SubmitQuery>, QueryRejection>,
     req: Request,
 ) -> Result<Response> {
     let q = query(q)?;
+    let opts = q.options(who.owner())?;
+    // An upload announcing more than the limit is refused before its body is read.
+    let announced = req
+        .headers()
+        .get(header::CONTENT_LENGTH)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.parse::<u64>().ok());
+    if let Some(n) = announced.filter(|&n| n > farm.cfg.max_upload) {
+        return Err(ServerError::TooLarge(format!(
+            "upload of {n} bytes exceeds the limit of {}",
+            farm.cfg.max_upload
+        )));
+    }
     let is_multipart = req
         .headers()
         .get(header::CONTENT_TYPE)
@@ -142,7 +235,7 @@ async fn submit_job(
         let mp = Multipart::from_request(req, &())
             .await
             .map_err(|e| ServerError::BadRequest(e.to_string()))?;
-        read_multipart(mp, q.options()).await?
+        read_multipart(mp, opts).await?
     } else {
         let name = q.filename.clone().unwrap_or_else(|| "scene.lxs".into());
         let bytes = Bytes::from_request(req, &())
@@ -151,8 +244,13 @@ async fn submit_job(
                 StatusCode::PAYLOAD_TOO_LARGE => ServerError::TooLarge(e.body_text()),
                 _ => ServerError::BadRequest(e.body_text()),
             })?;
-        (bytes, name, q.options())
+        (bytes, name, opts)
     };
+    let _unpacking = farm
+        .unpack_slots
+        .acquire()
+        .await
+        .map_err(ServerError::internal)?;
     let f = farm.clone();
     let view = blocking(move || {
         let row = f.submit(&bytes, &file_name, &opts)?;
@@ -179,29 +277,7 @@ async fn read_multipart(
             continue;
         }
         let text = field.text().await.map_err(bad)?;
-        let text = text.trim();
-        if text.is_empty() {
-            continue;
-        }
-        let num = |t: &str| {
-            t.parse::<f64>()
-                .map_err(|_| ServerError::BadRequest(format!("field {name}: not a number: {t:?}")))
-        };
-        match name.as_str() {
-            "haltspp" => opts.haltspp = Some(num(text)?),
-            "halttime" => opts.halttime = Some(num(text)?),
-            "haltthreshold" => opts.haltthreshold = Some(num(text)?),
-            "seed" => opts.seed = Some(num(text)? as u64),
-            "priority" => opts.priority = Some(num(text)? as i32),
-            "name" => opts.name = Some(text.to_string()),
-            "scene" => opts.scene = Some(text.to_string()),
-            "frame" => {
-                opts.frame = Some(text.parse::<i64>().map_err(|_| {
-                    ServerError::BadRequest(format!("field frame: not an integer: {text:?}"))
-                })?)
-            }
-            _ => {}
-        }
+        set_option(&mut opts, &name, &text)?;
     }
     let (bytes, fname) = file
         .ok_or_else(|| ServerError::BadRequest("multipart upload without a `file` part".into()))?;
@@ -227,10 +303,14 @@ async fn get_job(State(farm): State<AppState>, Path(id): Path<String>) -> Result
 #[utoipa::path(delete, path = "/api/v1/jobs/{id}", params(("id" = String, Path)),
     responses((status = 200, body = JobView), (status = 404, body = ErrorBody),
               (status = 409, body = ErrorBody)))]
-async fn cancel_job(State(farm): State<AppState>, Path(id): Path<String>) -> Result<Json<JobView>> {
+async fn cancel_job(
+    State(farm): State<AppState>,
+    Extension(who): Extension<Identity>,
+    Path(id): Path<String>,
+) -> Result<Json<JobView>> {
     Ok(Json(
         blocking(move || {
-            let row = crate::halt::cancel(&farm, &id)?;
+            let row = crate::halt::cancel(&farm, &id, &who)?;
             views::job_view(&farm, &row)
         })
         .await?,

@@ -9,6 +9,7 @@
 use crate::codec;
 use crate::error::{Result, ServerError};
 use luxfarm::atomic_write::write_bytes_atomic;
+use luxfarm::fileio::SceneFiles;
 pub use luxfarm::film::Film;
 use luxfarm::film::FilmParams;
 pub use luxfarm::halt::Convergence;
@@ -34,6 +35,13 @@ pub struct SceneInfo {
     pub basename: String,
     /// The job's name when the submission gives none.
     pub name: String,
+    /// The scene file inside its bundle (for messages).
+    pub scene: String,
+    /// Whether the scene has a Camera statement, and how many shapes (object instances
+    /// included) and lights it holds: what admission control asks of a renderable scene.
+    pub has_camera: bool,
+    pub shapes: usize,
+    pub lights: usize,
 }
 
 /// Parses `root/scene` with its Includes confined to `root` and reads its film parameters.
@@ -46,6 +54,12 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
     };
     let path = root.join(scene);
     let desc = luxfarm::formats::load(&path, &opts).map_err(|e| {
+        ServerError::BadRequest(format!("scene error: {}", strip_root(&e.to_string(), root)))
+    })?;
+    // Every file the scene names must lie inside the bundle, as the workers will require.
+    let base = path.parent().unwrap_or(root);
+    let files = SceneFiles::confined(root, base).map_err(ServerError::internal)?;
+    luxfarm_wire::bundle::check_scene_files(&desc, &files).map_err(|e| {
         ServerError::BadRequest(format!("scene error: {}", strip_root(&e.to_string(), root)))
     })?;
     let mut params = FilmParams::from_entity(desc.film.as_ref()).map_err(|e| {
@@ -90,6 +104,10 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
         convergence_step: params.convergence_step.max(1.0),
         basename,
         name,
+        scene: scene.to_string_lossy().replace('\\', "/"),
+        has_camera: desc.camera.is_some(),
+        shapes: desc.shapes.len() + desc.instances.len(),
+        lights: desc.lights.len(),
         params,
     })
 }
@@ -107,13 +125,13 @@ pub fn new_film(info: &SceneInfo) -> Film {
 
 /// Writes a checkpoint (lossless `lxd1`) atomically.
 pub fn write_checkpoint(film: &Film, path: &Path) -> Result<()> {
-    write_bytes_atomic(path, &codec::encode(film)).map_err(ServerError::internal)
+    write_bytes_atomic(path, &codec::encode(film)).map_err(|e| ServerError::Io(e.source))
 }
 
-/// Reads a checkpoint.
+/// Reads a checkpoint (errors leave naming the file to the caller).
 pub fn read_checkpoint(path: &Path) -> Result<Film> {
     let bytes = std::fs::read(path)?;
-    codec::decode(&bytes).map_err(|e| ServerError::Internal(format!("{}: {e}", path.display())))
+    codec::decode(&bytes).map_err(|e| ServerError::Internal(e.to_string()))
 }
 
 /// FLM bytes of a film (LuxRender's format, for downloads and outputs).
@@ -141,6 +159,3 @@ pub fn png_bytes(film: &Film, info: &SceneInfo, max_size: Option<u32>) -> Result
 pub fn exr_bytes(film: &Film, info: &SceneInfo) -> Result<Vec<u8>> {
     output::linear_exr(film, &info.params.tonemap).map_err(ServerError::internal)
 }
-
-/// Whether the convergence test (haltthreshold) works in this build.
-pub const CONVERGENCE_AVAILABLE: bool = true;

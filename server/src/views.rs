@@ -47,6 +47,10 @@ pub struct JobView {
     pub frame: Option<i64>,
     /// Changes whenever the merged film changes (the preview's ETag).
     pub film_version: String,
+    /// Who submitted the job (a token's name; empty on an open farm).
+    pub owner: String,
+    /// The master's notes about the job (e.g. the default halt rule it was given).
+    pub notes: Vec<String>,
 }
 
 /// A worker's contribution to a job.
@@ -124,6 +128,8 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
         merged_deltas: deltas,
         frame: row.frame,
         film_version: format!("{}-{}", row.ckpt_gen, 0),
+        owner: row.owner.clone(),
+        notes: row.notes.clone(),
     };
     if let Some(rt) = rt {
         let samples = lock(&rt.film).total_samples();
@@ -285,6 +291,8 @@ impl From<JobView> for pb::JobInfo {
             convergence: v.convergence,
             merged_deltas: v.merged_deltas,
             frame: v.frame,
+            owner: v.owner,
+            notes: v.notes,
         }
     }
 }
@@ -333,6 +341,8 @@ mod tests {
                 height: 6,
                 submitted_ms: 0,
                 frame: None,
+                owner: "",
+                notes: &[],
             })
             .unwrap();
             // Rows come in merge order. w3: uploads long ago only.

@@ -10,8 +10,10 @@
 //!
 //! - reports errors as [`SceneError`]s naming file:line:column, and warnings as located
 //!   [`crate::lxs::Diagnostic`]s in `SceneDescription::warnings`;
-//! - honours [`ParseOptions`]: confinement of every file it reads to the scene's directory,
-//!   the byte budget and array limits for untrusted uploads;
+//! - honours [`ParseOptions`]: confinement of every file it reads to the scene's directory
+//!   (with `confine_to_root` set it opens them through [`crate::fileio::SceneFiles::confined`],
+//!   the one confined open of the core), the byte budget and array limits for untrusted
+//!   uploads;
 //! - lists in `SceneDescription::files` every file it read besides the root (includes,
 //!   meshes), so a farm bundle carries them and a worker can import the scene again.
 //!

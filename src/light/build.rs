@@ -14,11 +14,11 @@ use super::{
     sunsky, AreaLight, DistantLight, Emission, EmissionProfile, InfiniteLight, Light, LightColor,
     LightCommon, PointLight, PrimShape, PrimitiveLight, SpotLight,
 };
+use crate::fileio::SceneFiles;
 use crate::lxs::{Entity, LightDesc, ParamSet};
 use crate::plugin::BuildError;
 use crate::spectrum::{illuminant_y, Rgb};
-use crate::texture::TextureSet;
-use std::path::Path;
+use crate::texture::{image_io, param_loc, TextureSet};
 use std::sync::Arc;
 
 /// The `LightSource` plugin names luxfarm builds.
@@ -31,7 +31,7 @@ impl Light {
         ld: &LightDesc,
         group: usize,
         textures: &mut TextureSet,
-        base_dir: &Path,
+        files: &SceneFiles,
     ) -> Result<Vec<Light>, BuildError> {
         let e = &ld.entity;
         let p = &e.params;
@@ -52,9 +52,14 @@ impl Light {
             "spot" => Light::Spot(SpotLight::new(p, l2w, &color, common)),
             "distant" => Light::Distant(DistantLight::new(p, l2w, &color, common)),
             "infinite" | "infinitesample" => {
-                let map = p.string("mapname").filter(|s| !s.is_empty());
-                let path = map.map(|m| base_dir.join(m));
-                let l = InfiniteLight::new(p, l2w, &color, path.as_deref(), common)
+                let map = match p.string("mapname").filter(|s| !s.is_empty()) {
+                    Some(name) => Some(
+                        image_io::load_scene_rgb(files, name)
+                            .map_err(|m| BuildError::new(&param_loc(p, "mapname", &e.loc), m))?,
+                    ),
+                    None => None,
+                };
+                let l = InfiniteLight::new(p, l2w, &color, map, common)
                     .map_err(|m| BuildError::new(&e.loc, m))?;
                 Light::Infinite(Box::new(l))
             }

@@ -14,7 +14,6 @@ use crate::spectrum::Rgb;
 use crate::texture::image_io;
 use glam::{Mat4, Vec2, Vec3A};
 use std::f32::consts::PI;
-use std::path::Path;
 
 /// A lat-long radiance map with its sampling distribution.
 #[derive(Debug)]
@@ -80,12 +79,12 @@ pub struct InfiniteLight {
 }
 
 impl InfiniteLight {
-    /// `map_path` is `mapname` already resolved against the scene's directory.
+    /// `map` is the image `mapname` names, already read through the scene's files.
     pub fn new(
         params: &ParamSet,
         l2w: Mat4,
         color: &LightColor,
-        map_path: Option<&Path>,
+        map: Option<image_io::RgbImage>,
         common: LightCommon,
     ) -> Result<Self, String> {
         let gain = params.float_or("gain", 1.0);
@@ -96,9 +95,8 @@ impl InfiniteLight {
                 "infinite light mapping \"{mapping}\" is not supported (only latlong)"
             ));
         }
-        let map = match map_path {
-            Some(p) => {
-                let (w, h, mut texels) = image_io::load_rgb(p)?;
+        let map = match map {
+            Some((w, h, mut texels)) => {
                 if gamma != 1.0 {
                     for t in texels.iter_mut() {
                         *t = t.map(|v| v.max(0.0).powf(gamma));

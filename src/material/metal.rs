@@ -12,6 +12,7 @@ use super::bxdf::microfacet::{Fresnel, MicrofacetReflection};
 use super::bxdf::schlick::SchlickDist;
 use super::nk_data::NkTable;
 use super::{Builder, MaterialError};
+use crate::fileio::FileError;
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;
 use crate::spectrum::Rgb;
@@ -42,45 +43,26 @@ pub fn roughness_pair(
     Ok((u, v))
 }
 
-/// Largest `.nk` file read (bytes): measured data files are a few kilobytes.
-pub const MAX_NK_BYTES: u64 = 4 << 20;
-
-fn read_nk(path: &std::path::Path) -> Result<NkTable, String> {
-    let len = std::fs::metadata(path).map_err(|e| e.to_string())?.len();
-    if len > MAX_NK_BYTES {
-        return Err(format!("{len} bytes, more than the {MAX_NK_BYTES} allowed"));
-    }
-    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
-    NkTable::parse(&text)
-}
-
 fn load_nk(b: &mut Builder, e: &Entity, name: &str) -> NkTable {
-    let path = b.ctx.base_dir.join(name);
     let key = if e.params.contains("filename") {
         "filename"
     } else {
         "name"
     };
-    if path.is_file() {
-        match read_nk(&path) {
+    // A preset name is not a file name; anything else is looked up as a file first (through
+    // the scene's confined file access), as LuxRender does.
+    let loc = param_loc(&e.params, key, &e.loc);
+    match b.ctx.files.read_to_string(name) {
+        Ok(text) => match NkTable::parse(&text) {
             Ok(t) => return t,
-            Err(err) => {
-                let loc = param_loc(&e.params, key, &e.loc);
-                b.warn(
-                    &loc,
-                    format!(
-                        "cannot read nk file {}: {err}; using aluminium",
-                        path.display()
-                    ),
-                );
-            }
-        }
-    } else if NkTable::preset(name).is_none() {
-        let loc = param_loc(&e.params, key, &e.loc);
-        b.warn(
+            Err(err) => b.warn(&loc, format!("nk file \"{name}\": {err}; using aluminium")),
+        },
+        Err(FileError::NotFound { .. }) if NkTable::preset(name).is_some() => {}
+        Err(FileError::NotFound { .. }) => b.warn(
             &loc,
             format!("metal \"{name}\" not found, using the default (aluminium)"),
-        );
+        ),
+        Err(err) => b.warn(&loc, format!("cannot read nk file: {err}; using aluminium")),
     }
     NkTable::preset(name)
         .or_else(|| NkTable::preset("aluminium"))

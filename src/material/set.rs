@@ -9,17 +9,18 @@
 //! material itself otherwise.
 
 use super::{Material, MaterialError};
+use crate::fileio::SceneFiles;
 use crate::lxs::{Diagnostic, Entity, Loc, SceneDescription};
 use crate::texture::{TextureCtx, TextureSet};
 use std::collections::HashMap;
-use std::path::PathBuf;
 use std::sync::Arc;
 
 /// Where material files (nk data, images) are found.
 #[derive(Clone, Debug, Default)]
 pub struct MaterialCtx {
-    /// Directory of the scene's root file.
-    pub base_dir: PathBuf,
+    /// Where material files (nk data, images) are opened: relative to the scene's directory,
+    /// confined to it on a farm.
+    pub files: SceneFiles,
 }
 
 /// The indices of refraction glass2 sees at a shape: `fresnel` of its Interior and Exterior
@@ -163,7 +164,7 @@ impl MaterialSet {
         let mut textures = TextureSet::new(
             desc,
             TextureCtx {
-                base_dir: ctx.base_dir.clone(),
+                files: ctx.files.clone(),
             },
         );
         let mut set = MaterialSet::build_with_textures(desc, used, ctx, &mut textures)?;
@@ -238,7 +239,7 @@ impl MaterialSet {
         let mut textures = TextureSet::new(
             desc,
             TextureCtx {
-                base_dir: self.ctx.base_dir.clone(),
+                files: self.ctx.files.clone(),
             },
         );
         let mut b = Builder::new(desc, &mut textures, self.ctx.clone());

@@ -12,7 +12,6 @@ mod tile;
 use crate::film::{Film, FilmParams, ZBuffer};
 use crate::lxs::SceneDescription;
 use setup::{Renderable, SetupError};
-use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
@@ -66,12 +65,14 @@ pub struct Session {
 }
 
 impl Session {
+    /// A session over the scene `desc`; `files` opens the files it names (a directory for a
+    /// local scene, or a [`crate::fileio::SceneFiles`] confined to a farm bundle).
     pub fn new(
         desc: &SceneDescription,
-        base_dir: &Path,
+        files: impl Into<crate::fileio::SceneFiles>,
         opts: SessionOptions,
     ) -> Result<Session, RenderError> {
-        let scene = Renderable::build(desc, base_dir)?;
+        let scene = Renderable::build(desc, files)?;
         Session::from_renderable(scene, opts)
     }
 

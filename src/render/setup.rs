@@ -10,6 +10,7 @@
 //! The world never sees the setup's types: it is told what it needs ([`WorldOptions`]).
 
 use crate::camera::{Camera, FilmGeometry};
+use crate::fileio::SceneFiles;
 use crate::film::{FilmError, FilmParams};
 use crate::filter::Filter;
 use crate::integrator::Integrator;
@@ -17,7 +18,6 @@ use crate::lxs::{Diagnostic, Loc, SceneDescription};
 use crate::plugin::{report_unused, warn, BuildError};
 use crate::sampler::Sampler;
 use crate::scene::{World, WorldOptions};
-use std::path::Path;
 
 /// Why a scene could not be set up for rendering; every variant names the place in the scene
 /// files.
@@ -47,12 +47,17 @@ pub struct Renderable {
 }
 
 impl Renderable {
-    /// Builds the setup, then the world; `base_dir` is the directory relative file names
-    /// resolve against.
-    pub fn build(desc: &SceneDescription, base_dir: &Path) -> Result<Renderable, SetupError> {
+    /// Builds the setup, then the world; `files` opens the files the scene names: a
+    /// directory (relative names resolve against it, as a local render does) or a
+    /// [`SceneFiles`] confined to a bundle.
+    pub fn build(
+        desc: &SceneDescription,
+        files: impl Into<SceneFiles>,
+    ) -> Result<Renderable, SetupError> {
+        let files = files.into();
         let mut warnings = Vec::new();
         let mut film_params = FilmParams::from_entity(desc.film.as_ref())?;
-        if let Err(m) = film_params.tonemap.effects.load_response(base_dir) {
+        if let Err(m) = film_params.tonemap.effects.load_response(files.base_dir()) {
             let loc = desc
                 .film
                 .as_ref()
@@ -75,14 +80,14 @@ impl Renderable {
             yres: film_params.yres,
             crop: film_params.crop,
         };
-        let mut camera = Camera::build_in(cam_desc, &fg, Some(base_dir), &mut warnings)?;
+        let mut camera = Camera::build_in(cam_desc, &fg, Some(files.base_dir()), &mut warnings)?;
         let filter = Filter::build(desc.pixel_filter.as_ref(), &mut warnings)?;
         let sampler = Sampler::build(desc.sampler.as_ref(), &mut warnings)?;
         let integrator = Integrator::build(desc.surface_integrator.as_ref(), &mut warnings)?;
         let opts = WorldOptions {
             light_strategy: integrator.direct_settings().strategy,
         };
-        let world = World::build(desc, base_dir, opts, &mut warnings)?;
+        let world = World::build(desc, &files, opts, &mut warnings)?;
         if camera.needs_autofocus() {
             camera.autofocus(|r| world.intersect(r).map(|si| si.t));
         }

@@ -4,13 +4,13 @@
 //! [`crate::light`]) and their selection — building only what is referenced.
 
 use super::{geometry, World};
+use crate::fileio::SceneFiles;
 use crate::light::{Light, LightSelector, LightStrategy};
 use crate::lxs::{Diagnostic, SceneDescription};
 use crate::material::{MaterialCtx, MaterialSet};
 use crate::plugin::{report_unused, warn, BuildError};
 use crate::shape::ShapeCtx;
 use crate::texture::{TextureCtx, TextureSet};
-use std::path::Path;
 
 /// What the render setup tells the world about how it will be used.
 #[derive(Clone, Copy, Debug)]
@@ -20,11 +20,12 @@ pub struct WorldOptions {
 }
 
 impl World {
-    /// Builds the world; `base_dir` is the directory relative file names resolve against.
-    /// Problems that do not stop the build are pushed to `warnings` (and logged).
+    /// Builds the world; `files` opens the files the scene names (relative to its directory,
+    /// confined to it on a farm). Problems that do not stop the build are pushed to
+    /// `warnings` (and logged).
     pub fn build(
         desc: &SceneDescription,
-        base_dir: &Path,
+        files: &SceneFiles,
         opts: WorldOptions,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<World, BuildError> {
@@ -34,7 +35,7 @@ impl World {
             desc.light_groups.clone()
         };
         let ctx = ShapeCtx {
-            base_dir: base_dir.to_path_buf(),
+            files: files.clone(),
         };
         let built = geometry::build(desc, &ctx, warnings)?;
         let (mut geometry, mut prims) = (built.geometry, built.prims);
@@ -44,7 +45,7 @@ impl World {
         used.sort_unstable();
         used.dedup();
         let mctx = MaterialCtx {
-            base_dir: base_dir.to_path_buf(),
+            files: files.clone(),
         };
         let mut materials = MaterialSet::build(desc, &used, &mctx)?;
         // glass2 takes its index from each shape's volumes.
@@ -59,7 +60,7 @@ impl World {
         let mut textures = TextureSet::new(
             desc,
             TextureCtx {
-                base_dir: base_dir.to_path_buf(),
+                files: files.clone(),
             },
         );
         let group_of = |name: &str| groups.iter().position(|g| g == name).unwrap_or(0);
@@ -69,7 +70,7 @@ impl World {
                 ld,
                 group_of(&ld.light_group),
                 &mut textures,
-                base_dir,
+                files,
             )?);
         }
         let mut emitters = Vec::new();

@@ -20,10 +20,10 @@ pub mod stlmesh;
 pub mod triangle;
 pub mod trianglemesh;
 
+use crate::fileio::SceneFiles;
 use crate::geometry::Transform;
 use crate::lxs::ShapeDesc;
 pub use crate::plugin::BuildError;
-use std::path::PathBuf;
 
 pub use mesh::TriangleMesh;
 pub use quadric::Quadric;
@@ -31,8 +31,9 @@ pub use quadric::Quadric;
 /// What shape creation needs besides the description.
 #[derive(Clone, Debug, Default)]
 pub struct ShapeCtx {
-    /// Directory that relative file names (plymesh/stlmesh `filename`) resolve against.
-    pub base_dir: PathBuf,
+    /// Where the files shapes name (plymesh/stlmesh `filename`) are opened: relative to the
+    /// scene's directory, confined to it on a farm.
+    pub files: SceneFiles,
 }
 
 /// A built shape.

@@ -19,11 +19,13 @@ pub(crate) fn build(b: &Build) -> Result<TriangleMesh, BuildError> {
         .to_string();
     let smooth = b.params().bool_or("smooth", false);
     check_unsupported(b)?;
-    let path = b.ctx.base_dir.join(&name);
-    tracing::info!("loading PLY mesh {}", path.display());
-    let bytes = std::fs::read(&path)
-        .map_err(|e| b.err(format!("cannot read PLY file {}: {e}", path.display())))?;
-    let mut data = parse(&bytes).map_err(|e| b.err(format!("PLY file {}: {e}", path.display())))?;
+    tracing::info!("loading PLY mesh {name}");
+    let bytes = b
+        .ctx
+        .files
+        .read(&name)
+        .map_err(|e| b.err(format!("cannot read PLY file: {e}")))?;
+    let mut data = parse(&bytes).map_err(|e| b.err(format!("PLY file \"{name}\": {e}")))?;
     if data.n.is_some() && smooth {
         tracing::debug!("plymesh: \"smooth\" overrides the file's normals");
     }

@@ -19,11 +19,13 @@ pub(crate) fn build(b: &Build) -> Result<TriangleMesh, BuildError> {
     let recenter = b.params().bool_or("recenter_mesh", false);
     let _ = b.params().string("type");
     check_unsupported(b)?;
-    let path = b.ctx.base_dir.join(&name);
-    tracing::info!("loading STL mesh {}", path.display());
-    let bytes = std::fs::read(&path)
-        .map_err(|e| b.err(format!("cannot read STL file {}: {e}", path.display())))?;
-    let mut p = parse(&bytes).map_err(|e| b.err(format!("STL file {}: {e}", path.display())))?;
+    tracing::info!("loading STL mesh {name}");
+    let bytes = b
+        .ctx
+        .files
+        .read(&name)
+        .map_err(|e| b.err(format!("cannot read STL file: {e}")))?;
+    let mut p = parse(&bytes).map_err(|e| b.err(format!("STL file \"{name}\": {e}")))?;
     if recenter {
         recenter_points(&mut p);
     }

@@ -151,8 +151,7 @@ pub(crate) fn read_data_file(
     let p = &t.entity.params;
     let loc = param_loc(p, param, &t.entity.loc);
     let name = p.string_or(param, "").to_string();
-    let path = set.ctx.base_dir.join(&name);
-    let shown = path.display().to_string();
+    let shown = name.clone();
     let err = |message: String| TextureError::Image {
         loc: loc.clone(),
         path: shown.clone(),
@@ -164,15 +163,7 @@ pub(crate) fn read_data_file(
             message: format!("{} needs a \"string {param}\"", t.entity.kind),
         });
     }
-    let len = std::fs::metadata(&path)
-        .map_err(|e| err(e.to_string()))?
-        .len();
-    if len > MAX_NK_FILE_BYTES {
-        return Err(err(format!(
-            "{len} bytes is larger than the {MAX_NK_FILE_BYTES} accepted"
-        )));
-    }
-    let text = std::fs::read_to_string(&path).map_err(|e| err(e.to_string()))?;
+    let text = super::read_bounded(&set.ctx.files, &name, MAX_NK_FILE_BYTES).map_err(err)?;
     Ok((text, shown))
 }
 

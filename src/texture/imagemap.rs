@@ -185,13 +185,12 @@ pub fn image_lookup(
             })
         }
     };
-    let path = set.ctx.base_dir.join(&name);
     let map = set
         .images
-        .mipmap(&path, filter, wrap, max_aniso, discard)
+        .mipmap(&set.ctx.files, &name, filter, wrap, max_aniso, discard)
         .map_err(|message| TextureError::Image {
             loc: param_loc(p, "filename", loc),
-            path: path.display().to_string(),
+            path: name.clone(),
             message,
         })?;
     Ok(ImageLookup {

@@ -69,12 +69,12 @@ pub use fresnel::{Fresnel, FresnelData, FresnelNode, FresnelTex};
 pub use node::TexNode;
 pub use set::TextureSet;
 
+use crate::fileio::SceneFiles;
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::{Loc, ParamSet, TextureDesc, TextureType};
 use crate::plugin::BuildError;
 use crate::spectrum::Rgb;
 use glam::Vec2;
-use std::path::PathBuf;
 use std::sync::Arc;
 use thiserror::Error;
 
@@ -129,8 +129,9 @@ impl From<TextureError> for BuildError {
 /// Where texture files are found.
 #[derive(Clone, Debug, Default)]
 pub struct TextureCtx {
-    /// Directory of the scene's root file: relative file names resolve against it.
-    pub base_dir: PathBuf,
+    /// Where image files are opened: relative to the scene's directory, confined to it on a
+    /// farm.
+    pub files: SceneFiles,
 }
 
 /// A colour-valued texture.
@@ -270,6 +271,24 @@ pub(crate) fn build_fresnel(
         "sellmeier" => sellmeier::build(set, t),
         _ => Err(unknown(t)),
     }
+}
+
+/// The text of the data file a scene names `name` (spectral and nk data), opened through the
+/// scene's `files` and refused above `max` bytes. Errors give the reason.
+pub(crate) fn read_bounded(files: &SceneFiles, name: &str, max: u64) -> Result<String, String> {
+    use std::io::Read;
+    let (file, len) = files.open(name).map_err(|e| e.reason())?;
+    if len > max {
+        return Err(format!("{len} bytes is larger than the {max} accepted"));
+    }
+    let mut text = String::new();
+    file.take(max.saturating_add(1))
+        .read_to_string(&mut text)
+        .map_err(|e| e.to_string())?;
+    if text.len() as u64 > max {
+        return Err(format!("larger than the {max} bytes accepted"));
+    }
+    Ok(text)
 }
 
 #[cfg(test)]

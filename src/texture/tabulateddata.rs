@@ -7,7 +7,7 @@
 //! of 1, with a warning; a missing or unreadable file is an error.
 
 use super::spectral::SpectralTex;
-use super::{param_loc, TexNode, TextureError, TextureSet};
+use super::{param_loc, read_bounded, TexNode, TextureError, TextureSet};
 use crate::lxs::TextureDesc;
 use crate::spectrum::spd::{Spd, MAX_SAMPLES};
 
@@ -81,21 +81,12 @@ pub fn build(set: &mut TextureSet, t: &TextureDesc) -> Result<TexNode, TextureEr
     let p = &t.entity.params;
     let loc = param_loc(p, "filename", &t.entity.loc);
     let name = p.string_or("filename", "").to_string();
-    let path = set.ctx.base_dir.join(&name);
     let io_err = |message: String| TextureError::Image {
         loc: loc.clone(),
-        path: path.display().to_string(),
+        path: name.clone(),
         message,
     };
-    let len = std::fs::metadata(&path)
-        .map_err(|e| io_err(e.to_string()))?
-        .len();
-    if len > MAX_FILE_BYTES {
-        return Err(io_err(format!(
-            "{len} bytes is larger than the {MAX_FILE_BYTES} accepted"
-        )));
-    }
-    let text = std::fs::read_to_string(&path).map_err(|e| io_err(e.to_string()))?;
+    let text = read_bounded(&set.ctx.files, &name, MAX_FILE_BYTES).map_err(io_err)?;
     let (wl, v) = parse(&text).map_err(io_err)?;
     let usable = wl.len() >= 2
         && wl.first().is_some_and(|&a| a <= 720.0)
@@ -108,7 +99,7 @@ pub fn build(set: &mut TextureSet, t: &TextureDesc) -> Result<TexNode, TextureEr
             format!(
                 "tabulateddata \"{}\": fewer than two samples in 380-720 nm: a flat spectrum of 1, \
                  as LuxRender uses",
-                path.display()
+                name
             ),
         );
         Spd::constant(1.0)

@@ -26,11 +26,12 @@ use luxfarm::film::{BufferType, Film, PIXEL_VALUES};
 pub use lxd2::Compressor;
 
 const MAGIC: &[u8; 4] = b"LXD1";
-const MAX_GROUPS: usize = 1024;
+/// Most light groups a delta may carry.
+pub const MAX_GROUPS: usize = 1024;
 const MAX_BUFFERS: usize = 8;
 const MAX_NAME: usize = 4096;
 /// Largest decoded film (bytes of f64 values), as large as the largest accepted upload.
-const MAX_DECODED: u64 = 4 << 30;
+pub const MAX_DECODED: u64 = 4 << 30;
 
 /// The encoding workers upload deltas in (the `encoding` field of `UploadHeader`).
 pub const DELTA_ENCODING: &str = "lxd2";

@@ -1,12 +1,27 @@
 //! Rendering one lease: fetch the bundle (cache), build a render session with the lease's seed
-//! and stream id, render passes on a dedicated thread, and upload deltas every upload interval
-//! and at stop. The upload queue keeps each encoded delta with its sequence number until the
-//! master acknowledges it; retries resend the same bytes under the same number.
+//! and stream id (the scene confined to its bundle), render passes on a dedicated thread
+//! within the lease's sample budget, and upload deltas every upload interval, when the budget
+//! is spent, and at stop.
+//!
+//! ```text
+//! render thread --(a pass while rendered < budget)--> session film
+//!   --take (interval, budget spent, stop)--> encoded delta --channel--> upload loop
+//! upload loop: pending (not acknowledged) --ack--> retained (acknowledged, not durable)
+//!   --durable_seq from acks and heartbeats--> dropped
+//!   master restarted (another instance) --> retained go back in front of pending
+//! heartbeat loop: every interval, and at once when the render thread needs more budget:
+//!   stop, budget, durable_seq, master instance
+//! ```
+//!
+//! Retries resend the same bytes under the same sequence number; the master's (lease,
+//! sequence) ledger merges each once, so a delta is never lost and never counted twice. The
+//! lease ends once its last delta is acknowledged and every acknowledged delta is durable.
 
 use crate::cache::Cache;
 use crate::link::{backoff, Link};
 use crate::Config;
 use anyhow::Context;
+use luxfarm::fileio::SceneFiles;
 use luxfarm::lxs::ParseOptions;
 use luxfarm::render::{Session, SessionOptions};
 use luxfarm_proto as pb;
@@ -17,25 +32,60 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 use tonic::Code;
 
+/// Acknowledged deltas kept at most while waiting for the master to make them durable (it
+/// checkpoints every few uploads; more means its checkpoints fail).
+const MAX_RETAINED: usize = 64;
+
+/// How long a lease waits, after its last delta, for the master to make it durable.
+const DURABLE_WAIT: Duration = Duration::from_secs(600);
+
 /// A delta ready to upload.
 struct Delta {
     bytes: Vec<u8>,
     last: bool,
 }
 
-/// Flags shared by the render thread, the uploader and the heartbeat task.
+/// State shared by the render thread, the uploader and the heartbeat task.
 struct Flags {
     /// The master asked the lease to stop (or shutdown): render no more, send the last delta.
     stop: AtomicBool,
     /// The uploader wants the next delta.
     want: AtomicBool,
-    /// Samples rendered so far (f64 bits), for heartbeats.
+    /// Samples rendered so far, and per pass (f64 bits).
     samples: AtomicU64,
+    pass_samples: AtomicU64,
+    /// Samples the lease may render (f64 bits; +inf: unbounded).
+    budget: AtomicU64,
+    /// Highest sequence number the master holds durably.
+    durable: AtomicU64,
+    /// The render thread needs more budget: heartbeat now.
+    ask: tokio::sync::Notify,
     /// The session's cancel flag: set on stop so a long pass ends between tiles.
     cancel: std::sync::Mutex<Option<Arc<AtomicBool>>>,
 }
 
+fn load_f64(a: &AtomicU64) -> f64 {
+    f64::from_bits(a.load(Ordering::Relaxed))
+}
+
+fn store_f64(a: &AtomicU64, v: f64) {
+    a.store(v.to_bits(), Ordering::Relaxed);
+}
+
 impl Flags {
+    fn new(budget: Option<f64>) -> Flags {
+        Flags {
+            stop: AtomicBool::new(false),
+            want: AtomicBool::new(false),
+            samples: AtomicU64::new(0f64.to_bits()),
+            pass_samples: AtomicU64::new(0f64.to_bits()),
+            budget: AtomicU64::new(budget.unwrap_or(f64::INFINITY).to_bits()),
+            durable: AtomicU64::new(0),
+            ask: tokio::sync::Notify::new(),
+            cancel: std::sync::Mutex::new(None),
+        }
+    }
+
     /// Stops the lease: no more passes, the current one interrupted. True the first time.
     fn request_stop(&self) -> bool {
         let first = !self.stop.swap(true, Ordering::SeqCst);
@@ -49,6 +99,15 @@ impl Flags {
         }
         first
     }
+
+    /// Applies what the master said about the lease.
+    fn apply(&self, stop: bool, budget: Option<f64>, durable: u64) {
+        store_f64(&self.budget, budget.unwrap_or(f64::INFINITY));
+        self.durable.fetch_max(durable, Ordering::SeqCst);
+        if stop && self.request_stop() {
+            tracing::info!("master asked to stop");
+        }
+    }
 }
 
 /// Renders one lease to its end.
@@ -59,7 +118,7 @@ pub async fn run_lease(
     threads: usize,
     a: pb::Assignment,
 ) -> anyhow::Result<()> {
-    tracing::info!(stream = a.stream, seed = a.seed, "lease started");
+    tracing::info!(stream = a.stream, seed = a.seed, budget = ?a.budget, "lease started");
     let dir = match cache.get(&a.bundle_hash) {
         Some(d) => d,
         None => {
@@ -69,12 +128,8 @@ pub async fn run_lease(
     };
     let rel = luxfarm_wire::bundle::safe_relative(&a.scene_path)?;
     let scene = dir.join(rel);
-    let flags = Arc::new(Flags {
-        stop: AtomicBool::new(false),
-        want: AtomicBool::new(false),
-        samples: AtomicU64::new(0),
-        cancel: std::sync::Mutex::new(None),
-    });
+    let root = dir.clone();
+    let flags = Arc::new(Flags::new(a.budget));
     let (tx, rx) = tokio::sync::mpsc::channel::<Delta>(4);
     let render = {
         let flags = flags.clone();
@@ -87,7 +142,7 @@ pub async fn run_lease(
         let frame = a.frame;
         std::thread::Builder::new()
             .name("render".into())
-            .spawn(move || render_thread(&scene, frame, opts, &flags, &shutdown, &tx))?
+            .spawn(move || render_thread(&root, &scene, frame, opts, &flags, &shutdown, &tx))?
     };
     let hb = tokio::spawn(heartbeat_loop(
         link.clone(),
@@ -116,9 +171,10 @@ pub async fn run_lease(
     result
 }
 
-/// The render thread: passes until stopped; a delta whenever the uploader asks, and the last
-/// one at stop.
+/// The render thread: passes while within the budget; a delta whenever the uploader asks or
+/// the budget is spent, and the last one at stop.
 fn render_thread(
+    root: &Path,
     scene: &Path,
     frame: Option<i64>,
     opts: SessionOptions,
@@ -131,34 +187,67 @@ fn render_thread(
         frame,
         ..ParseOptions::default()
     };
-    let desc = luxfarm::formats::load(scene, &parse).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let base = scene.parent().unwrap_or(Path::new("."));
-    let mut session = Session::new(&desc, base, opts).map_err(|e| anyhow::anyhow!("{e}"))?;
+    // Errors name files relative to the bundle, never the worker's cache path.
+    let shown = |e: &dyn std::fmt::Display| {
+        anyhow::anyhow!(
+            "{}",
+            e.to_string().replace(&format!("{}/", root.display()), "")
+        )
+    };
+    let desc = luxfarm::formats::load(scene, &parse).map_err(|e| shown(&e))?;
+    let base = scene.parent().unwrap_or(root);
+    // Every file the scene names is opened inside the bundle (luxfarm::fileio).
+    let files = SceneFiles::confined(root, base).map_err(|e| shown(&e))?;
+    let mut session = Session::new(&desc, files, opts).map_err(|e| shown(&e))?;
+    let fp = session.film_params();
+    let pass = f64::from(fp.x_pixel_count)
+        * f64::from(fp.y_pixel_count)
+        * f64::from(session.pixel_samples().max(1));
+    store_f64(&flags.pass_samples, pass);
     *flags.cancel.lock().unwrap_or_else(|p| p.into_inner()) = Some(session.cancel_flag());
     if flags.stop.load(Ordering::SeqCst) {
         session.cancel_flag().store(true, Ordering::SeqCst);
     }
+    let send = |session: &mut Session, last: bool| {
+        let bytes = encode(&session.take_film());
+        tx.blocking_send(Delta { bytes, last }).is_ok()
+    };
+    let mut unsent = false;
+    let mut asked = false;
     loop {
-        let stopping = flags.stop.load(Ordering::SeqCst) || shutdown.load(Ordering::Relaxed);
-        if stopping {
-            let film = session.take_film();
-            let bytes = encode(&film);
-            let _ = tx.blocking_send(Delta { bytes, last: true });
+        if flags.stop.load(Ordering::SeqCst) || shutdown.load(Ordering::Relaxed) {
+            send(&mut session, true);
             return Ok(());
         }
-        let stats = session.render_pass();
-        if stats.complete {
-            let prev = f64::from_bits(flags.samples.load(Ordering::Relaxed));
-            flags
-                .samples
-                .store((prev + stats.samples as f64).to_bits(), Ordering::Relaxed);
-        }
         if flags.want.swap(false, Ordering::Relaxed) {
-            let film = session.take_film();
-            let bytes = encode(&film);
-            if tx.blocking_send(Delta { bytes, last: false }).is_err() {
+            unsent = false;
+            if !send(&mut session, false) {
                 return Ok(());
             }
+        }
+        if load_f64(&flags.samples) >= load_f64(&flags.budget) {
+            // The budget is spent: hand over what was rendered at once, ask for more.
+            if unsent {
+                unsent = false;
+                if !send(&mut session, false) {
+                    return Ok(());
+                }
+            }
+            if !asked {
+                asked = true;
+                flags.ask.notify_one();
+            }
+            std::thread::sleep(Duration::from_millis(20));
+            continue;
+        }
+        asked = false;
+        let stats = session.render_pass();
+        if stats.complete {
+            store_f64(
+                &flags.samples,
+                load_f64(&flags.samples) + stats.samples as f64,
+            );
+            unsent = true;
         }
     }
 }
@@ -169,13 +258,19 @@ pub fn encode(film: &luxfarm::film::Film) -> Vec<u8> {
     luxfarm_wire::codec::encode_delta(film)
 }
 
-/// Heartbeats while the lease runs; a stop reply stops the lease.
+/// Heartbeats while the lease runs (every interval, and at once when the render thread asks
+/// for budget): they bring stop, budget, the durable sequence number and the master instance.
 async fn heartbeat_loop(link: Link, lease: String, flags: Arc<Flags>) {
     loop {
-        tokio::time::sleep(link.heartbeat_interval()).await;
-        let samples = f64::from_bits(flags.samples.load(Ordering::Relaxed));
-        if link.heartbeat(&lease, samples).await == Some(true) && flags.request_stop() {
-            tracing::info!("master asked to stop");
+        tokio::select! {
+            _ = tokio::time::sleep(link.heartbeat_interval()) => {}
+            _ = flags.ask.notified() => {}
+        }
+        let samples = load_f64(&flags.samples);
+        let pass = load_f64(&flags.pass_samples);
+        if let Some(r) = link.heartbeat(&lease, samples, pass).await {
+            link.observe_instance(&r.master_instance);
+            flags.apply(r.stop, r.budget, r.durable_seq);
         }
     }
 }
@@ -188,7 +283,55 @@ async fn shutdown_watch(shutdown: Arc<AtomicBool>, flags: Arc<Flags>) {
     flags.request_stop();
 }
 
-/// Asks for deltas every interval, uploads them in order, retries with backoff.
+/// The deltas of one lease on their way to durability.
+struct Queues {
+    /// Not yet acknowledged, in sequence order.
+    pending: VecDeque<(u64, Delta)>,
+    /// Acknowledged, not yet durable, in sequence order.
+    retained: VecDeque<(u64, Delta)>,
+    /// The master instance the retained deltas were acknowledged by.
+    instance: String,
+}
+
+impl Queues {
+    /// Drops what the master holds durably; after a master restart, puts what it had not
+    /// made durable back in front of the pending deltas.
+    fn update(&mut self, durable: u64, instance: &str) {
+        while self.retained.front().is_some_and(|(s, _)| *s <= durable) {
+            self.retained.pop_front();
+        }
+        if !instance.is_empty() && instance != self.instance {
+            if !self.instance.is_empty() && !self.retained.is_empty() {
+                tracing::info!(
+                    deltas = self.retained.len(),
+                    "the master restarted: uploading again what it had not made durable"
+                );
+            }
+            while let Some(d) = self.retained.pop_back() {
+                self.pending.push_front(d);
+            }
+            self.instance = instance.to_string();
+        }
+    }
+
+    /// Moves the front pending delta to the retained ones (it was acknowledged).
+    fn acknowledged(&mut self) {
+        if let Some(d) = self.pending.pop_front() {
+            self.retained.push_back(d);
+        }
+        if self.retained.len() > MAX_RETAINED {
+            if let Some((seq, _)) = self.retained.pop_front() {
+                tracing::error!(
+                    seq,
+                    "the master makes no delta durable: forgetting the oldest"
+                );
+            }
+        }
+    }
+}
+
+/// Asks for deltas every interval, uploads them in order, retries with backoff, keeps the
+/// acknowledged ones until they are durable.
 async fn upload_loop(
     link: &Link,
     cfg: &Config,
@@ -197,23 +340,29 @@ async fn upload_loop(
     flags: &Flags,
     mut rx: tokio::sync::mpsc::Receiver<Delta>,
 ) -> anyhow::Result<()> {
-    let mut queue: VecDeque<(u64, Delta)> = VecDeque::new();
+    let mut q = Queues {
+        pending: VecDeque::new(),
+        retained: VecDeque::new(),
+        instance: link.instance(),
+    };
     let mut next_seq = 1u64;
     let mut last_take = Instant::now();
     let mut requested = false;
     let mut render_done = false;
     let mut attempt = 0u32;
     let mut retry_at = Instant::now();
+    let mut done_since: Option<Instant> = None;
     let mut shutdown_since: Option<Instant> = None;
     loop {
-        if !requested && queue.is_empty() && last_take.elapsed() >= interval {
+        q.update(flags.durable.load(Ordering::SeqCst), &link.instance());
+        if !requested && q.pending.is_empty() && last_take.elapsed() >= interval {
             flags.want.store(true, Ordering::Relaxed);
             requested = true;
         }
         if !render_done {
             match tokio::time::timeout(Duration::from_millis(50), rx.recv()).await {
                 Ok(Some(d)) => {
-                    queue.push_back((next_seq, d));
+                    q.pending.push_back((next_seq, d));
                     next_seq += 1;
                     requested = false;
                     last_take = Instant::now();
@@ -221,8 +370,20 @@ async fn upload_loop(
                 Ok(None) => render_done = true,
                 Err(_) => {}
             }
-        } else if queue.is_empty() {
-            return Ok(());
+        } else if q.pending.is_empty() {
+            if q.retained.is_empty() {
+                return Ok(());
+            }
+            // The last delta is acknowledged: wait for the master to make it durable.
+            let since = *done_since.get_or_insert_with(Instant::now);
+            if since.elapsed() > DURABLE_WAIT {
+                anyhow::bail!(
+                    "the master did not make {} acknowledged delta(s) durable",
+                    q.retained.len()
+                );
+            }
+            flags.ask.notify_one();
+            tokio::time::sleep(Duration::from_millis(100)).await;
         } else {
             tokio::time::sleep(Duration::from_millis(20)).await;
         }
@@ -230,42 +391,61 @@ async fn upload_loop(
             let since = *shutdown_since.get_or_insert_with(Instant::now);
             if render_done && since.elapsed() > Duration::from_secs(30) {
                 anyhow::bail!(
-                    "shutting down: {} delta(s) could not be uploaded",
-                    queue.len()
+                    "shutting down: {} delta(s) not acknowledged, {} not yet durable",
+                    q.pending.len(),
+                    q.retained.len()
                 );
             }
         }
-        let Some((seq, delta)) = queue.front() else {
+        let Some((seq, delta)) = q.pending.front() else {
             continue;
         };
         if Instant::now() < retry_at {
             continue;
         }
-        match link.upload(lease, *seq, delta.last, &delta.bytes).await {
+        let seq = *seq;
+        match link.upload(lease, seq, delta.last, &delta.bytes).await {
             Ok(ack) => {
                 tracing::debug!(seq, status = %ack.status, bytes = delta.bytes.len(), "delta acknowledged");
                 if let Some(dir) = &cfg.keep_deltas {
-                    keep(dir, lease, *seq, &delta.bytes, &ack.status);
+                    keep(dir, lease, seq, &delta.bytes, &ack.status);
                 }
-                queue.pop_front();
+                q.acknowledged();
                 attempt = 0;
-                if ack.stop && flags.request_stop() {
-                    tracing::info!("master asked to stop");
+                link.observe_instance(&ack.master_instance);
+                flags.apply(ack.stop, ack.budget, ack.durable_seq);
+            }
+            Err(s) if s.code() == Code::Aborted => {
+                // The master restarted: learn its instance, then upload again what it lost.
+                tracing::info!(reason = %s.message(), "the master restarted");
+                let (samples, pass) = (load_f64(&flags.samples), load_f64(&flags.pass_samples));
+                if let Some(r) = link.heartbeat(lease, samples, pass).await {
+                    link.observe_instance(&r.master_instance);
+                    flags.apply(r.stop, r.budget, r.durable_seq);
+                } else {
+                    retry_at = Instant::now() + backoff(attempt);
+                    attempt += 1;
                 }
             }
-            Err(s) if matches!(s.code(), Code::FailedPrecondition | Code::NotFound) => {
+            Err(s)
+                if matches!(
+                    s.code(),
+                    Code::FailedPrecondition | Code::NotFound | Code::PermissionDenied
+                ) =>
+            {
                 tracing::info!(reason = %s.message(), "lease over; dropping unsent deltas");
                 flags.request_stop();
-                queue.clear();
+                q.pending.clear();
                 while rx.recv().await.is_some() {}
                 return Ok(());
             }
-            Err(s) if s.code() == Code::InvalidArgument => {
+            Err(s) if matches!(s.code(), Code::InvalidArgument | Code::ResourceExhausted) => {
                 tracing::error!(seq, reason = %s.message(), "delta refused by the master");
-                queue.pop_front();
+                q.pending.pop_front();
             }
             Err(s) => {
-                tracing::warn!(seq, attempt, reason = %s.message(), "upload failed; will retry");
+                tracing::warn!(seq, attempt, reason = %luxfarm_proto::connect::explain(&s),
+                    "upload failed; will retry");
                 retry_at = Instant::now() + backoff(attempt);
                 attempt += 1;
             }
@@ -278,5 +458,59 @@ fn keep(dir: &Path, lease: &str, seq: u64, bytes: &[u8], status: &str) {
     let name: PathBuf = dir.join(format!("{lease}-{seq:06}.{status}.lxd"));
     if let Err(e) = std::fs::create_dir_all(dir).and_then(|_| std::fs::write(&name, bytes)) {
         tracing::warn!(error = %e, "could not keep delta");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn delta(last: bool) -> Delta {
+        Delta {
+            bytes: vec![1, 2, 3],
+            last,
+        }
+    }
+
+    fn seqs(v: &VecDeque<(u64, Delta)>) -> Vec<u64> {
+        v.iter().map(|(s, _)| *s).collect()
+    }
+
+    #[test]
+    fn acknowledged_deltas_wait_for_durability_and_return_after_a_restart() {
+        let mut q = Queues {
+            pending: (1..=4).map(|s| (s, delta(false))).collect(),
+            retained: VecDeque::new(),
+            instance: "m1".into(),
+        };
+        q.acknowledged();
+        q.acknowledged();
+        q.acknowledged();
+        assert_eq!(seqs(&q.retained), [1, 2, 3]);
+        // The master made 1 durable.
+        q.update(1, "m1");
+        assert_eq!(seqs(&q.retained), [2, 3]);
+        assert_eq!(seqs(&q.pending), [4]);
+        // It restarted: 2 and 3 are uploaded again, before 4.
+        q.update(1, "m2");
+        assert_eq!(seqs(&q.pending), [2, 3, 4]);
+        assert!(q.retained.is_empty());
+        // The same instance again changes nothing.
+        q.update(1, "m2");
+        assert_eq!(seqs(&q.pending), [2, 3, 4]);
+    }
+
+    #[test]
+    fn budget_defaults_to_unbounded() {
+        let f = Flags::new(None);
+        assert!(load_f64(&f.budget).is_infinite());
+        f.apply(false, Some(100.0), 3);
+        assert_eq!(load_f64(&f.budget), 100.0);
+        assert_eq!(f.durable.load(Ordering::SeqCst), 3);
+        f.apply(false, Some(200.0), 1);
+        assert_eq!(f.durable.load(Ordering::SeqCst), 3);
+        assert!(!f.stop.load(Ordering::SeqCst));
+        f.apply(true, None, 0);
+        assert!(f.stop.load(Ordering::SeqCst));
     }
 }

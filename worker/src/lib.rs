@@ -1,12 +1,16 @@
-//! luxfarm worker: a slave node. It registers with the master, takes assignments (a scene
-//! bundle by content hash, a seed and its own stream id), renders the whole frame
-//! progressively with the full render core and uploads film deltas tagged (lease, sequence)
-//! every upload interval and at stop. A failed upload is retried with the same sequence
-//! number and the same bytes, while new samples keep accumulating in the session film, so a
-//! delta is never lost and never counted twice. SIGTERM uploads the last delta, then exits.
+//! luxfarm worker: a slave node. It registers with the master (protocol versions compared; it
+//! gets its own credential), takes assignments (a scene bundle by content hash, a seed, its
+//! own stream id and a sample budget), renders the whole frame progressively with the full
+//! render core (every file the scene names opened inside the bundle) and uploads film deltas
+//! tagged (lease, sequence) every upload interval, when its budget is spent, and at stop. A
+//! failed upload is retried with the same sequence number and the same bytes, while new
+//! samples keep accumulating in the session film; acknowledged deltas are kept until the
+//! master reports them durable and uploaded again if it restarted before, so a delta is never
+//! lost and never counted twice. SIGTERM uploads the last delta, then exits. A master of
+//! another protocol version makes the worker exit with both versions named.
 //!
 //! - [`link`]: the connection to the master (register, heartbeats, uploads with retry).
-//! - [`cache`]: scene bundles cached by content hash.
+//! - [`cache`]: scene bundles cached by content hash, checked again before each use.
 //! - [`job`]: rendering one lease.
 
 pub mod cache;
@@ -77,6 +81,7 @@ pub async fn run(cfg: Config) -> anyhow::Result<()> {
         let assignment = match link.next_assignment().await {
             Ok(Some(a)) => a,
             Ok(None) => continue,
+            Err(e) if e.is::<link::Refused>() => return Err(e),
             Err(e) => {
                 tracing::warn!(error = %e, "no assignment; retrying");
                 tokio::time::sleep(Duration::from_millis(500)).await;

@@ -1,9 +1,18 @@
-//! The worker's connection to the master: registration (again after a master restart),
-//! assignments, bundle downloads, heartbeats and delta uploads, with backoff on failures.
+//! The worker's connection to the master: registration (protocol versions compared, its own
+//! credential received), assignments, bundle downloads, heartbeats and delta uploads, with
+//! backoff on failures.
+//!
+//! ```text
+//! user token (role worker) --Register--> worker id + credential + master instance
+//! credential --every later call--> NextAssignment, FetchBundle, UploadDelta, Heartbeat, ...
+//! ```
+//!
+//! A master speaking another protocol version is a fatal error (the worker exits with both
+//! versions named); a master that no longer knows the credential is registered with again.
 
 use crate::Config;
 use luxfarm_proto as pb;
-use luxfarm_proto::connect::{self, AuthChannel};
+use luxfarm_proto::connect::{self, Auth, AuthChannel};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -13,16 +22,34 @@ use tonic::Code;
 /// The master link shared by the worker's tasks.
 #[derive(Clone)]
 pub struct Link {
+    /// Registration, with the user token.
+    register_channel: AuthChannel,
+    /// Worker calls, with the worker's credential.
     channel: AuthChannel,
     /// Uploads travel on their own connection: an upload the master holds back (HTTP/2 flow
     /// control while it is busy) must not hold back heartbeats sharing its connection window.
     upload_channel: AuthChannel,
+    credential: Auth,
     name: String,
     threads: u32,
-    worker_id: Arc<Mutex<String>>,
-    heartbeat: Arc<Mutex<Duration>>,
+    state: Arc<Mutex<Registration>>,
     pub shutdown: Arc<AtomicBool>,
 }
+
+/// What registration gave.
+#[derive(Clone, Debug, Default)]
+struct Registration {
+    worker_id: String,
+    token: String,
+    heartbeat: Duration,
+    instance: String,
+}
+
+/// The master refused this worker for good (another protocol version, a refused token): the
+/// worker exits instead of retrying.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Refused(pub String);
 
 /// Backoff delays: 0.2 s doubling to 5 s.
 pub fn backoff(attempt: u32) -> Duration {
@@ -36,16 +63,22 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 impl Link {
     /// A link to the configured master (connects lazily).
     pub fn new(cfg: &Config, threads: usize, shutdown: Arc<AtomicBool>) -> anyhow::Result<Link> {
-        let channel = connect::channel(&cfg.master, cfg.token.as_deref(), cfg.ca_cert.as_deref())?;
-        let upload_channel =
-            connect::channel(&cfg.master, cfg.token.as_deref(), cfg.ca_cert.as_deref())?;
+        let ca = cfg.ca_cert.as_deref();
+        let register_channel = connect::channel(&cfg.master, cfg.token.as_deref(), ca)?;
+        let credential = Auth::new(None)?;
+        let channel = connect::channel_with(&cfg.master, credential.clone(), ca)?;
+        let upload_channel = connect::channel_with(&cfg.master, credential.clone(), ca)?;
         Ok(Link {
+            register_channel,
             channel,
             upload_channel,
+            credential,
             name: cfg.name(),
             threads: threads as u32,
-            worker_id: Arc::new(Mutex::new(String::new())),
-            heartbeat: Arc::new(Mutex::new(Duration::from_secs(1))),
+            state: Arc::new(Mutex::new(Registration {
+                heartbeat: Duration::from_secs(1),
+                ..Registration::default()
+            })),
             shutdown,
         })
     }
@@ -56,40 +89,65 @@ impl Link {
 
     /// The id the master gave this worker.
     pub fn worker_id(&self) -> String {
-        lock(&self.worker_id).clone()
+        lock(&self.state).worker_id.clone()
     }
 
     /// Seconds between heartbeats, as the master asked.
     pub fn heartbeat_interval(&self) -> Duration {
-        *lock(&self.heartbeat)
+        lock(&self.state).heartbeat
     }
 
-    /// Registers, retrying with backoff until the master answers (or shutdown).
+    /// The master instance last heard from.
+    pub fn instance(&self) -> String {
+        lock(&self.state).instance.clone()
+    }
+
+    /// Records the master instance of a reply; true when it changed (the master restarted).
+    pub fn observe_instance(&self, instance: &str) -> bool {
+        if instance.is_empty() {
+            return false;
+        }
+        let mut st = lock(&self.state);
+        let changed = !st.instance.is_empty() && st.instance != instance;
+        st.instance = instance.to_string();
+        changed
+    }
+
+    /// Registers, retrying with backoff until the master answers (or shutdown). A master of
+    /// another protocol version, or one refusing the token, is a fatal error.
     pub async fn register(&self) -> anyhow::Result<()> {
         let mut attempt = 0;
         loop {
+            let (worker_id, worker_token) = {
+                let st = lock(&self.state);
+                (st.worker_id.clone(), st.token.clone())
+            };
             let req = pb::RegisterRequest {
                 name: self.name.clone(),
                 threads: self.threads,
-                worker_id: self.worker_id(),
+                worker_id,
+                protocol: pb::PROTOCOL_VERSION,
+                build: format!("luxfarm {}", pb::BUILD),
+                worker_token,
             };
-            match self.client().register(req).await {
-                Ok(r) => {
-                    let r = r.into_inner();
-                    tracing::info!(worker = %r.worker_id, "registered with the master");
-                    *lock(&self.worker_id) = r.worker_id;
-                    *lock(&self.heartbeat) =
-                        Duration::from_secs_f64(r.heartbeat_interval.clamp(0.1, 30.0));
-                    return Ok(());
+            let client = connect::worker_client(self.register_channel.clone());
+            match client.clone().register(req).await {
+                Ok(r) => return self.registered(r.into_inner()),
+                Err(s) if s.code() == Code::FailedPrecondition => {
+                    return Err(
+                        Refused(format!("the master refused this worker: {}", s.message())).into(),
+                    )
                 }
-                Err(s) if s.code() == Code::Unauthenticated => {
-                    anyhow::bail!("the master refused the token: {}", s.message())
+                Err(s) if matches!(s.code(), Code::Unauthenticated | Code::PermissionDenied) => {
+                    return Err(
+                        Refused(format!("the master refused the token: {}", s.message())).into(),
+                    )
                 }
                 Err(s) => {
                     if self.shutdown.load(Ordering::Relaxed) {
                         anyhow::bail!("shutting down before registering");
                     }
-                    tracing::warn!(error = %s.message(), "master unreachable; retrying");
+                    tracing::warn!(error = %connect::explain(&s), "master unreachable; retrying");
                     tokio::time::sleep(backoff(attempt)).await;
                     attempt += 1;
                 }
@@ -97,18 +155,46 @@ impl Link {
         }
     }
 
-    /// Asks for an assignment (long poll); re-registers when the master forgot this worker.
+    fn registered(&self, r: pb::RegisterReply) -> anyhow::Result<()> {
+        if r.protocol != pb::PROTOCOL_VERSION {
+            let build = if r.build.is_empty() {
+                "an older luxfarm".to_string()
+            } else {
+                format!("luxfarm {}", r.build)
+            };
+            return Err(Refused(format!(
+                "protocol mismatch: the master ({build}) speaks worker protocol {}, this worker \
+                 (luxfarm {}) speaks protocol {}: run the same luxfarm release on the workers \
+                 and the master",
+                r.protocol,
+                pb::BUILD,
+                pb::PROTOCOL_VERSION
+            ))
+            .into());
+        }
+        self.credential.set(Some(&r.worker_token))?;
+        tracing::info!(worker = %r.worker_id, "registered with the master");
+        self.observe_instance(&r.master_instance);
+        let mut st = lock(&self.state);
+        st.worker_id = r.worker_id;
+        st.token = r.worker_token;
+        st.heartbeat = Duration::from_secs_f64(r.heartbeat_interval.clamp(0.1, 30.0));
+        Ok(())
+    }
+
+    /// Asks for an assignment (long poll); registers again when the master forgot this
+    /// worker.
     pub async fn next_assignment(&self) -> anyhow::Result<Option<pb::Assignment>> {
         let req = pb::NextRequest {
             worker_id: self.worker_id(),
         };
         match self.client().next_assignment(req).await {
             Ok(r) => Ok(r.into_inner().assignment),
-            Err(s) if s.code() == Code::NotFound => {
+            Err(s) if matches!(s.code(), Code::NotFound | Code::Unauthenticated) => {
                 self.register().await?;
                 Ok(None)
             }
-            Err(s) => Err(anyhow::anyhow!("next assignment: {}", s.message())),
+            Err(s) => Err(anyhow::anyhow!("next assignment: {}", connect::explain(&s))),
         }
     }
 
@@ -141,6 +227,7 @@ impl Link {
             encoding: luxfarm_wire::codec::DELTA_ENCODING.into(),
             last,
             size: data.len() as u64,
+            master_instance: self.instance(),
         };
         let mut chunks = vec![pb::UploadChunk {
             part: Some(pb::upload_chunk::Part::Header(header)),
@@ -153,15 +240,23 @@ impl Link {
         let r = connect::worker_client(self.upload_channel.clone())
             .upload_delta(tokio_stream::iter(chunks))
             .await?;
-        Ok(r.into_inner())
+        let ack = r.into_inner();
+        Ok(ack)
     }
 
-    /// One heartbeat: Some(stop) or None when the master could not be reached.
-    pub async fn heartbeat(&self, lease: &str, samples: f64) -> Option<bool> {
+    /// One heartbeat; None when the master could not be reached. A master that forgot this
+    /// worker is registered with again.
+    pub async fn heartbeat(
+        &self,
+        lease: &str,
+        samples: f64,
+        pass_samples: f64,
+    ) -> Option<pb::HeartbeatReply> {
         let req = pb::HeartbeatRequest {
             worker_id: self.worker_id(),
             lease_id: lease.to_string(),
             samples,
+            pass_samples,
         };
         match self.client().heartbeat(req).await {
             Ok(r) => {
@@ -169,17 +264,18 @@ impl Link {
                 if r.unknown_worker {
                     let _ = self.register().await;
                 }
-                Some(r.stop)
+                Some(r)
             }
             Err(s) => {
+                if s.code() == Code::Unauthenticated {
+                    let _ = self.register().await;
+                }
                 tracing::debug!(error = %s.message(), "heartbeat failed");
                 None
             }
         }
     }
-}
 
-impl Link {
     /// Tells the master this lease cannot be rendered.
     pub async fn report_failure(&self, lease: &str, reason: &str) -> anyhow::Result<()> {
         self.client()

@@ -72,7 +72,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let desc = parse_file(&path, &ParseOptions::default())
             .with_context(|| format!("parsing {}", path.display()))?;
         let ctx = ShapeCtx {
-            base_dir: path.parent().map(PathBuf::from).unwrap_or_default(),
+            files: path.parent().map(PathBuf::from).unwrap_or_default().into(),
         };
         header(&path.display().to_string(), &args);
         measure::bench(

@@ -118,25 +118,31 @@ impl Schedule {
     }
 }
 
-/// A simulated worker, registered and holding a lease.
+/// A simulated worker, registered (with its own credential) and holding a lease.
 pub struct SimWorker {
     client: pb::worker_client::WorkerClient<connect::AuthChannel>,
     id: String,
+    token: String,
+    instance: String,
     lease: String,
 }
 
 impl SimWorker {
     /// Connects (own HTTP/2 connection), registers and takes a lease.
     pub async fn join(url: &str, i: usize) -> anyhow::Result<SimWorker> {
-        let mut client = connect::worker_client(connect::channel(url, None, None)?);
-        let reg = client
+        let reg = connect::worker_client(connect::channel(url, None, None)?)
             .register(pb::RegisterRequest {
                 name: format!("sim-{i:03}"),
                 threads: 2,
                 worker_id: String::new(),
+                protocol: pb::PROTOCOL_VERSION,
+                build: pb::BUILD.into(),
+                worker_token: String::new(),
             })
             .await?
             .into_inner();
+        let mut client =
+            connect::worker_client(connect::channel(url, Some(&reg.worker_token), None)?);
         for _ in 0..10 {
             let next = client
                 .next_assignment(pb::NextRequest {
@@ -148,6 +154,8 @@ impl SimWorker {
                 return Ok(SimWorker {
                     client,
                     id: reg.worker_id,
+                    token: reg.worker_token,
+                    instance: reg.master_instance,
                     lease: a.lease_id,
                 });
             }
@@ -163,6 +171,7 @@ impl SimWorker {
                 worker_id: self.id.clone(),
                 lease_id: self.lease.clone(),
                 samples: 0.0,
+                pass_samples: 0.0,
             };
             if self.client.heartbeat(req).await.is_ok() {
                 stats.heartbeats.fetch_add(1, Ordering::Relaxed);
@@ -174,8 +183,10 @@ impl SimWorker {
     /// control calls apart (a held-back upload would block heartbeats on its connection).
     pub fn control(&self, url: &str) -> anyhow::Result<SimWorker> {
         Ok(SimWorker {
-            client: connect::worker_client(connect::channel(url, None, None)?),
+            client: connect::worker_client(connect::channel(url, Some(&self.token), None)?),
             id: self.id.clone(),
+            token: self.token.clone(),
+            instance: self.instance.clone(),
             lease: self.lease.clone(),
         })
     }
@@ -248,6 +259,7 @@ impl SimWorker {
                 encoding: payload_encoding(&payloads[which]).into(),
                 last: false,
                 size: payloads[which].bytes as u64,
+                master_instance: self.instance.clone(),
             })),
         };
         let p = payloads.clone();

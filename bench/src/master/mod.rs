@@ -125,8 +125,10 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     let mut cfg = luxfarm_server::Config::local(dir.path().to_path_buf());
     cfg.upload_interval = a.interval;
     let running = master_rt.block_on(luxfarm_server::start(cfg))?;
+    // No haltspp: the simulated workers' deltas are not held to a sample budget.
     let opts = SubmitOptions {
         name: Some("bench-master".into()),
+        halttime: Some(86_400.0),
         ..SubmitOptions::default()
     };
     let job = running.submit(scene_text(w, h).as_bytes(), "bench.lxs", &opts)?;

@@ -20,6 +20,12 @@ pub struct Remote {
 }
 
 impl Remote {
+    /// An Admin client (user tokens).
+    pub fn admin(&self) -> anyhow::Result<pb::admin_client::AdminClient<AuthChannel>> {
+        let ch = connect::channel(&self.master, self.token.as_deref(), self.ca_cert.as_deref())?;
+        Ok(pb::admin_client::AdminClient::new(ch))
+    }
+
     /// A Jobs client.
     pub fn jobs(&self) -> anyhow::Result<pb::jobs_client::JobsClient<AuthChannel>> {
         let ch = connect::channel(&self.master, self.token.as_deref(), self.ca_cert.as_deref())?;
@@ -63,15 +69,39 @@ pub fn job_line(j: &pb::JobInfo) -> String {
     let reason = if j.reason.is_empty() {
         String::new()
     } else {
-        format!("  ({})", j.reason)
+        format!("  ({})", printable(&j.reason))
     };
     format!(
         "{:<18} {:<10} {:<24} {:>3}  {halt}  {} leases{reason}",
-        j.id, j.state, j.name, j.priority, j.active_leases
+        j.id,
+        j.state,
+        printable(&j.name),
+        j.priority,
+        j.active_leases
     )
+}
+
+/// Text from the master as it may be shown on a terminal: control characters (escape
+/// sequences included) become U+FFFD.
+pub fn printable(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_control() { '\u{fffd}' } else { c })
+        .collect()
 }
 
 /// True for done, cancelled and failed.
 pub fn is_final(state: &str) -> bool {
     matches!(state, "done" | "cancelled" | "failed")
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn control_characters_are_not_printed() {
+        assert_eq!(
+            super::printable("a\x1b[2Jb\nc\u{7}"),
+            "a\u{fffd}[2Jb\u{fffd}c\u{fffd}"
+        );
+        assert_eq!(super::printable("plain name é"), "plain name é");
+    }
 }

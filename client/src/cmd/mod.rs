@@ -15,6 +15,7 @@ pub mod render;
 pub mod server;
 pub mod status;
 pub mod submit;
+pub mod token;
 pub mod watch;
 pub mod worker;
 pub mod workers;

@@ -69,7 +69,12 @@ pub async fn follow(
     if last.reason.is_empty() {
         eprintln!("{} {}", last.id, last.state);
     } else {
-        eprintln!("{} {}: {}", last.id, last.state, last.reason);
+        eprintln!(
+            "{} {}: {}",
+            last.id,
+            last.state,
+            super::farm_remote::printable(&last.reason)
+        );
     }
     Ok(last)
 }

@@ -23,7 +23,12 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         let job = if w.job_id.is_empty() { "-" } else { &w.job_id };
         println!(
             "{:<18} {:<24} {:>3} threads  {:<9} job {job}  {:.0} samples  {:.0} samples/s",
-            w.id, w.name, w.threads, w.state, w.samples, w.samples_per_sec
+            w.id,
+            super::farm_remote::printable(&w.name),
+            w.threads,
+            w.state,
+            w.samples,
+            w.samples_per_sec
         );
     }
     Ok(ExitCode::SUCCESS)

@@ -95,7 +95,7 @@ fn plymesh_ascii_and_binary() {
             &d,
             3,
             &ShapeCtx {
-                base_dir: dir.clone(),
+                files: dir.clone().into(),
             },
         )
         .unwrap_or_else(|e| panic!("{format}: {e}"));
@@ -128,7 +128,7 @@ fn plymesh_ascii_and_binary() {
             &d,
             0,
             &ShapeCtx {
-                base_dir: dir.clone(),
+                files: dir.clone().into(),
             },
         )
         .unwrap_err();
@@ -164,7 +164,7 @@ fn stlmesh_ascii_and_binary() {
             &d,
             0,
             &ShapeCtx {
-                base_dir: dir.clone(),
+                files: dir.clone().into(),
             },
         )
         .unwrap();

@@ -55,7 +55,7 @@ fn metal_from_an_nk_file_has_the_conductor_value_at_normal_incidence() {
     )
     .unwrap();
     let ctx = MaterialCtx {
-        base_dir: dir_.clone(),
+        files: dir_.clone().into(),
     };
     let set = built(
         vec![mat("m", "metal", vec![("filename", s("flat.nk"))], 1)],

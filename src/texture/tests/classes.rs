@@ -418,7 +418,7 @@ fn normalmap_derivatives_tilt_to_the_map_normal() {
     let mut set = TextureSet::new(
         &d,
         TextureCtx {
-            base_dir: dir.clone(),
+            files: dir.clone().into(),
         },
     );
     let nm = float_of(&mut set, "nm");
@@ -462,7 +462,7 @@ fn image_bump_derivative_is_the_slope_per_unit_u_at_any_uscale() {
     let mut set = TextureSet::new(
         &d,
         TextureCtx {
-            base_dir: dir.clone(),
+            files: dir.clone().into(),
         },
     );
     let one = float_of(&mut set, "one").duv(&si_at(0.5, 0.5, Vec3A::ZERO), 0.001);
@@ -506,7 +506,7 @@ fn imagemap_filters_white_wrap_and_gamma_after_filtering() {
     let mut set = TextureSet::new(
         &d,
         TextureCtx {
-            base_dir: dir.clone(),
+            files: dir.clone().into(),
         },
     );
     // Halfway between the texels: bilinear gives 0.5, then gamma 2.2: 0.5^2.2 = 0.2176.

@@ -366,7 +366,7 @@ fn imagemap_png_nearest_bilinear_and_wrap_modes() {
     let mut set = TextureSet::new(
         &d,
         TextureCtx {
-            base_dir: dir.clone(),
+            files: dir.clone().into(),
         },
     );
     let at = |t: &ColorTex, u: f32, v: f32| t.eval(&si_at(u, v, Vec3A::ZERO));
@@ -430,7 +430,7 @@ fn imagemap_exr_and_float_channels() {
     let mut set = TextureSet::new(
         &d,
         TextureCtx {
-            base_dir: dir.clone(),
+            files: dir.clone().into(),
         },
     );
     let c = color_of(&mut set, "c");
@@ -457,7 +457,7 @@ fn unreferenced_images_are_never_loaded_and_missing_files_are_errors() {
     let mut set = TextureSet::new(
         &d,
         TextureCtx {
-            base_dir: dir.clone(),
+            files: dir.clone().into(),
         },
     );
     color_of(&mut set, "used");

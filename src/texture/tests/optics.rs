@@ -75,7 +75,7 @@ fn spectral_colours_keep_their_spectra() {
     let mut set = TextureSet::new(
         &d,
         TextureCtx {
-            base_dir: dir.clone(),
+            files: dir.clone().into(),
         },
     );
     let si = si_at(0.0, 0.0, Vec3A::ZERO);
@@ -140,7 +140,7 @@ fn unknown_lamps_and_unreadable_data_follow_luxrender() {
     let mut set = TextureSet::new(
         &d,
         TextureCtx {
-            base_dir: dir.clone(),
+            files: dir.clone().into(),
         },
     );
     let si = si_at(0.0, 0.0, Vec3A::ZERO);
@@ -278,7 +278,7 @@ fn fresnel_textures() {
     let mut set = TextureSet::new(
         &d,
         TextureCtx {
-            base_dir: dir.clone(),
+            files: dir.clone().into(),
         },
     );
     let si = si_at(0.25, 0.5, Vec3A::ZERO);

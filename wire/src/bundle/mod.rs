@@ -11,18 +11,23 @@
 //! 3. a worker fetches that tar, checks it against its name ([`sha256_hex`], [`is_hash`]) and
 //!    unpacks it with the same rules.
 //!
+//! Before queueing a job the master also checks that every file the scene names lies inside
+//! the bundle ([`check_scene_files`]), as the workers' render core enforces when it opens them.
+//!
 //! Safety rules, for every entry: no absolute path, no `..`, no empty or odd component, no
 //! symlink, hard link or device; sizes checked while reading (headers are not trusted), the
 //! total unpacked size and the entry count bounded (decompression bombs).
 
+mod check;
 mod pack;
 mod path;
 mod store;
 mod unpack;
 
+pub use check::{check_scene_files, FILE_PARAMS};
 pub use pack::{prepare, referenced_files, Upload};
 pub use path::safe_relative;
-pub use store::{hash_file, hex, is_hash, sha256_hex, write_canonical_tar};
+pub use store::{hash_dir, hash_file, hex, is_hash, sha256_hex, write_canonical_tar};
 pub use unpack::unpack;
 
 use crate::{Result, WireError};

@@ -131,7 +131,7 @@ pub fn referenced_files(scene: &Path) -> Result<Vec<PathBuf>> {
                 ParamValue::Spectrum(SpectrumValue::File(f)) => vec![f.as_str()],
                 _ => continue,
             };
-            let file_param = matches!(p.name.as_str(), "filename" | "mapname" | "iesname");
+            let file_param = super::FILE_PARAMS.contains(&p.name.as_str());
             for n in names {
                 if !n.is_empty() && n.len() < MAX_NAME {
                     let exists = c.root.join(n).exists();

@@ -38,12 +38,48 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
 /// Writes the files (relative to `root`) as a canonical tar (sorted, fixed metadata) to `out`
 /// and returns its sha256 in hex: the same content always gives the same hash.
 pub fn write_canonical_tar(root: &Path, files: &[PathBuf], out: &Path) -> Result<String> {
+    let file = fs::File::create(out)?;
+    canonical_tar(root, files, io::BufWriter::new(file))
+}
+
+/// The sha256 of the canonical tar of every regular file under `root` but `skip` (the name a
+/// bundle was stored under when `root` is its unpacked copy): how a worker checks, before
+/// each use, that its cached copy of a bundle is still the bundle. A link or special file
+/// under `root` is an error.
+pub fn hash_dir(root: &Path, skip: &str) -> Result<String> {
+    let mut files = Vec::new();
+    list_files(root, Path::new(""), skip, &mut files)?;
+    canonical_tar(root, &files, io::sink())
+}
+
+fn list_files(root: &Path, rel: &Path, skip: &str, out: &mut Vec<PathBuf>) -> Result<()> {
+    for entry in fs::read_dir(root.join(rel))? {
+        let entry = entry?;
+        let name = rel.join(entry.file_name());
+        let ty = entry.file_type()?;
+        if rel.as_os_str().is_empty() && entry.file_name() == skip {
+            continue;
+        }
+        if ty.is_dir() {
+            list_files(root, &name, skip, out)?;
+        } else if ty.is_file() {
+            out.push(name);
+        } else {
+            return Err(crate::WireError::Bundle(format!(
+                "{}: not a regular file",
+                name.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn canonical_tar(root: &Path, files: &[PathBuf], out: impl Write) -> Result<String> {
     let mut sorted = files.to_vec();
     sorted.sort();
     sorted.dedup();
-    let file = fs::File::create(out)?;
     let hw = HashWriter {
-        inner: io::BufWriter::new(file),
+        inner: out,
         hasher: Sha256::new(),
     };
     let mut builder = tar::Builder::new(hw);
@@ -105,6 +141,13 @@ mod tests {
         assert_eq!(hash_file(&dir.path().join("1.tar")).unwrap(), h1);
         let bytes = fs::read(dir.path().join("1.tar")).unwrap();
         assert_eq!(sha256_hex(&bytes), h1);
+        // The unpacked directory hashes the same (the tars and a marker left out).
+        fs::write(dir.path().join(".complete"), b"").unwrap();
+        fs::remove_file(dir.path().join("1.tar")).unwrap();
+        fs::remove_file(dir.path().join("2.tar")).unwrap();
+        assert_eq!(hash_dir(dir.path(), ".complete").unwrap(), h1);
+        fs::write(dir.path().join("m/b.ply"), "changed").unwrap();
+        assert_ne!(hash_dir(dir.path(), ".complete").unwrap(), h1);
     }
 
     #[test]

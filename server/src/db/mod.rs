@@ -1,12 +1,22 @@
-//! The master's SQLite store (rusqlite, bundled) in `--data-dir/farm.sqlite`: jobs, workers,
-//! leases and the merge ledger of (lease id, sequence number) pairs already merged.
+//! The master's SQLite store (rusqlite, bundled) in `--data-dir/farm.sqlite`: the farm's
+//! identity, jobs, workers (with their hashed credentials), leases, the merge ledger of
+//! (lease id, sequence number) pairs already merged, and user tokens (hashed).
 //!
 //! The ledger rows carry the checkpoint generation that made them durable: rows merged after the
-//! last checkpoint are forgotten on restart together with the in-memory film they went into, so
-//! a restarted master never counts a delta twice.
+//! last checkpoint are forgotten on restart together with the in-memory film they went into (the
+//! workers still hold those deltas and upload them again), so a restarted master never counts a
+//! delta twice. Commits are synchronous (`synchronous = FULL`): a checkpoint's commit survives a
+//! power loss as its file does.
+//!
+//! Queries live by subject: [`jobs`] (jobs), [`work`] (workers, leases, ledger, checkpoints),
+//! [`tokens`] (user tokens); this file holds the types, the schema and opening.
+
+mod jobs;
+mod tokens;
+mod work;
 
 use crate::error::Result;
-use rusqlite::{params, Connection, OptionalExtension, Row};
+use rusqlite::{Connection, OptionalExtension, Row};
 use std::path::Path;
 
 /// Job states. `Rendering` covers the halting phase (waiting for the last deltas).
@@ -75,6 +85,10 @@ pub struct JobRow {
     pub ckpt_gen: i64,
     /// The animation frame the job renders (animated formats), when given.
     pub frame: Option<i64>,
+    /// Who submitted the job (a token's name; empty on an open farm).
+    pub owner: String,
+    /// The master's notes about the job (one per line), e.g. a default halt rule.
+    pub notes: Vec<String>,
 }
 
 /// A new job to insert.
@@ -92,6 +106,8 @@ pub struct NewJob<'a> {
     pub height: u32,
     pub submitted_ms: i64,
     pub frame: Option<i64>,
+    pub owner: &'a str,
+    pub notes: &'a [String],
 }
 
 /// One lease as stored.
@@ -100,6 +116,30 @@ pub struct LeaseRow {
     pub id: String,
     pub job_id: String,
     pub worker_id: String,
+    /// The sample budget granted so far (None: unbounded).
+    pub budget: Option<f64>,
+}
+
+/// One worker as stored.
+#[derive(Clone, Debug)]
+pub struct WorkerRow {
+    pub id: String,
+    pub name: String,
+    pub threads: u32,
+    pub last_seen_ms: i64,
+    /// sha256 (hex) of the worker's credential.
+    pub token_hash: String,
+}
+
+/// One user token as stored (its hash, never the token).
+#[derive(Clone, Debug)]
+pub struct TokenRow {
+    pub id: String,
+    pub name: String,
+    pub role: String,
+    pub hash: String,
+    pub created_ms: i64,
+    pub revoked_ms: Option<i64>,
 }
 
 /// The store: one connection, used under the caller's lock.
@@ -124,14 +164,17 @@ CREATE TABLE IF NOT EXISTS jobs (
     first_lease_ms INTEGER, finished_ms INTEGER,
     next_stream INTEGER NOT NULL DEFAULT 1,
     ckpt_gen INTEGER NOT NULL DEFAULT 0,
-    frame INTEGER
+    frame INTEGER,
+    owner TEXT NOT NULL DEFAULT '',
+    notes TEXT NOT NULL DEFAULT ''
 );
 CREATE TABLE IF NOT EXISTS workers (
     id TEXT PRIMARY KEY,
     name TEXT NOT NULL,
     threads INTEGER NOT NULL,
     registered_ms INTEGER NOT NULL,
-    last_seen_ms INTEGER NOT NULL
+    last_seen_ms INTEGER NOT NULL,
+    token_hash TEXT NOT NULL DEFAULT ''
 );
 CREATE TABLE IF NOT EXISTS leases (
     id TEXT PRIMARY KEY,
@@ -140,7 +183,8 @@ CREATE TABLE IF NOT EXISTS leases (
     stream INTEGER NOT NULL,
     started_ms INTEGER NOT NULL,
     ended_ms INTEGER,
-    end_reason TEXT
+    end_reason TEXT,
+    budget REAL
 );
 CREATE TABLE IF NOT EXISTS ledger (
     lease_id TEXT NOT NULL,
@@ -153,11 +197,23 @@ CREATE TABLE IF NOT EXISTS ledger (
     PRIMARY KEY (lease_id, seq)
 );
 CREATE INDEX IF NOT EXISTS ledger_job ON ledger (job_id);
+CREATE TABLE IF NOT EXISTS meta (
+    key TEXT PRIMARY KEY,
+    value TEXT NOT NULL
+);
+CREATE TABLE IF NOT EXISTS tokens (
+    id TEXT PRIMARY KEY,
+    name TEXT NOT NULL,
+    role TEXT NOT NULL,
+    hash TEXT NOT NULL UNIQUE,
+    created_ms INTEGER NOT NULL,
+    revoked_ms INTEGER
+);
 ";
 
 const JOB_COLS: &str = "id, name, state, reason, priority, bundle_hash, scene_path, seed, \
     haltspp, halttime, haltthreshold, width, height, submitted_ms, first_lease_ms, finished_ms, \
-    ckpt_gen, frame";
+    ckpt_gen, frame, owner, notes";
 
 fn job_from_row(r: &Row<'_>) -> rusqlite::Result<JobRow> {
     let state: String = r.get(2)?;
@@ -180,6 +236,12 @@ fn job_from_row(r: &Row<'_>) -> rusqlite::Result<JobRow> {
         finished_ms: r.get(15)?,
         ckpt_gen: r.get(16)?,
         frame: r.get(17)?,
+        owner: r.get(18)?,
+        notes: r
+            .get::<_, String>(19)?
+            .lines()
+            .map(str::to_string)
+            .collect(),
     })
 }
 
@@ -197,225 +259,56 @@ fn add_column_if_missing(conn: &Connection, table: &str, column: &str, ty: &str)
 }
 
 /// The columns [`lease_from_row`] reads, in its order.
-const LEASE_COLS: &str = "id, job_id, worker_id";
+const LEASE_COLS: &str = "id, job_id, worker_id, budget";
 
 fn lease_from_row(r: &Row<'_>) -> rusqlite::Result<LeaseRow> {
     Ok(LeaseRow {
         id: r.get(0)?,
         job_id: r.get(1)?,
         worker_id: r.get(2)?,
+        budget: r.get(3)?,
     })
 }
+
+/// Columns a store written by an older master lacks: (table, column, type).
+const ADDED_COLUMNS: &[(&str, &str, &str)] = &[
+    ("jobs", "frame", "INTEGER"),
+    ("jobs", "owner", "TEXT NOT NULL DEFAULT ''"),
+    ("jobs", "notes", "TEXT NOT NULL DEFAULT ''"),
+    ("workers", "token_hash", "TEXT NOT NULL DEFAULT ''"),
+    ("leases", "budget", "REAL"),
+];
 
 impl Db {
     /// Opens (creating) the store at `path`.
     pub fn open(path: &Path) -> Result<Db> {
         let conn = Connection::open(path)?;
         conn.pragma_update(None, "journal_mode", "WAL")?;
-        conn.pragma_update(None, "synchronous", "NORMAL")?;
+        conn.pragma_update(None, "synchronous", "FULL")?;
         conn.execute_batch(SCHEMA)?;
-        add_column_if_missing(&conn, "jobs", "frame", "INTEGER")?;
+        for (table, column, ty) in ADDED_COLUMNS {
+            add_column_if_missing(&conn, table, column, ty)?;
+        }
         Ok(Db { conn })
     }
 
-    /// Inserts a queued job; its submission order is one past the largest so far.
-    pub fn insert_job(&self, j: &NewJob<'_>) -> Result<()> {
-        self.conn.execute(
-            "INSERT INTO jobs (id, ord, name, state, priority, bundle_hash, scene_path, seed, \
-             haltspp, halttime, haltthreshold, width, height, submitted_ms, frame) \
-             VALUES (?1, (SELECT COALESCE(MAX(ord), 0) + 1 FROM jobs), ?2, 'queued', ?3, ?4, ?5, \
-             ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
-            params![
-                j.id,
-                j.name,
-                j.priority,
-                j.bundle_hash,
-                j.scene_path,
-                j.seed as i64,
-                j.haltspp,
-                j.halttime,
-                j.haltthreshold,
-                j.width,
-                j.height,
-                j.submitted_ms,
-                j.frame
-            ],
-        )?;
-        Ok(())
-    }
-
-    /// One job.
-    pub fn job(&self, id: &str) -> Result<Option<JobRow>> {
-        let sql = format!("SELECT {JOB_COLS} FROM jobs WHERE id = ?1");
-        Ok(self.conn.query_row(&sql, [id], job_from_row).optional()?)
-    }
-
-    /// All jobs in scheduling order: priority (high first), then submission order.
-    pub fn jobs(&self) -> Result<Vec<JobRow>> {
-        let sql = format!("SELECT {JOB_COLS} FROM jobs ORDER BY priority DESC, ord ASC");
-        let mut st = self.conn.prepare(&sql)?;
-        let rows = st.query_map([], job_from_row)?;
-        Ok(rows.collect::<rusqlite::Result<_>>()?)
-    }
-
-    /// Sets a job's state, reason and (for final states) finish time.
-    pub fn set_job_state(
-        &self,
-        id: &str,
-        state: JobState,
-        reason: &str,
-        now_ms: i64,
-    ) -> Result<()> {
-        let finished = state.is_final().then_some(now_ms);
-        self.conn.execute(
-            "UPDATE jobs SET state = ?2, reason = ?3, finished_ms = COALESCE(?4, finished_ms) \
-             WHERE id = ?1",
-            params![id, state.as_str(), reason, finished],
-        )?;
-        Ok(())
-    }
-
-    /// Registers or refreshes a worker.
-    pub fn upsert_worker(&self, id: &str, name: &str, threads: u32, now_ms: i64) -> Result<()> {
-        self.conn.execute(
-            "INSERT INTO workers (id, name, threads, registered_ms, last_seen_ms) \
-             VALUES (?1, ?2, ?3, ?4, ?4) ON CONFLICT(id) DO UPDATE SET name = ?2, threads = ?3, \
-             last_seen_ms = ?4",
-            params![id, name, threads, now_ms],
-        )?;
-        Ok(())
-    }
-
-    /// Creates a lease with the job's next stream id (stream ids never repeat within a job).
-    pub fn create_lease(&mut self, id: &str, job: &str, worker: &str, now_ms: i64) -> Result<u64> {
-        let tx = self.conn.transaction()?;
-        let stream: i64 =
-            tx.query_row("SELECT next_stream FROM jobs WHERE id = ?1", [job], |r| {
-                r.get(0)
-            })?;
-        tx.execute(
-            "UPDATE jobs SET next_stream = next_stream + 1, \
-             first_lease_ms = COALESCE(first_lease_ms, ?2) WHERE id = ?1",
-            params![job, now_ms],
-        )?;
-        tx.execute(
-            "INSERT INTO leases (id, job_id, worker_id, stream, started_ms) \
-             VALUES (?1, ?2, ?3, ?4, ?5)",
-            params![id, job, worker, stream, now_ms],
-        )?;
-        tx.commit()?;
-        Ok(stream as u64)
-    }
-
-    /// One lease.
-    pub fn lease(&self, id: &str) -> Result<Option<LeaseRow>> {
+    /// The farm's id, set once when the store is created (None for a store without one).
+    pub fn farm_id(&self) -> Result<Option<String>> {
         Ok(self
             .conn
-            .query_row(
-                &format!("SELECT {LEASE_COLS} FROM leases WHERE id = ?1"),
-                [id],
-                lease_from_row,
-            )
+            .query_row("SELECT value FROM meta WHERE key = 'farm_id'", [], |r| {
+                r.get(0)
+            })
             .optional()?)
     }
 
-    /// Leases still open (not ended).
-    pub fn open_leases(&self) -> Result<Vec<LeaseRow>> {
-        let mut st = self.conn.prepare(&format!(
-            "SELECT {LEASE_COLS} FROM leases WHERE ended_ms IS NULL"
-        ))?;
-        let rows = st.query_map([], lease_from_row)?;
-        Ok(rows.collect::<rusqlite::Result<_>>()?)
-    }
-
-    /// Ends a lease with a reason (stopped, lost, cancelled, restart).
-    pub fn end_lease(&self, id: &str, reason: &str, now_ms: i64) -> Result<()> {
+    /// Records the farm's id.
+    pub fn set_farm_id(&self, id: &str) -> Result<()> {
         self.conn.execute(
-            "UPDATE leases SET ended_ms = ?2, end_reason = ?3 WHERE id = ?1 AND ended_ms IS NULL",
-            params![id, now_ms, reason],
+            "INSERT OR REPLACE INTO meta (key, value) VALUES ('farm_id', ?1)",
+            [id],
         )?;
         Ok(())
-    }
-
-    /// True when (lease, seq) was already merged.
-    pub fn ledger_has(&self, lease: &str, seq: u64) -> Result<bool> {
-        let n: i64 = self.conn.query_row(
-            "SELECT COUNT(*) FROM ledger WHERE lease_id = ?1 AND seq = ?2",
-            params![lease, seq as i64],
-            |r| r.get(0),
-        )?;
-        Ok(n > 0)
-    }
-
-    /// Records a merged delta (not yet durable: `ckpt_gen` NULL until the next checkpoint).
-    pub fn ledger_insert(
-        &self,
-        lease: &str,
-        seq: u64,
-        job: &str,
-        samples: f64,
-        bytes: u64,
-        now_ms: i64,
-    ) -> Result<i64> {
-        self.conn.execute(
-            "INSERT INTO ledger (lease_id, seq, job_id, samples, bytes, merged_ms) \
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
-            params![lease, seq as i64, job, samples, bytes as i64, now_ms],
-        )?;
-        Ok(self.conn.last_insert_rowid())
-    }
-
-    /// Largest ledger row id (0 when empty): taken with a film snapshot for a checkpoint.
-    pub fn ledger_max_rowid(&self) -> Result<i64> {
-        Ok(self
-            .conn
-            .query_row("SELECT COALESCE(MAX(rowid), 0) FROM ledger", [], |r| {
-                r.get(0)
-            })?)
-    }
-
-    /// Commits a checkpoint: the job's ledger rows up to `max_rowid` become durable in
-    /// generation `generation`, which becomes the job's checkpoint.
-    pub fn commit_checkpoint(&mut self, job: &str, generation: i64, max_rowid: i64) -> Result<()> {
-        let tx = self.conn.transaction()?;
-        tx.execute(
-            "UPDATE ledger SET ckpt_gen = ?2 WHERE job_id = ?1 AND ckpt_gen IS NULL \
-             AND rowid <= ?3",
-            params![job, generation, max_rowid],
-        )?;
-        tx.execute(
-            "UPDATE jobs SET ckpt_gen = ?2 WHERE id = ?1",
-            params![job, generation],
-        )?;
-        tx.commit()?;
-        Ok(())
-    }
-
-    /// Forgets ledger rows never made durable (after a restart their samples are gone).
-    pub fn drop_uncheckpointed(&self, job: &str) -> Result<usize> {
-        Ok(self.conn.execute(
-            "DELETE FROM ledger WHERE job_id = ?1 AND ckpt_gen IS NULL",
-            [job],
-        )?)
-    }
-
-    /// Merged samples and number of merged deltas of a job (ledger sums).
-    pub fn job_totals(&self, job: &str) -> Result<(f64, u64)> {
-        Ok(self.conn.query_row(
-            "SELECT COALESCE(SUM(samples), 0), COUNT(*) FROM ledger WHERE job_id = ?1",
-            [job],
-            |r| Ok((r.get(0)?, r.get::<_, i64>(1)? as u64)),
-        )?)
-    }
-
-    /// Samples merged per lease of a job (ledger sums), with the lease's worker.
-    pub fn lease_samples(&self, job: &str) -> Result<Vec<(String, String, f64)>> {
-        let mut st = self.conn.prepare(
-            "SELECT l.id, l.worker_id, COALESCE(SUM(g.samples), 0) FROM leases l \
-             LEFT JOIN ledger g ON g.lease_id = l.id WHERE l.job_id = ?1 GROUP BY l.id",
-        )?;
-        let rows = st.query_map([job], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))?;
-        Ok(rows.collect::<rusqlite::Result<_>>()?)
     }
 }
 
@@ -438,18 +331,28 @@ mod tests {
             height: 6,
             submitted_ms: 1,
             frame: None,
+            owner: "",
+            notes: &[],
         }
     }
 
     #[test]
-    fn a_store_of_an_older_master_gains_the_frame_column() {
+    fn a_store_of_an_older_master_gains_the_new_columns() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("farm.sqlite");
         {
             let conn = Connection::open(&path).unwrap();
-            // The jobs table as masters before the frame option wrote it.
-            let old = SCHEMA.replace(",\n    frame INTEGER\n", "\n");
+            // The tables as masters before the frame option wrote them.
+            let old = SCHEMA
+                .replace(
+                    ",\n    frame INTEGER,\n    owner TEXT NOT NULL DEFAULT '',\n    notes TEXT NOT NULL DEFAULT ''\n",
+                    "\n",
+                )
+                .replace(",\n    token_hash TEXT NOT NULL DEFAULT ''\n", "\n")
+                .replace(",\n    budget REAL\n", "\n");
             assert!(!old.contains("frame INTEGER"));
+            assert!(!old.contains("token_hash"));
+            assert!(!old.contains("budget"));
             conn.execute_batch(&old).unwrap();
         }
         let db = Db::open(&path).unwrap();

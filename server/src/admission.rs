@@ -1,0 +1,317 @@
+//! Admission control at submission: what a job will cost the master and whether it can
+//! render, decided before it is queued, with a 4xx naming the figure or the scene location.
+//!
+//! ```text
+//! SceneInfo (film size, light groups, camera, shapes, lights) + SubmitOptions
+//!   --check_overrides--> halt overrides in range
+//!   --admit--> film memory within --max-job-memory, light groups and delta size within what
+//!              the delta codec carries, a camera and something to see, a halt rule
+//!              (the master's default when none is given, noted on the job)
+//! ```
+//!
+//! A job's memory on the master: its merged film (pixels x light groups x buffers x 5 f64),
+//! a copy of it while a checkpoint is written, and one decoded delta per merge slot.
+
+use crate::config::Config;
+use crate::error::{Result, ServerError};
+use crate::scene::SceneInfo;
+use luxfarm::film::PIXEL_VALUES;
+use luxfarm_wire::codec;
+
+/// Submission options (halt overrides, seed, priority, scene choice) and who submits.
+#[derive(Clone, Debug, Default)]
+pub struct SubmitOptions {
+    /// Job name (default: the Film's filename, else the scene's file stem).
+    pub name: Option<String>,
+    pub haltspp: Option<f64>,
+    pub halttime: Option<f64>,
+    pub haltthreshold: Option<f64>,
+    pub seed: Option<u64>,
+    pub priority: Option<i32>,
+    /// Path of the .lxs inside a bundle holding several.
+    pub scene: Option<String>,
+    /// The animation frame to render (animated scene formats).
+    pub frame: Option<i64>,
+    /// The submitter (a token's name; set by the API from the caller's identity).
+    pub owner: String,
+}
+
+/// What admission decided: the job's halt rules and the notes shown with it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Admitted {
+    pub haltspp: Option<f64>,
+    pub halttime: Option<f64>,
+    pub haltthreshold: Option<f64>,
+    pub notes: Vec<String>,
+}
+
+/// Refuses halt overrides that are not finite positive numbers, or beyond the master's
+/// limits.
+pub fn check_overrides(cfg: &Config, o: &SubmitOptions) -> Result<()> {
+    check_halts(cfg, o.haltspp, o.halttime, o.haltthreshold)
+}
+
+fn check_halts(
+    cfg: &Config,
+    spp: Option<f64>,
+    time: Option<f64>,
+    threshold: Option<f64>,
+) -> Result<()> {
+    let bad = |m: String| Err(ServerError::BadRequest(m));
+    if let Some(v) = spp {
+        if !(v.is_finite() && v > 0.0) {
+            return bad("haltspp must be a positive number".into());
+        }
+        if v > cfg.max_haltspp {
+            return bad(format!(
+                "haltspp {v} is more than the master allows ({}, --max-haltspp)",
+                cfg.max_haltspp
+            ));
+        }
+    }
+    if let Some(v) = time {
+        if !(v.is_finite() && v > 0.0) {
+            return bad("halttime must be a positive number".into());
+        }
+        if v > cfg.max_halttime {
+            return bad(format!(
+                "halttime {v} s is more than the master allows ({} s, --max-halttime)",
+                cfg.max_halttime
+            ));
+        }
+    }
+    if threshold.is_some_and(|v| !(v.is_finite() && v > 0.0 && v < 1.0)) {
+        return bad("haltthreshold must be in (0, 1)".into());
+    }
+    Ok(())
+}
+
+/// Bytes of one film of the scene's layout (f64 sums).
+pub fn film_bytes(info: &SceneInfo) -> u64 {
+    let per_pixel = (PIXEL_VALUES * 8) as u64;
+    info.pixels
+        .saturating_mul(info.groups.len() as u64)
+        .saturating_mul(per_pixel)
+}
+
+/// Decides whether a scene may be queued, and with which halt rules.
+pub fn admit(
+    cfg: &Config,
+    merge_slots: usize,
+    info: &SceneInfo,
+    o: &SubmitOptions,
+) -> Result<Admitted> {
+    renderable(info)?;
+    let groups = info.groups.len();
+    if groups > codec::MAX_GROUPS {
+        return Err(ServerError::BadRequest(format!(
+            "{}: {groups} light groups, more than the {} a film delta carries",
+            info.scene,
+            codec::MAX_GROUPS
+        )));
+    }
+    let film = film_bytes(info);
+    let copies = 2 + merge_slots as u64;
+    let need = film.saturating_mul(copies);
+    if need > cfg.max_job_memory {
+        return Err(ServerError::TooLarge(format!(
+            "{}: the film ({}x{} pixels x {groups} light group(s)) takes {}; with a checkpoint \
+             copy and {merge_slots} decoded deltas the job needs {}, more than the master's \
+             budget of {} (--max-job-memory)",
+            info.scene,
+            info.width,
+            info.height,
+            human(film),
+            human(need),
+            human(cfg.max_job_memory)
+        )));
+    }
+    if film > codec::MAX_DECODED {
+        return Err(ServerError::BadRequest(format!(
+            "{}: a delta of the film ({}x{} pixels x {groups} light group(s)) takes {}, more \
+             than the {} a delta carries",
+            info.scene,
+            info.width,
+            info.height,
+            human(film),
+            human(codec::MAX_DECODED)
+        )));
+    }
+    let mut a = Admitted {
+        haltspp: o.haltspp.or(info.haltspp),
+        halttime: o.halttime.or(info.halttime),
+        haltthreshold: o.haltthreshold.or(info.haltthreshold),
+        notes: Vec::new(),
+    };
+    // The scene's own halt rules are held to the same limits as overrides.
+    check_halts(cfg, a.haltspp, a.halttime, a.haltthreshold)?;
+    if a.haltspp.is_none() && a.halttime.is_none() && a.haltthreshold.is_none() {
+        a.haltspp = Some(cfg.default_haltspp);
+        a.notes.push(format!(
+            "no halt rule given: the master's default haltspp {} applies (--default-haltspp)",
+            cfg.default_haltspp
+        ));
+    }
+    Ok(a)
+}
+
+/// Refuses a scene that cannot render: no camera, or nothing in it.
+fn renderable(info: &SceneInfo) -> Result<()> {
+    if !info.has_camera {
+        return Err(ServerError::BadRequest(format!(
+            "{}:1:1: the scene has no Camera statement: nothing can be rendered",
+            info.scene
+        )));
+    }
+    if info.shapes == 0 && info.lights == 0 {
+        return Err(ServerError::BadRequest(format!(
+            "{}:1:1: the scene has no shapes and no lights: there is nothing to see",
+            info.scene
+        )));
+    }
+    Ok(())
+}
+
+/// A byte count for people (binary units).
+fn human(bytes: u64) -> String {
+    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
+    let mut v = bytes as f64;
+    let mut unit = 0;
+    while v >= 1024.0 && unit + 1 < UNITS.len() {
+        v /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{bytes} B")
+    } else {
+        format!("{v:.1} {} ({bytes} bytes)", UNITS[unit])
+    }
+}
+
+/// A job name fit for lists and terminals: control characters become spaces, at most 200
+/// characters.
+pub fn clean_name(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .take(200)
+        .collect::<String>()
+        .trim()
+        .to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use luxfarm::film::FilmParams;
+
+    fn info(w: u32, h: u32, groups: usize) -> SceneInfo {
+        SceneInfo {
+            params: FilmParams::from_entity(None).unwrap(),
+            width: w,
+            height: h,
+            pixels: u64::from(w) * u64::from(h),
+            groups: (0..groups).map(|i| format!("g{i}")).collect(),
+            haltspp: None,
+            halttime: None,
+            haltthreshold: None,
+            convergence_step: 32.0,
+            basename: "s".into(),
+            name: "s".into(),
+            scene: "s.lxs".into(),
+            has_camera: true,
+            shapes: 1,
+            lights: 1,
+        }
+    }
+
+    fn cfg() -> Config {
+        Config::local("unused".into())
+    }
+
+    #[test]
+    fn a_film_beyond_the_memory_budget_is_refused_with_its_figure() {
+        let e = admit(&cfg(), 2, &info(16384, 16384, 1), &SubmitOptions::default()).unwrap_err();
+        assert!(matches!(e, ServerError::TooLarge(_)), "{e}");
+        let m = e.to_string();
+        assert!(m.contains("16384x16384"), "{m}");
+        assert!(m.contains("10737418240 bytes"), "{m}");
+        assert!(m.contains("--max-job-memory"), "{m}");
+        admit(&cfg(), 2, &info(1920, 1080, 1), &SubmitOptions::default()).unwrap();
+    }
+
+    #[test]
+    fn light_groups_are_bounded_by_the_codec_and_the_budget() {
+        let e = admit(&cfg(), 2, &info(8, 8, 1100), &SubmitOptions::default()).unwrap_err();
+        assert!(e.to_string().contains("1100 light groups"), "{e}");
+        // 20 groups on a 1080p film fit a delta, not the memory budget.
+        let e = admit(&cfg(), 2, &info(1920, 1080, 20), &SubmitOptions::default());
+        assert!(matches!(e, Err(ServerError::TooLarge(_))), "{e:?}");
+        // With any memory budget, 1000 groups on a 1080p film are more than a delta carries.
+        let mut big = cfg();
+        big.max_job_memory = u64::MAX;
+        let e = admit(&big, 2, &info(1920, 1080, 1000), &SubmitOptions::default());
+        assert!(matches!(e, Err(ServerError::BadRequest(_))), "{e:?}");
+        assert!(e.unwrap_err().to_string().contains("a delta carries"));
+    }
+
+    #[test]
+    fn a_scene_without_camera_or_content_is_refused() {
+        let mut i = info(8, 8, 1);
+        i.has_camera = false;
+        let e = admit(&cfg(), 2, &i, &SubmitOptions::default()).unwrap_err();
+        assert!(e.to_string().starts_with("s.lxs:1:1: "), "{e}");
+        let mut i = info(8, 8, 1);
+        i.shapes = 0;
+        i.lights = 0;
+        let e = admit(&cfg(), 2, &i, &SubmitOptions::default()).unwrap_err();
+        assert!(e.to_string().contains("nothing to see"), "{e}");
+    }
+
+    #[test]
+    fn a_job_without_halt_rule_gets_the_default_and_says_so() {
+        let a = admit(&cfg(), 2, &info(8, 8, 1), &SubmitOptions::default()).unwrap();
+        assert_eq!(a.haltspp, Some(256.0));
+        assert!(a.notes[0].contains("default haltspp 256"), "{:?}", a.notes);
+        let o = SubmitOptions {
+            halttime: Some(60.0),
+            ..SubmitOptions::default()
+        };
+        let a = admit(&cfg(), 2, &info(8, 8, 1), &o).unwrap();
+        assert_eq!((a.haltspp, a.halttime), (None, Some(60.0)));
+        assert!(a.notes.is_empty());
+    }
+
+    #[test]
+    fn halt_rules_beyond_the_limits_are_refused() {
+        for o in [
+            SubmitOptions {
+                haltspp: Some(1e308),
+                ..SubmitOptions::default()
+            },
+            SubmitOptions {
+                halttime: Some(1e12),
+                ..SubmitOptions::default()
+            },
+            SubmitOptions {
+                haltspp: Some(f64::NAN),
+                ..SubmitOptions::default()
+            },
+            SubmitOptions {
+                haltthreshold: Some(1.0),
+                ..SubmitOptions::default()
+            },
+        ] {
+            assert!(check_overrides(&cfg(), &o).is_err(), "{o:?}");
+        }
+        // The scene's own haltspp too.
+        let mut i = info(8, 8, 1);
+        i.haltspp = Some(1e9);
+        assert!(admit(&cfg(), 2, &i, &SubmitOptions::default()).is_err());
+    }
+
+    #[test]
+    fn names_lose_control_characters() {
+        assert_eq!(clean_name("a\u{1b}[31mb\n"), "a [31mb");
+        assert_eq!(clean_name(&"x".repeat(300)).len(), 200);
+    }
+}

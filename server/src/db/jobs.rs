@@ -1,0 +1,82 @@
+//! Jobs in the store: insertion in submission order, lookups in scheduling order, states.
+
+use super::{job_from_row, Db, JobRow, JobState, NewJob, JOB_COLS};
+use crate::error::Result;
+use rusqlite::{params, OptionalExtension};
+
+impl Db {
+    /// Inserts a queued job; its submission order is one past the largest so far.
+    pub fn insert_job(&self, j: &NewJob<'_>) -> Result<()> {
+        self.conn.execute(
+            "INSERT INTO jobs (id, ord, name, state, priority, bundle_hash, scene_path, seed, \
+             haltspp, halttime, haltthreshold, width, height, submitted_ms, frame, owner, notes) \
+             VALUES (?1, (SELECT COALESCE(MAX(ord), 0) + 1 FROM jobs), ?2, 'queued', ?3, ?4, ?5, \
+             ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15)",
+            params![
+                j.id,
+                j.name,
+                j.priority,
+                j.bundle_hash,
+                j.scene_path,
+                j.seed as i64,
+                j.haltspp,
+                j.halttime,
+                j.haltthreshold,
+                j.width,
+                j.height,
+                j.submitted_ms,
+                j.frame,
+                j.owner,
+                j.notes.join("\n"),
+            ],
+        )?;
+        Ok(())
+    }
+
+    /// One job.
+    pub fn job(&self, id: &str) -> Result<Option<JobRow>> {
+        let sql = format!("SELECT {JOB_COLS} FROM jobs WHERE id = ?1");
+        Ok(self.conn.query_row(&sql, [id], job_from_row).optional()?)
+    }
+
+    /// All jobs in scheduling order: priority (high first), then submission order.
+    pub fn jobs(&self) -> Result<Vec<JobRow>> {
+        let sql = format!("SELECT {JOB_COLS} FROM jobs ORDER BY priority DESC, ord ASC");
+        let mut st = self.conn.prepare(&sql)?;
+        let rows = st.query_map([], job_from_row)?;
+        Ok(rows.collect::<rusqlite::Result<_>>()?)
+    }
+
+    /// Number of jobs stored.
+    pub fn job_count(&self) -> Result<u64> {
+        Ok(self
+            .conn
+            .query_row("SELECT COUNT(*) FROM jobs", [], |r| r.get::<_, i64>(0))? as u64)
+    }
+
+    /// Sets a job's state, reason and (for final states) finish time.
+    pub fn set_job_state(
+        &self,
+        id: &str,
+        state: JobState,
+        reason: &str,
+        now_ms: i64,
+    ) -> Result<()> {
+        let finished = state.is_final().then_some(now_ms);
+        self.conn.execute(
+            "UPDATE jobs SET state = ?2, reason = ?3, finished_ms = COALESCE(?4, finished_ms) \
+             WHERE id = ?1",
+            params![id, state.as_str(), reason, finished],
+        )?;
+        Ok(())
+    }
+
+    /// Sets a job's reason only (a fault being retried, shown while the job goes on).
+    pub fn set_job_reason(&self, id: &str, reason: &str) -> Result<()> {
+        self.conn.execute(
+            "UPDATE jobs SET reason = ?2 WHERE id = ?1",
+            params![id, reason],
+        )?;
+        Ok(())
+    }
+}
