@@ -16,6 +16,7 @@
 //! is 1 for all three models (as LuxRender's `GenerateRay`).
 
 mod environment;
+mod importance;
 mod lens;
 mod motion;
 mod orthographic;
@@ -23,6 +24,7 @@ mod perspective;
 mod projective;
 
 pub use environment::Environment;
+pub use importance::CameraHit;
 pub use lens::{Aperture, Shutter, ShutterDistribution};
 pub use motion::CameraMotion;
 pub use orthographic::Orthographic;

@@ -30,6 +30,7 @@
 pub mod area;
 mod build;
 pub mod distant;
+pub mod emission;
 pub mod infinite;
 pub mod latlong;
 pub mod point;
@@ -49,6 +50,7 @@ use std::sync::Arc;
 pub use area::AreaLight;
 pub use build::KINDS;
 pub use distant::DistantLight;
+pub use emission::{BoundingSphere, LightRay};
 pub use infinite::InfiniteLight;
 pub use point::PointLight;
 pub use sky::SkyLight;

@@ -93,6 +93,7 @@ impl World {
             .filter(|&i| lights[i].is_infinite())
             .collect();
         let selector = LightSelector::new(opts.light_strategy, &lights);
+        let has_null = used.iter().any(|&m| materials.get(Some(m)).is_null());
         if lights.is_empty() {
             let loc = desc
                 .camera
@@ -125,6 +126,11 @@ impl World {
             infinite,
             emitters,
             selector,
+            sphere: crate::light::BoundingSphere {
+                center,
+                radius: radius.max(1e-6),
+            },
+            has_null,
         })
     }
 }
