@@ -38,6 +38,13 @@ pub struct RenderSetup {
     pub integrator: Integrator,
 }
 
+impl RenderSetup {
+    /// The film buffers this setup renders into (see [`super::buffers`]).
+    pub fn buffers(&self) -> Vec<crate::film::BufferType> {
+        super::buffers::buffers(false, self.integrator.splats())
+    }
+}
+
 /// A world with its render setup, and the problems that did not stop the build (unused
 /// parameters, fallbacks), each located.
 pub struct Renderable {
@@ -75,6 +82,8 @@ impl Renderable {
             light_strategy: integrator.direct_settings().strategy,
         };
         let world = World::build(desc, base_dir, opts, &mut warnings)?;
+        let mut integrator = integrator;
+        integrator.prepare(&world);
         if camera.needs_autofocus() {
             camera.autofocus(|r| world.intersect(r).map(|si| si.t));
         }
