@@ -18,9 +18,6 @@ use crate::integrator::Splat;
 use crate::lxs::SceneDescription;
 use crate::spectrum::rgb_to_xyz;
 
-/// Samplers whose samples land where the image is bright (per-screen eye buffer).
-pub const IMAGE_SPACE_SAMPLERS: [&str; 2] = ["metropolis", "erpt"];
-
 /// Index of the "light" buffer when a film has one.
 pub const LIGHT_BUFFER: usize = 1;
 
@@ -38,15 +35,12 @@ pub fn buffers(per_screen_eye: bool, light: bool) -> Vec<BufferType> {
     }
 }
 
-/// The film buffers a scene renders into, from its Sampler and SurfaceIntegrator
-/// statements (no statement: random sampler, path integrator).
+/// The film buffers a scene renders into, from its SurfaceIntegrator statement (no
+/// statement: path). The eye buffer is per pixel: the Metropolis and ERPT samplers, whose
+/// eye buffer would be per screen, are not built yet and render as `random`.
 pub fn film_buffers(desc: &SceneDescription) -> Vec<BufferType> {
-    let sampler = desc.sampler.as_ref().map(|e| e.kind.as_str());
     let integrator = desc.surface_integrator.as_ref().map(|e| e.kind.as_str());
-    buffers(
-        sampler.is_some_and(|k| IMAGE_SPACE_SAMPLERS.contains(&k)),
-        integrator == Some("bidirectional"),
-    )
+    buffers(false, integrator == Some("bidirectional"))
 }
 
 /// Adds splats to `buffer` of `film` (whose pixel (0, 0) is raster pixel `origin`) through
