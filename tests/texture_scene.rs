@@ -82,7 +82,12 @@ fn every_texture_class_builds_without_a_warning() {
         assert!(present.contains(class), "the scene lacks a {class} texture");
     }
     let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let mut set = TextureSet::new(&desc, TextureCtx { files: base_dir.into() });
+    let mut set = TextureSet::new(
+        &desc,
+        TextureCtx {
+            files: base_dir.into(),
+        },
+    );
     for t in &desc.textures {
         let built = match t.value_type {
             TextureType::Fresnel => set.named_fresnel(&t.name, &t.entity.loc).map(drop),

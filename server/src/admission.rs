@@ -91,6 +91,7 @@ pub fn film_bytes(info: &SceneInfo) -> u64 {
     let per_pixel = (PIXEL_VALUES * 8) as u64;
     info.pixels
         .saturating_mul(info.groups.len() as u64)
+        .saturating_mul(info.buffers.len().max(1) as u64)
         .saturating_mul(per_pixel)
 }
 
@@ -211,6 +212,7 @@ mod tests {
             height: h,
             pixels: u64::from(w) * u64::from(h),
             groups: (0..groups).map(|i| format!("g{i}")).collect(),
+            buffers: vec![luxfarm::film::BufferType::PerPixel],
             haltspp: None,
             halttime: None,
             haltthreshold: None,

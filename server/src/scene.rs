@@ -11,7 +11,7 @@ use crate::error::{Result, ServerError};
 use luxfarm::atomic_write::write_bytes_atomic;
 use luxfarm::fileio::SceneFiles;
 pub use luxfarm::film::Film;
-use luxfarm::film::FilmParams;
+use luxfarm::film::{BufferType, FilmParams};
 pub use luxfarm::halt::Convergence;
 use luxfarm::lxs::ParseOptions;
 use luxfarm::output;
@@ -26,6 +26,9 @@ pub struct SceneInfo {
     pub height: u32,
     pub pixels: u64,
     pub groups: Vec<String>,
+    /// The film's buffers (a bidirectional render adds a per-screen light buffer), as the
+    /// workers' films have them.
+    pub buffers: Vec<BufferType>,
     pub haltspp: Option<f64>,
     pub halttime: Option<f64>,
     pub haltthreshold: Option<f64>,
@@ -98,6 +101,7 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
         height: params.y_pixel_count,
         pixels: params.pixel_count(),
         groups,
+        buffers: luxfarm::render::film_buffers(&desc),
         haltspp: params.haltspp.map(f64::from),
         halttime: params.halttime.map(f64::from),
         haltthreshold: params.haltthreshold.map(f64::from),
@@ -120,7 +124,13 @@ fn strip_root(msg: &str, root: &Path) -> String {
 
 /// An empty film of the scene's layout.
 pub fn new_film(info: &SceneInfo) -> Film {
-    Film::new(info.width, info.height, info.groups.clone())
+    Film::with_buffers(
+        info.width,
+        info.height,
+        info.groups.clone(),
+        info.buffers.clone(),
+    )
+    .unwrap_or_else(|_| Film::new(info.width, info.height, info.groups.clone()))
 }
 
 /// Writes a checkpoint (lossless `lxd1`) atomically.

@@ -16,6 +16,7 @@
 //! is 1 for all three models (as LuxRender's `GenerateRay`).
 
 mod environment;
+mod importance;
 mod lens;
 mod lens_distribution;
 mod motion;
@@ -25,6 +26,7 @@ mod projective;
 pub mod realistic;
 
 pub use environment::Environment;
+pub use importance::CameraHit;
 pub use lens::{Aperture, Shutter, ShutterDistribution};
 pub use motion::CameraMotion;
 pub use orthographic::Orthographic;

@@ -103,6 +103,44 @@ impl AreaLight {
         })
     }
 
+    /// A ray leaving the light (light subpaths): a point uniform by area, a direction
+    /// cosine-distributed about the normal.
+    pub fn sample_le(
+        &self,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        u_pick: f32,
+        time: f32,
+        shapes: &dyn ShapeSampler,
+    ) -> Option<super::emission::LightRay> {
+        let (mut it, uv, pdf_pos) = shapes.sample_shape(self.shape, u_pos, u_pick)?;
+        it.time = time;
+        let local = crate::sampling::cosine_hemisphere(u_dir);
+        let (s, t) = crate::geometry::frame::coordinate_system(it.n);
+        let d = (s * local.x + t * local.y + it.n * local.z).normalize_or_zero();
+        let cos = d.dot(it.n);
+        if cos <= 0.0 {
+            return None;
+        }
+        let si = SurfaceInteraction {
+            it,
+            wo: d,
+            uv,
+            shading: Shading {
+                n: it.n,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        Some(super::emission::LightRay {
+            ray: it.spawn_ray(d),
+            n: it.n,
+            le: self.le(&si, d, None),
+            pdf_pos,
+            pdf_dir: cos * std::f32::consts::FRAC_1_PI,
+        })
+    }
+
     /// Solid-angle pdf of reaching `hit` on this light from `r` by [`Self::sample_li`].
     pub fn pdf_li(&self, r: &Interaction, hit: &SurfaceInteraction) -> f32 {
         let d = hit.it.p - r.p;

@@ -60,6 +60,28 @@ impl PointLight {
     pub fn power(&self) -> f32 {
         4.0 * PI * self.y
     }
+
+    /// A ray leaving the light (light subpaths): uniform over the sphere of directions.
+    pub fn sample_le(&self, u_dir: glam::Vec2, time: f32) -> Option<super::emission::LightRay> {
+        let d = crate::sampling::uniform_sphere(u_dir);
+        Some(super::emission::LightRay {
+            ray: crate::geometry::Ray {
+                o: self.pos,
+                d,
+                t_max: f32::INFINITY,
+                time,
+            },
+            n: Vec3A::ZERO,
+            le: self.intensity,
+            pdf_pos: 1.0,
+            pdf_dir: self.pdf_dir(),
+        })
+    }
+
+    /// Solid-angle density of [`Self::sample_le`]'s directions.
+    pub fn pdf_dir(&self) -> f32 {
+        crate::sampling::UNIFORM_SPHERE_PDF
+    }
 }
 
 #[cfg(test)]

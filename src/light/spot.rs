@@ -128,6 +128,39 @@ impl SpotLight {
         })
     }
 
+    /// Radiant intensity toward unit direction `w` (the cone's falloff applied).
+    pub fn intensity_toward(&self, w: Vec3A) -> Rgb {
+        self.intensity * self.falloff(w.dot(self.axis))
+    }
+
+    /// A ray leaving the light (light subpaths): uniform over the cone of `coneangle`.
+    pub fn sample_le(&self, u_dir: glam::Vec2, time: f32) -> Option<super::emission::LightRay> {
+        let local = crate::sampling::uniform_cone(u_dir, self.cos_total);
+        let (s, t) = crate::geometry::frame::coordinate_system(self.axis);
+        let d = (s * local.x + t * local.y + self.axis * local.z).normalize_or_zero();
+        Some(super::emission::LightRay {
+            ray: crate::geometry::Ray {
+                o: self.pos,
+                d,
+                t_max: f32::INFINITY,
+                time,
+            },
+            n: Vec3A::ZERO,
+            le: self.intensity_toward(d),
+            pdf_pos: 1.0,
+            pdf_dir: self.pdf_dir(d),
+        })
+    }
+
+    /// Solid-angle density of [`Self::sample_le`] leaving in unit direction `w`.
+    pub fn pdf_dir(&self, w: Vec3A) -> f32 {
+        if w.dot(self.axis) >= self.cos_total {
+            crate::sampling::uniform_cone_pdf(self.cos_total)
+        } else {
+            0.0
+        }
+    }
+
     pub fn power(&self) -> f32 {
         self.y * cone_solid_angle(self.cos_total, self.cos_falloff)
     }

@@ -5,18 +5,40 @@
 //!
 //! Samples whose XYZ is NaN/Inf or whose Y is negative are discarded and counted, never
 //! splatted (LuxRender's rule).
+//!
+//! Integrators whose samples also contribute elsewhere on the film (bidirectional: light
+//! subpaths reaching the camera) render their tiles in fixed batches: each batch's tile films
+//! and splats are added to the pass film in tile order, so the film still depends only on
+//! (seed, stream, pass) and the splats of a whole pass are never held at once.
 
+pub mod buffers;
 pub mod setup;
 mod tile;
 
-use crate::film::{Film, FilmParams, ZBuffer};
+use crate::film::{BufferType, Film, FilmParams, ZBuffer};
 use crate::lxs::SceneDescription;
 use setup::{Renderable, SetupError};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
+pub use buffers::film_buffers;
 pub use tile::{tiles, Tile, TILE_SIZE};
+
+/// Tiles rendered in parallel before their splats are added (a fixed number, so that the
+/// film does not depend on the thread count).
+const SPLAT_BATCH: usize = 64;
+
+/// An empty film for the scene's buffer (crop window) size, light groups and `buffers`.
+fn new_film(scene: &Renderable, buffers: &[BufferType]) -> Result<Film, RenderError> {
+    let fp = &scene.setup.film_params;
+    Ok(Film::with_buffers(
+        fp.x_pixel_count,
+        fp.y_pixel_count,
+        scene.world.groups().to_vec(),
+        buffers.to_vec(),
+    )?)
+}
 
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
@@ -53,6 +75,7 @@ pub struct PassStats {
 
 pub struct Session {
     scene: Arc<Renderable>,
+    buffers: Vec<BufferType>,
     film: Film,
     /// Depths, when the Film asks for a Z output.
     depth: Option<ZBuffer>,
@@ -80,21 +103,19 @@ impl Session {
         scene: Renderable,
         opts: SessionOptions,
     ) -> Result<Session, RenderError> {
-        let fp = &scene.setup.film_params;
-        let film = Film::new(
-            fp.x_pixel_count,
-            fp.y_pixel_count,
-            scene.world.groups().to_vec(),
-        );
+        let buffers = scene.setup.buffers();
+        let film = new_film(&scene, &buffers)?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(opts.threads)
             .build()
             .map_err(|e| RenderError::Threads(e.to_string()))?;
+        let fp = &scene.setup.film_params;
         let depth = fp
             .wants_zbuf()
             .then(|| ZBuffer::new(fp.x_pixel_count, fp.y_pixel_count));
         Ok(Session {
             scene: Arc::new(scene),
+            buffers,
             film,
             depth,
             opts,
@@ -151,12 +172,14 @@ impl Session {
 
     /// The accumulated film since the last take; the session film is cleared.
     pub fn take_film(&mut self) -> Film {
-        let fresh = Film::new(
-            self.film.width(),
-            self.film.height(),
-            self.scene.world.groups().to_vec(),
-        );
+        let mut fresh = self.film.clone();
+        fresh.clear();
         std::mem::replace(&mut self.film, fresh)
+    }
+
+    /// The film's buffer layout (eye buffer, and the light buffer of bidirectional renders).
+    pub fn buffers(&self) -> &[BufferType] {
+        &self.buffers
     }
 
     /// Samples discarded (NaN/Inf/negative) over the whole session.
@@ -176,6 +199,9 @@ impl Session {
 
     /// Renders one more pass of `pixelsamples` samples over every pixel into the film.
     pub fn render_pass(&mut self) -> PassStats {
+        if self.scene.setup.integrator.splats() {
+            return self.render_pass_splatting();
+        }
         use rayon::prelude::*;
         let start = Instant::now();
         let scene = &*self.scene;
@@ -185,13 +211,21 @@ impl Session {
         let pass = self.pass;
         let (seed, stream) = (self.opts.seed, self.opts.stream);
         let cancel = &self.cancel;
-        let results: Vec<Option<tile::TileResult>> = self.pool.install(|| {
+        let results: Vec<Option<tile::TileOut>> = self.pool.install(|| {
             list.par_iter()
                 .map(|t| {
                     if cancel.load(Ordering::Relaxed) {
                         return None;
                     }
-                    Some(tile::render_tile(scene, t, pass, spp, seed, stream))
+                    Some(tile::render_tile(
+                        scene,
+                        t,
+                        pass,
+                        spp,
+                        seed,
+                        stream,
+                        &self.buffers,
+                    ))
                 })
                 .collect()
         });
@@ -214,6 +248,75 @@ impl Session {
             rejected += d.invalid;
             outliers += d.outliers;
         }
+        self.finish_pass(start, rejected, outliers)
+    }
+
+    /// A pass of an integrator with splats: tiles in fixed batches, each batch's tile films
+    /// and then its splats (tile order) added to a pass film, merged into the session film
+    /// once the pass is complete.
+    fn render_pass_splatting(&mut self) -> PassStats {
+        use rayon::prelude::*;
+        let start = Instant::now();
+        let scene = &*self.scene;
+        let fp = &scene.setup.film_params;
+        let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
+        let spp = scene.setup.sampler.pixel_samples().max(1);
+        let (pass, seed, stream) = (self.pass, self.opts.seed, self.opts.stream);
+        let cancel = &self.cancel;
+        let buffers = &self.buffers;
+        let mut pass_film = self.film.clone();
+        pass_film.clear();
+        let origin = [fp.x_pixel_start, fp.y_pixel_start];
+        let (mut rejected, mut outliers) = (0, 0);
+        for batch in list.chunks(SPLAT_BATCH) {
+            let results: Vec<Option<tile::TileOut>> = self.pool.install(|| {
+                batch
+                    .par_iter()
+                    .map(|t| {
+                        if cancel.load(Ordering::Relaxed) {
+                            return None;
+                        }
+                        Some(tile::render_tile(
+                            scene, t, pass, spp, seed, stream, buffers,
+                        ))
+                    })
+                    .collect()
+            });
+            if results.iter().any(Option::is_none) {
+                return PassStats {
+                    seconds: start.elapsed().as_secs_f64(),
+                    ..Default::default()
+                };
+            }
+            for r in results.into_iter().flatten() {
+                if let Err(e) = pass_film.merge_at(&r.film, r.tile.fx0, r.tile.fy0) {
+                    tracing::error!("tile merge failed: {e}");
+                }
+                if let (Some(z), Some(tz)) = (self.depth.as_mut(), r.depth.as_ref()) {
+                    z.merge_at(tz, r.tile.fx0, r.tile.fy0);
+                }
+                rejected += r.discarded.invalid
+                    + buffers::apply_splats(
+                        &mut pass_film,
+                        buffers::LIGHT_BUFFER,
+                        &scene.setup.filter,
+                        origin,
+                        &r.splats,
+                        1.0,
+                    );
+                outliers += r.discarded.outliers;
+            }
+        }
+        if let Err(e) = self.film.merge(&pass_film) {
+            tracing::error!("pass merge failed: {e}");
+        }
+        self.finish_pass(start, rejected, outliers)
+    }
+
+    /// Counts a completed pass: its samples in the film, its discarded samples.
+    fn finish_pass(&mut self, start: Instant, rejected: u64, outliers: u64) -> PassStats {
+        let fp = &self.scene.setup.film_params;
+        let spp = self.scene.setup.sampler.pixel_samples().max(1);
         let samples = u64::from(fp.x_pixel_count) * u64::from(fp.y_pixel_count) * u64::from(spp);
         self.film.add_sample_count(samples as f64);
         // The film's count (kept in FLM deltas) covers both kinds, as LuxRender's does.

@@ -14,7 +14,7 @@ use crate::fileio::SceneFiles;
 use crate::film::{FilmError, FilmParams};
 use crate::filter::Filter;
 use crate::integrator::Integrator;
-use crate::lxs::{Diagnostic, Loc, SceneDescription};
+use crate::lxs::{Diagnostic, Entity, Loc, SceneDescription};
 use crate::plugin::{report_unused, warn, BuildError};
 use crate::sampler::Sampler;
 use crate::scene::{World, WorldOptions};
@@ -36,6 +36,13 @@ pub struct RenderSetup {
     pub filter: Filter,
     pub sampler: Sampler,
     pub integrator: Integrator,
+}
+
+impl RenderSetup {
+    /// The film buffers this setup renders into (see [`super::buffers`]).
+    pub fn buffers(&self) -> Vec<crate::film::BufferType> {
+        super::buffers::buffers(false, self.integrator.splats())
+    }
 }
 
 /// A world with its render setup, and the problems that did not stop the build (unused
@@ -88,6 +95,31 @@ impl Renderable {
             light_strategy: integrator.direct_settings().strategy,
         };
         let world = World::build(desc, &files, opts, &mut warnings)?;
+        let mut integrator = integrator;
+        if integrator.splats() {
+            if let Some(why) = world.lights().iter().find_map(|l| l.bidir_unsupported()) {
+                let loc = desc
+                    .surface_integrator
+                    .as_ref()
+                    .map(|e| e.loc.clone())
+                    .unwrap_or_default();
+                warn(
+                    &mut warnings,
+                    &loc,
+                    format!(
+                        "SurfaceIntegrator \"bidirectional\": light paths cannot start on {why} \
+                         yet; rendering with \"path\""
+                    ),
+                );
+                let path = Entity {
+                    kind: "path".into(),
+                    loc,
+                    ..Default::default()
+                };
+                integrator = Integrator::build(Some(&path), &mut warnings)?;
+            }
+        }
+        integrator.prepare(&world);
         if camera.needs_autofocus() {
             camera.autofocus(|r| world.intersect(r).map(|si| si.t));
         }

@@ -4,8 +4,9 @@
 //! intersection of the primary ray; nothing is traced for depth otherwise).
 
 use super::setup::{RenderSetup, Renderable};
-use crate::film::{Film, OutlierRejector, ZBuffer};
-use crate::spectrum::{rgb_to_xyz, Rgb};
+use crate::film::{BufferType, Film, OutlierRejector, ZBuffer};
+use crate::integrator::{SampleOut, Splat};
+use crate::spectrum::rgb_to_xyz;
 
 pub const TILE_SIZE: u32 = 32;
 
@@ -56,16 +57,20 @@ pub struct Discarded {
     pub outliers: u64,
 }
 
-/// What a tile produced: its film, the tile (with its film region), what was discarded, and
-/// the depths of its film region when the Film asks for a Z buffer.
-pub struct TileResult {
+/// What a tile rendered: its film (the tile plus the filter's reach), the tile with its film
+/// region, what was discarded, the contributions its samples made at other film positions
+/// (to be added to the session film's light buffer in tile order), and the depths of its
+/// film region when the Film asks for a Z buffer.
+pub struct TileOut {
     pub film: Film,
     pub tile: Tile,
     pub discarded: Discarded,
+    pub splats: Vec<Splat>,
     pub depth: Option<ZBuffer>,
 }
 
-/// Renders `spp` samples per pixel of tile `t` for pass `pass`.
+/// Renders `spp` samples per pixel of tile `t` for pass `pass` into a film of the session's
+/// buffer layout (`buffers`; the samples' own contributions go to buffer 0).
 pub fn render_tile(
     scene: &Renderable,
     t: &Tile,
@@ -73,7 +78,8 @@ pub fn render_tile(
     spp: u32,
     seed: u64,
     stream: u64,
-) -> TileResult {
+    buffers: &[BufferType],
+) -> TileOut {
     let (setup, world) = (&scene.setup, &scene.world);
     let fp = &setup.film_params;
     let (bw, bh) = (fp.x_pixel_count, fp.y_pixel_count);
@@ -87,7 +93,9 @@ pub fn render_tile(
     t.fy0 = t.y0.saturating_sub(ry);
     t.fx1 = (t.x1 + rx).min(bw);
     t.fy1 = (t.y1 + ry).min(bh);
-    let mut film = Film::new(t.fx1 - t.fx0, t.fy1 - t.fy0, world.groups().to_vec());
+    let (fw, fh) = (t.fx1 - t.fx0, t.fy1 - t.fy0);
+    let mut film = Film::with_buffers(fw, fh, world.groups().to_vec(), buffers.to_vec())
+        .unwrap_or_else(|_| Film::new(fw, fh, world.groups().to_vec()));
     let mut depth = fp
         .wants_zbuf()
         .then(|| ZBuffer::new(t.fx1 - t.fx0, t.fy1 - t.fy0));
@@ -95,7 +103,8 @@ pub fn render_tile(
     let ox = i64::from(fp.x_pixel_start) + i64::from(t.fx0);
     let oy = i64::from(fp.y_pixel_start) + i64::from(t.fy0);
     let ngroups = world.groups().len();
-    let mut l = vec![Rgb::BLACK; ngroups];
+    let mut out = SampleOut::new(ngroups);
+    let mut splats = Vec::new();
     let mut discarded = Discarded::default();
     let mut outliers = outlier_rejector(setup, &t);
     for by in t.y0..t.y1 {
@@ -122,11 +131,19 @@ pub fn render_tile(
                         });
                     }
                 }
-                l.iter_mut().for_each(|c| *c = Rgb::BLACK);
-                let alpha = setup.integrator.li(world, ray, &mut st, &mut l);
+                setup
+                    .integrator
+                    .sample(world, &setup.camera, ray, &mut st, &mut out);
+                let alpha = out.alpha;
+                if !out.splats.is_empty() {
+                    splats.extend(out.splats.drain(..).map(|mut sp| {
+                        sp.l *= w;
+                        sp
+                    }));
+                }
                 // With premultiplyalpha the film holds colours already multiplied by alpha.
                 let scale = if fp.premultiply_alpha { w * alpha } else { w };
-                for (g, c) in l.iter().enumerate() {
+                for (g, c) in out.l.iter().enumerate() {
                     let xyz = rgb_to_xyz(*c * scale);
                     if !xyz.iter().all(|v| v.is_finite()) || xyz[1] < 0.0 {
                         discarded.invalid += 1;
@@ -148,10 +165,11 @@ pub fn render_tile(
             }
         }
     }
-    TileResult {
+    TileOut {
         film,
         tile: t,
         discarded,
+        splats,
         depth,
     }
 }

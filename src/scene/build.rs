@@ -144,6 +144,10 @@ impl World {
             primitive,
             emitters,
             selector,
+            sphere: crate::light::BoundingSphere {
+                center,
+                radius: radius.max(1e-6),
+            },
         })
     }
 }

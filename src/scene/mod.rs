@@ -20,7 +20,7 @@ mod geometry;
 
 use crate::accel::{Geometry, ShapeId};
 use crate::geometry::{Interaction, Ray, SurfaceInteraction};
-use crate::light::{AreaLight, Light, LightSample, LightSelector, ShapeSampler};
+use crate::light::{AreaLight, BoundingSphere, Light, LightSample, LightSelector, ShapeSampler};
 use crate::material::{Material, MaterialSet};
 use glam::Vec2;
 
@@ -49,9 +49,14 @@ pub struct World {
     /// World shape of each area light (`AreaLight::shape` indexes this).
     emitters: Vec<ShapeId>,
     selector: LightSelector,
+    /// The bounding sphere lights at infinity emit from.
+    sphere: BoundingSphere,
     /// Whether some primitive has the null material (shadow rays then cross null surfaces).
     has_null: bool,
 }
+
+/// Null-material surfaces a visibility test passes through before giving up.
+const MAX_NULL_CROSSINGS: u32 = 64;
 
 impl World {
     /// Light group names, in film group order (at least "default").
@@ -120,6 +125,38 @@ impl World {
             } else {
                 si.it.spawn_ray_to(&ls.p_light)
             };
+        }
+        false
+    }
+
+    /// The scene's bounding sphere (lights at infinity emit from its radius).
+    pub fn bounding_sphere(&self) -> BoundingSphere {
+        self.sphere
+    }
+
+    /// Whether light travels along the segment `ray` (parametric extent `t_max`): nothing
+    /// blocks it but surfaces of the null material, which light passes unchanged.
+    pub fn transmits(&self, ray: &Ray) -> bool {
+        if !self.geometry.intersect_p(ray) {
+            return true;
+        }
+        if !self.has_null {
+            return false;
+        }
+        let mut r = *ray;
+        for _ in 0..MAX_NULL_CROSSINGS {
+            let Some(si) = self.geometry.intersect(&r) else {
+                return true;
+            };
+            if !self.material(si.prim).is_null() {
+                return false;
+            }
+            let left = r.t_max - si.t;
+            r = si.it.spawn_ray(r.d);
+            r.t_max = left;
+            if left <= 0.0 {
+                return true;
+            }
         }
         false
     }

@@ -246,6 +246,25 @@ impl Bsdf {
         finite_or_zero(p)
     }
 
+    /// Light subpaths carry importance, for which refraction does not compress radiance: a
+    /// value of [`Self::sample_f`] (or [`Self::f`]) for the pair (`wo`, `wi`) crossing a
+    /// refracting boundary is multiplied by `(η_wi / η_wo)²` (the indices on each side) to
+    /// give the adjoint BSDF's. 1 for reflection and for lobes that do not bend light.
+    pub fn adjoint_scale(&self, wo_w: Vec3A, wi_w: Vec3A) -> f32 {
+        let eta = match &self.lobes {
+            Lobes::Dielectric(d) if !d.architectural => d.eta,
+            Lobes::RoughDielectric(r) => r.eta,
+            _ => return 1.0,
+        };
+        let (zo, zi) = (self.frame.n.dot(wo_w), self.frame.n.dot(wi_w));
+        if zo * zi >= 0.0 || !(eta > 0.0 && eta.is_finite()) {
+            return 1.0;
+        }
+        let (eta_o, eta_i) = if zo > 0.0 { (1.0, eta) } else { (eta, 1.0) };
+        let r = eta_i / eta_o;
+        r * r
+    }
+
     /// Samples an incident direction. `u` picks a lobe, `u2` the direction within it.
     pub fn sample_f(&self, wo_w: Vec3A, u: f32, u2: Vec2) -> Option<BsdfSample> {
         if let Lobes::Composite(c) = &self.lobes {

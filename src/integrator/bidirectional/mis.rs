@@ -1,0 +1,230 @@
+//! Multiple importance sampling weights of bidirectional path tracing (power heuristic).
+//!
+//! A path of k vertices x₀ (on a light) … x_{k−1} (the camera) can be built by strategies
+//! s = 0 … k−1: the first s vertices from the light, the other t = k − s from the camera.
+//! Strategy s draws the path with density p_s = Π_{j<s} pl_j · Π_{j≥s} pe_j, where pl_j and
+//! pe_j are the densities with which the light side and the camera side generate x_j (area
+//! measure; solid angle for a vertex at infinity). s = 1 samples x₀ by direct lighting, whose
+//! density `pdir0` differs from the light subpath's origin density pl₀, as LuxRender does.
+//! The weight of the strategy that found the path is p_s² / Σ p_{s'}² over the strategies
+//! that could have found it: within the eye and light depths, connecting two non-delta
+//! vertices, reaching the camera only when light paths may (t = 1), and never s = t = 1.
+//!
+//! Densities "through" a delta vertex are stored as 0 and count as 1 in the ratios (they
+//! are the same discrete choice on both sides); the ratios p_{s'}/p_s are built one vertex
+//! at a time from the current strategy outwards, so the products never overflow.
+
+/// The densities of one path, indexed from the light end.
+#[derive(Clone, Debug, Default)]
+pub struct PathDensities {
+    /// Light-side densities (pl₀ is the subpath origin density).
+    pub pl: Vec<f32>,
+    /// Camera-side densities.
+    pub pe: Vec<f32>,
+    /// Vertices whose scattering in this path was a delta distribution.
+    pub delta: Vec<bool>,
+    /// Density of x₀ under direct lighting (strategy s = 1).
+    pub pdir0: f32,
+    /// x₀ is a delta position or direction: no ray can hit it (s = 0 impossible).
+    pub light_delta: bool,
+}
+
+/// Limits on the strategies that exist.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// Largest light subpath (vertices, the light included).
+    pub max_light: usize,
+    /// Largest eye subpath (vertices, the camera included).
+    pub max_eye: usize,
+    /// Light subpaths may be joined to the camera (t = 1).
+    pub camera: bool,
+}
+
+fn remap0(v: f32) -> f32 {
+    if v != 0.0 && v.is_finite() {
+        v
+    } else {
+        1.0
+    }
+}
+
+impl PathDensities {
+    /// Sets up for a path of `k` vertices.
+    pub fn reset(&mut self, k: usize) {
+        self.pl.clear();
+        self.pe.clear();
+        self.delta.clear();
+        self.pl.resize(k, 0.0);
+        self.pe.resize(k, 0.0);
+        self.delta.resize(k, false);
+        self.pdir0 = 0.0;
+        self.light_delta = false;
+    }
+
+    fn k(&self) -> usize {
+        self.pl.len()
+    }
+
+    /// Whether strategy `s` (light vertices) exists for this path.
+    fn valid(&self, s: usize, lim: &Limits) -> bool {
+        let k = self.k();
+        if s >= k {
+            return false;
+        }
+        let t = k - s;
+        if s > lim.max_light || t > lim.max_eye || (s == 1 && t == 1) {
+            return false;
+        }
+        if t == 1 && !lim.camera {
+            return false;
+        }
+        match s {
+            0 => !self.light_delta,
+            1 => self.pdir0 > 0.0 && !self.delta[1],
+            _ => self.pl[0] > 0.0 && !self.delta[s - 1] && !self.delta[s],
+        }
+    }
+
+    /// The power-heuristic weight of strategy `s`.
+    pub fn weight(&self, s: usize, lim: &Limits) -> f32 {
+        let k = self.k();
+        if k < 2 || s >= k {
+            return 0.0;
+        }
+        let (pl, pe) = (&self.pl, &self.pe);
+        let mut sum = 1.0f64;
+        // Fewer light vertices: x_j moves to the camera side.
+        let mut r = 1.0f64;
+        for j in (0..s).rev() {
+            let den = if j == 0 { self.pdir0 } else { pl[j] };
+            r *= f64::from(remap0(pe[j])) / f64::from(remap0(den));
+            if j == 1 {
+                r *= f64::from(remap0(self.pdir0)) / f64::from(remap0(pl[0]));
+            }
+            if self.valid(j, lim) {
+                sum += r * r;
+            }
+        }
+        // More light vertices: x_{s'-1} moves to the light side.
+        let mut r = 1.0f64;
+        for sp in s + 1..k {
+            let j = sp - 1;
+            let num = if j == 0 { self.pdir0 } else { pl[j] };
+            r *= f64::from(remap0(num)) / f64::from(remap0(pe[j]));
+            if sp == 2 {
+                r *= f64::from(remap0(pl[0])) / f64::from(remap0(self.pdir0));
+            }
+            if self.valid(sp, lim) {
+                sum += r * r;
+            }
+        }
+        let w = (1.0 / sum) as f32;
+        if w.is_finite() {
+            w
+        } else {
+            0.0
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Explicit p_s = Π pl · Π pe over valid strategies, against the incremental ratios.
+    fn brute(d: &PathDensities, s: usize, lim: &Limits) -> f32 {
+        let k = d.pl.len();
+        let p = |sp: usize| -> f64 {
+            let mut v = 1.0f64;
+            for j in 0..k {
+                let x = if j < sp {
+                    if j == 0 && sp == 1 {
+                        d.pdir0
+                    } else {
+                        d.pl[j]
+                    }
+                } else {
+                    d.pe[j]
+                };
+                v *= f64::from(remap0(x));
+            }
+            v
+        };
+        let ps = p(s);
+        let mut sum = 0.0;
+        for sp in 0..k {
+            if sp == s || d.valid(sp, lim) {
+                sum += (p(sp) / ps).powi(2);
+            }
+        }
+        (1.0 / sum) as f32
+    }
+
+    fn densities(k: usize, seed: u32) -> PathDensities {
+        let mut d = PathDensities::default();
+        d.reset(k);
+        let mut x = seed.wrapping_mul(2_654_435_761);
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            0.05 + (x % 1000) as f32 / 100.0
+        };
+        for j in 0..k {
+            d.pl[j] = next();
+            d.pe[j] = next();
+        }
+        d.pdir0 = next();
+        d
+    }
+
+    #[test]
+    fn weights_match_explicit_products_and_sum_to_one() {
+        let lim = Limits {
+            max_light: 4,
+            max_eye: 5,
+            camera: true,
+        };
+        for k in 2..=9 {
+            for seed in 1..20 {
+                let mut d = densities(k, seed * 31 + k as u32);
+                if seed % 3 == 0 && k > 3 {
+                    d.delta[k / 2] = true;
+                    d.pl[k / 2 + 1] = 0.0;
+                    d.pe[k / 2 - 1] = 0.0;
+                }
+                let mut total = 0.0f64;
+                for s in 0..k {
+                    if !d.valid(s, &lim) {
+                        continue;
+                    }
+                    let w = d.weight(s, &lim);
+                    let b = brute(&d, s, &lim);
+                    assert!(
+                        (w - b).abs() < 1e-4 * b.max(1e-3),
+                        "k {k} s {s}: {w} vs {b}"
+                    );
+                    total += f64::from(w);
+                }
+                let any = (0..k).any(|s| d.valid(s, &lim));
+                if any {
+                    assert!((total - 1.0).abs() < 1e-4, "k {k} seed {seed}: {total}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn delta_light_and_unconnectable_camera_drop_strategies() {
+        let lim = Limits {
+            max_light: 8,
+            max_eye: 8,
+            camera: false,
+        };
+        let mut d = densities(3, 7);
+        d.light_delta = true;
+        // k = 3: s = 0 (delta light: no), s = 1 (direct), s = 2 (t = 1: no camera).
+        assert!(!d.valid(0, &lim) && d.valid(1, &lim) && !d.valid(2, &lim));
+        assert!((d.weight(1, &lim) - 1.0).abs() < 1e-6);
+    }
+}

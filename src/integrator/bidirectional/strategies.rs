@@ -1,0 +1,370 @@
+//! The connection strategies of bidirectional path tracing and their weights.
+//!
+//! With an eye subpath E₀ (camera) … and a light subpath L₀ (light) …, a strategy (s, t)
+//! uses the first s light vertices and the first t eye vertices:
+//! - s = 0: the eye path met a light (an emitting surface, or the sky when it escaped);
+//! - s = 1: direct lighting: a light sampled from eye vertex E_{t−1};
+//! - s ≥ 2, t ≥ 2: L_{s−1} joined to E_{t−1} by a shadow ray;
+//! - s ≥ 2, t = 1: L_{s−1} joined to the camera: a splat at another film position.
+//!
+//! [`weight`] gathers the path's densities into [`PathDensities`] — the stored walk
+//! densities, recomputed near the connection — and returns the power-heuristic weight.
+
+use super::mis::{Limits, PathDensities};
+use super::vertex::{Ctx, Kind, Vertex};
+use crate::integrator::{SampleOut, Splat};
+use crate::light::Light;
+use crate::sampler::SampleStream;
+use crate::spectrum::Rgb;
+use glam::Vec2;
+
+/// The light vertex j of a strategy with s light vertices (the resampled one for s = 1).
+fn light_at<'a>(light: &'a [Vertex], sampled: Option<&'a Vertex>, j: usize) -> Option<&'a Vertex> {
+    if j == 0 {
+        if let Some(v) = sampled {
+            return Some(v);
+        }
+    }
+    light.get(j)
+}
+
+/// The power-heuristic weight of strategy (s, t); `sampled` replaces L₀ for s = 1.
+pub fn weight(
+    ctx: &Ctx,
+    dens: &mut PathDensities,
+    eye: &[Vertex],
+    t: usize,
+    light: &[Vertex],
+    s: usize,
+    sampled: Option<&Vertex>,
+) -> f32 {
+    let k = s + t;
+    if k < 2 || t == 0 || t > eye.len() {
+        return 0.0;
+    }
+    dens.reset(k);
+    let x = |j: usize| -> Option<&Vertex> {
+        if j >= k {
+            None
+        } else if j < s {
+            light_at(light, sampled, j)
+        } else {
+            eye.get(k - 1 - j)
+        }
+    };
+    for j in 0..k {
+        let Some(v) = x(j) else {
+            return 0.0;
+        };
+        if j < s {
+            dens.pl[j] = v.pdf_fwd;
+            dens.pe[j] = v.pdf_rev;
+        } else {
+            dens.pe[j] = v.pdf_fwd;
+            dens.pl[j] = v.pdf_rev;
+        }
+        dens.delta[j] = v.delta;
+    }
+    let (Some(x0), Some(xs)) = (x(0), x(s)) else {
+        return 0.0;
+    };
+    dens.pl[0] = ctx.origin_density(x0);
+    dens.pdir0 = ctx.direct_density(x0);
+    dens.light_delta = !ctx.hittable(x0);
+    dens.delta[s] = false;
+    if s == 0 {
+        if let Some(x1) = x(1) {
+            dens.pl[1] = ctx.emit_pdf(x0, x1);
+        }
+    } else {
+        dens.delta[s - 1] = false;
+        let Some(ls) = x(s - 1) else {
+            return 0.0;
+        };
+        // The camera side reaching x_{s-1} and x_{s-2}.
+        dens.pe[s - 1] = match x(s + 1) {
+            Some(e_prev) if t >= 2 => ctx.scatter_pdf(xs, e_prev, ls),
+            _ => ctx.camera_pdf(xs, ls),
+        };
+        if s >= 2 {
+            if let Some(l2) = x(s - 2) {
+                dens.pe[s - 2] = ctx.scatter_pdf(ls, xs, l2);
+            }
+        }
+        // The light side reaching x_s and x_{s+1}.
+        dens.pl[s] = if s == 1 {
+            ctx.emit_pdf(ls, xs)
+        } else {
+            x(s - 2).map_or(0.0, |l2| ctx.scatter_pdf(ls, l2, xs))
+        };
+        if t >= 2 {
+            if let Some(e_prev) = x(s + 1) {
+                dens.pl[s + 1] = ctx.scatter_pdf(xs, ls, e_prev);
+            }
+        }
+    }
+    let lim = Limits {
+        max_light: ctx.bidir.light_depth as usize,
+        max_eye: ctx.bidir.eye_depth as usize,
+        camera: ctx.camera.connectable(),
+    };
+    dens.weight(s, &lim)
+}
+
+/// Adds an eye-buffer contribution `c` (already weighted by `w`) to light group `g`.
+fn add_eye(out: &mut SampleOut, g: usize, c: Rgb, w: f32) {
+    if !c.is_finite() || c.is_black() {
+        return;
+    }
+    if let Some(slot) = out.l.get_mut(g) {
+        *slot += c;
+    }
+    if let Some(v) = out.weight_lum.get_mut(g) {
+        *v += w * crate::spectrum::rgb_to_xyz(c)[1];
+    }
+}
+
+/// s = 0: eye vertex E_{t−1} is on a light.
+pub fn emission(
+    ctx: &Ctx,
+    dens: &mut PathDensities,
+    eye: &[Vertex],
+    t: usize,
+    out: &mut SampleOut,
+) {
+    let Some(v) = eye.get(t - 1) else {
+        return;
+    };
+    match v.kind {
+        Kind::Sky => {
+            let lights = ctx.world.lights();
+            let mut w = None;
+            for &i in ctx.world.infinite_lights() {
+                let Some(l) = lights.get(i) else {
+                    continue;
+                };
+                let le = l.le(v.dir);
+                if le.is_black() {
+                    continue;
+                }
+                let w = *w.get_or_insert_with(|| weight(ctx, dens, eye, t, &[], 0, None));
+                add_eye(out, l.group(), v.beta * le * w, w);
+            }
+        }
+        Kind::Surface { emitter: Some(_) } => {
+            let Some((_, area)) = ctx.world.area_light(v.si.prim) else {
+                return;
+            };
+            let le = area.le(&v.si, v.si.wo, None);
+            if le.is_black() {
+                return;
+            }
+            let w = weight(ctx, dens, eye, t, &[], 0, None);
+            add_eye(out, area.common.group, v.beta * le * w, w);
+        }
+        _ => {}
+    }
+}
+
+/// s = 0 for an emitting null surface the eye path crossed after `n` vertices.
+pub fn crossing(
+    ctx: &Ctx,
+    dens: &mut PathDensities,
+    eye: &mut Vec<Vertex>,
+    n: usize,
+    v: &Vertex,
+    out: &mut SampleOut,
+) {
+    if n > eye.len() || n + 1 > ctx.bidir.eye_depth as usize {
+        return;
+    }
+    let rest: Vec<Vertex> = eye.drain(n..).collect();
+    eye.push(v.clone());
+    emission(ctx, dens, eye, n + 1, out);
+    eye.pop();
+    eye.extend(rest);
+}
+
+/// s = 1: direct lighting at eye vertex E_{t−1} with the light samples of its dimensions.
+pub fn direct(
+    ctx: &Ctx,
+    dens: &mut PathDensities,
+    eye: &[Vertex],
+    t: usize,
+    stream: &mut SampleStream,
+    out: &mut SampleOut,
+) {
+    let Some(v) = eye.get(t - 1) else {
+        return;
+    };
+    let Some(bsdf) = v.bsdf.as_ref().filter(|_| v.connectable()) else {
+        return;
+    };
+    let layout = &ctx.bidir.layout;
+    let lights = ctx.world.lights();
+    for d in 0..layout.direct_count {
+        stream.set_dimension(layout.direct(t - 1, d));
+        let (u_pick, u, u_shape) = (stream.next_1d(), stream.next_2d(), stream.next_1d());
+        let (i, q) = match ctx.world.selector() {
+            crate::light::LightSelector::All => (d as usize, 1.0),
+            crate::light::LightSelector::One(dist) => {
+                let (i, q, _) = dist.sample_discrete(u_pick);
+                (i, q)
+            }
+        };
+        let Some(light) = lights.get(i) else {
+            continue;
+        };
+        if q <= 0.0 {
+            continue;
+        }
+        let Some(ls) = light.sample_li(&v.si.it, u, u_shape, ctx.world) else {
+            continue;
+        };
+        let f = bsdf.f(v.si.wo, ls.wi) * ls.wi.dot(v.si.shading.n).abs();
+        if f.is_black() {
+            continue;
+        }
+        let ray = if ls.infinite {
+            v.si.it.spawn_ray(ls.wi)
+        } else {
+            v.si.it.spawn_ray_to(&ls.p_light)
+        };
+        if !ctx.world.transmits(&ray) {
+            continue;
+        }
+        let sampled = sampled_light(i as u32, light, &ls);
+        let w = weight(ctx, dens, eye, t, &[], 1, Some(&sampled));
+        let c = v.beta * f * ls.li * (w / (ls.pdf * q));
+        add_eye(out, light.group(), c, w);
+    }
+}
+
+/// The light vertex a direct-lighting sample stands for.
+fn sampled_light(i: u32, light: &Light, ls: &crate::light::LightSample) -> Vertex {
+    if ls.infinite {
+        let kind = if light.is_delta_direction() {
+            Kind::LightDir(i)
+        } else {
+            Kind::Sky
+        };
+        return Vertex::at_infinity(kind, ls.wi, Rgb::WHITE, 0.0);
+    }
+    let si = crate::geometry::SurfaceInteraction {
+        it: ls.p_light,
+        ..Default::default()
+    };
+    Vertex::new(Kind::LightPoint(i), si, Rgb::WHITE, 0.0)
+}
+
+/// The light that started a light subpath, for its group.
+fn group_of(ctx: &Ctx, index: u32) -> usize {
+    ctx.light(index).map_or(0, Light::group)
+}
+
+/// s ≥ 2, t ≥ 2: joins light vertex L_{s−1} to eye vertex E_{t−1}.
+#[allow(clippy::too_many_arguments)]
+pub fn connect(
+    ctx: &Ctx,
+    dens: &mut PathDensities,
+    eye: &[Vertex],
+    t: usize,
+    light: &[Vertex],
+    s: usize,
+    index: u32,
+    out: &mut SampleOut,
+) {
+    let (Some(e), Some(l)) = (eye.get(t - 1), light.get(s - 1)) else {
+        return;
+    };
+    if !(e.connectable() && l.connectable()) {
+        return;
+    }
+    let (Some(be), Some(bl)) = (e.bsdf.as_ref(), l.bsdf.as_ref()) else {
+        return;
+    };
+    let d = l.p() - e.p();
+    let d2 = d.length_squared();
+    if d2 == 0.0 {
+        return;
+    }
+    let w_el = d / d2.sqrt();
+    let fe = be.f(e.si.wo, w_el) * w_el.dot(e.si.shading.n).abs();
+    if fe.is_black() {
+        return;
+    }
+    let w_le = -w_el;
+    let fl = bl.f(w_le, l.si.wo) * shading_correction(l, w_le);
+    if fl.is_black() {
+        return;
+    }
+    let c = e.beta * fe * fl * l.beta * (1.0 / d2);
+    if c.is_black() || !c.is_finite() {
+        return;
+    }
+    if !ctx.world.transmits(&e.si.it.spawn_ray_to(&l.si.it)) {
+        return;
+    }
+    let w = weight(ctx, dens, eye, t, light, s, None);
+    add_eye(out, group_of(ctx, index), c * w, w);
+}
+
+/// At light vertex `l` scattering toward `w` (unit): the adjoint's shading-normal factor
+/// |wo·ns| |w·ng| / |wo·ng|, which also holds the |cos| of the connection at `l`.
+fn shading_correction(l: &Vertex, w: glam::Vec3A) -> f32 {
+    let (ns, ng, wo) = (l.si.shading.n, l.si.it.n, l.si.wo);
+    let c = wo.dot(ng).abs();
+    if c == 0.0 {
+        return 0.0;
+    }
+    wo.dot(ns).abs() * w.dot(ng).abs() / c
+}
+
+/// s ≥ 2, t = 1: joins light vertex L_{s−1} to the camera vertex E₀; a splat.
+pub fn to_camera(
+    ctx: &Ctx,
+    dens: &mut PathDensities,
+    eye: &[Vertex],
+    light: &[Vertex],
+    s: usize,
+    index: u32,
+    out: &mut SampleOut,
+) {
+    let (Some(cam), Some(l)) = (eye.first(), light.get(s - 1)) else {
+        return;
+    };
+    if !l.connectable() {
+        return;
+    }
+    let Some(bl) = l.bsdf.as_ref() else {
+        return;
+    };
+    let Some(hit) = ctx.camera.connect(cam.p(), l.p(), ctx.time) else {
+        return;
+    };
+    let w_lc = -hit.dir;
+    let fl = bl.f(w_lc, l.si.wo) * shading_correction(l, w_lc);
+    let c = l.beta * fl * hit.weight;
+    if c.is_black() || !c.is_finite() {
+        return;
+    }
+    let target = crate::geometry::Interaction {
+        p: cam.p(),
+        time: ctx.time,
+        ..Default::default()
+    };
+    if !ctx.world.transmits(&l.si.it.spawn_ray_to(&target)) {
+        return;
+    }
+    let w = weight(ctx, dens, eye, 1, light, s, None);
+    let c = c * w;
+    if c.is_black() || !c.is_finite() {
+        return;
+    }
+    out.splats.push(Splat {
+        p_film: Vec2::new(hit.raster.x, hit.raster.y),
+        group: group_of(ctx, index) as u32,
+        l: c,
+        weight: w,
+    });
+}

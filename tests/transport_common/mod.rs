@@ -1,0 +1,155 @@
+//! Helpers of the light-transport tests: scenes with their sampler and integrator replaced,
+//! independent renders, and statistics of block means (mean and standard error over runs).
+
+#![allow(dead_code)]
+
+use luxfarm::film::Film;
+use luxfarm::lxs::{parse_file, parse_str, ParamValue, ParseOptions, SceneDescription};
+use luxfarm::render::{Session, SessionOptions};
+use luxfarm::tonemap::{film_xyz, TonemapParams};
+use std::path::{Path, PathBuf};
+
+/// The shared material directory: `../shared` from the repository root, else /work/shared.
+pub fn shared_dir() -> PathBuf {
+    let local = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared"));
+    if local.join("scenes").is_dir() {
+        local
+    } else {
+        PathBuf::from("/work/shared")
+    }
+}
+
+pub fn scene_path(rel: &str) -> PathBuf {
+    shared_dir().join("scenes").join(rel)
+}
+
+/// A scene with its Sampler and SurfaceIntegrator replaced by the statements in `setup`
+/// (LuxRender text) and its film resolution set to `w` × `h`.
+pub fn scene(rel: &str, setup: &str, w: u32, h: u32) -> (SceneDescription, PathBuf) {
+    let path = scene_path(rel);
+    let mut desc = parse_file(&path, &ParseOptions::default()).expect("scene parses");
+    let text = format!("{setup}\nWorldBegin\nWorldEnd\n");
+    let over = parse_str(&text, "setup.lxs", &ParseOptions::default()).expect("setup parses");
+    desc.sampler = over.sampler;
+    desc.surface_integrator = over.surface_integrator;
+    if let Some(f) = desc.film.as_mut() {
+        f.params
+            .add("xresolution", ParamValue::Integer(vec![w as i32]));
+        f.params
+            .add("yresolution", ParamValue::Integer(vec![h as i32]));
+        f.params
+            .add("cropwindow", ParamValue::Float(vec![0.0, 1.0, 0.0, 1.0]));
+    }
+    let dir = path.parent().expect("scene directory").to_path_buf();
+    (desc, dir)
+}
+
+/// A scene from text, its relative files beside `near`.
+pub fn scene_text(text: &str, near: &Path) -> SceneDescription {
+    parse_str(text, &near.to_string_lossy(), &ParseOptions::default()).expect("scene parses")
+}
+
+/// Renders `passes` passes with stream `stream`.
+pub fn render(desc: &SceneDescription, dir: &Path, stream: u64, passes: u32) -> Film {
+    let opts = SessionOptions {
+        threads: 2,
+        seed: 7,
+        stream,
+    };
+    let mut s = Session::new(desc, dir, opts).expect("session builds");
+    for _ in 0..passes {
+        assert!(s.render_pass().complete);
+    }
+    s.take_film()
+}
+
+/// Luminance Y of the film's image (every buffer normalised as the tonemapper does).
+pub fn luminance(f: &Film) -> Vec<f64> {
+    film_xyz(f, &TonemapParams::default())
+        .xyz
+        .iter()
+        .map(|p| f64::from(p[1]))
+        .collect()
+}
+
+/// Means of Y over `block` × `block` pixel blocks.
+pub fn block_means(f: &Film, block: u32) -> Vec<f64> {
+    let y = luminance(f);
+    let (bw, bh) = (f.width() / block, f.height() / block);
+    let mut out = vec![0.0; (bw * bh) as usize];
+    for py in 0..bh * block {
+        for px in 0..bw * block {
+            let i = ((py / block) * bw + px / block) as usize;
+            out[i] += y[(py * f.width() + px) as usize] / f64::from(block * block);
+        }
+    }
+    out
+}
+
+/// Block means of `runs` independent renders (streams `first`, `first + 1`, ...).
+pub fn runs(
+    desc: &SceneDescription,
+    dir: &Path,
+    first: u64,
+    runs: u64,
+    passes: u32,
+    block: u32,
+) -> Vec<Vec<f64>> {
+    (first..first + runs)
+        .map(|s| block_means(&render(desc, dir, s, passes), block))
+        .collect()
+}
+
+/// Per block: the mean over runs and its standard error.
+pub fn mean_se(runs: &[Vec<f64>]) -> (Vec<f64>, Vec<f64>) {
+    let n = runs.len() as f64;
+    let k = runs.first().map_or(0, Vec::len);
+    let mut mean = vec![0.0; k];
+    for r in runs {
+        for (m, v) in mean.iter_mut().zip(r) {
+            *m += v / n;
+        }
+    }
+    let mut se = vec![0.0; k];
+    for r in runs {
+        for ((s, v), m) in se.iter_mut().zip(r).zip(&mean) {
+            *s += (v - m).powi(2) / (n - 1.0).max(1.0);
+        }
+    }
+    for s in &mut se {
+        *s = (*s / n).sqrt();
+    }
+    (mean, se)
+}
+
+/// Asserts that two sets of runs estimate the same block means: every block's difference
+/// within `zmax` combined standard errors (plus `rel` of the block's mean, for the bias of
+/// a finite number of samples where a method has it), and the mean squared z not far above
+/// 1. Returns the largest |z|.
+pub fn assert_agree(what: &str, a: &[Vec<f64>], b: &[Vec<f64>], zmax: f64, rel: f64) -> f64 {
+    let (ma, sa) = mean_se(a);
+    let (mb, sb) = mean_se(b);
+    let mut worst = 0.0f64;
+    let mut z2 = 0.0;
+    for i in 0..ma.len() {
+        let se = (sa[i].powi(2) + sb[i].powi(2)).sqrt();
+        let tol = se + rel * ma[i].abs().max(mb[i].abs());
+        let z = if tol > 0.0 {
+            (ma[i] - mb[i]) / tol
+        } else {
+            0.0
+        };
+        eprintln!(
+            "{what}: block {i}: {:.5} ± {:.5} vs {:.5} ± {:.5}: z {z:.2}",
+            ma[i], sa[i], mb[i], sb[i]
+        );
+        worst = worst.max(z.abs());
+        z2 += z * z;
+    }
+    let mean_z2 = z2 / ma.len().max(1) as f64;
+    eprintln!("{what}: max |z| {worst:.2}, mean z² {mean_z2:.2}");
+    assert!(ma.iter().sum::<f64>() > 0.0, "{what}: black image");
+    assert!(worst < zmax, "{what}: max |z| {worst:.2} >= {zmax}");
+    assert!(mean_z2 < 4.0, "{what}: mean z² {mean_z2:.2}");
+    worst
+}
