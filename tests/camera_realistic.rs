@@ -19,7 +19,7 @@ fn data() -> PathBuf {
 fn realistic_scene_with_effects_renders() {
     let path = data().join("realistic_effects.lxs");
     let desc = parse(&path);
-    let mut s = Session::new(&desc, &data(), SessionOptions::default()).expect("builds");
+    let mut s = Session::new(&desc, data(), SessionOptions::default()).expect("builds");
     assert!(s.render_pass().complete);
     let img = tonemap::tonemap_display(s.film(), &s.film_params().tonemap);
     let (w, h) = (img.width as usize, img.height as usize);
@@ -38,7 +38,7 @@ fn lens_file_outside_the_scene_directory_is_refused() {
         .unwrap()
         .replace("singlet.dat", "../../../Cargo.toml");
     let desc = parse_text(&text, &data().join("x.lxs"));
-    let err = match Renderable::build(&desc, &data()) {
+    let err = match Renderable::build(&desc, data()) {
         Err(e) => e.to_string(),
         Ok(_) => panic!("must be refused"),
     };
