@@ -11,6 +11,13 @@ use std::path::{Path, PathBuf};
 /// The marker written once a bundle is completely unpacked.
 const COMPLETE: &str = ".complete";
 
+/// A number unique within this process, for temporary directory names.
+fn unique() -> u64 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    NEXT.fetch_add(1, Ordering::Relaxed)
+}
+
 /// The bundle cache directory.
 pub struct Cache {
     dir: PathBuf,
@@ -60,19 +67,33 @@ impl Cache {
         if got != hash {
             bail!("bundle {hash} arrived with hash {got}");
         }
-        let tmp = self.dir.join(format!(".tmp-{hash}-{}", std::process::id()));
+        // Several workers may share one cache (`luxfarm render --workers N` runs them in one
+        // process): each unpacks into its own temporary directory, and a bundle already in
+        // place (another worker's, still in use) is never removed while it is intact.
+        let tmp = self.dir.join(format!(".tmp-{hash}-{}-{}", std::process::id(), unique()));
         if tmp.exists() {
             std::fs::remove_dir_all(&tmp)?;
         }
         std::fs::create_dir_all(&tmp)?;
-        bundle::unpack(tar, "bundle.tar", &tmp, bundle::Limits::default())
-            .map_err(|e| anyhow::anyhow!("unpacking bundle {hash}: {e}"))?;
-        std::fs::write(tmp.join(COMPLETE), b"")?;
-        let dest = self.dir.join(hash);
-        if dest.exists() {
-            std::fs::remove_dir_all(&dest)?;
+        let unpacked = bundle::unpack(tar, "bundle.tar", &tmp, bundle::Limits::default())
+            .map_err(|e| anyhow::anyhow!("unpacking bundle {hash}: {e}"))
+            .and_then(|_| Ok(std::fs::write(tmp.join(COMPLETE), b"")?));
+        if let Err(e) = unpacked {
+            let _ = std::fs::remove_dir_all(&tmp);
+            return Err(e);
         }
-        std::fs::rename(&tmp, &dest)?;
+        if let Some(d) = self.get(hash) {
+            let _ = std::fs::remove_dir_all(&tmp);
+            return Ok(d);
+        }
+        let dest = self.dir.join(hash);
+        if let Err(e) = std::fs::rename(&tmp, &dest) {
+            // Another worker placed the same bundle between our check and the rename.
+            let _ = std::fs::remove_dir_all(&tmp);
+            return self
+                .get(hash)
+                .with_context(|| format!("placing bundle {hash} in the cache: {e}"));
+        }
         Ok(dest)
     }
 
@@ -94,6 +115,36 @@ mod tests {
         let hash =
             bundle::write_canonical_tar(src.path(), &[PathBuf::from("s.lxs")], &out).unwrap();
         (std::fs::read(out).unwrap(), hash)
+    }
+
+    #[test]
+    fn workers_sharing_a_cache_never_pull_a_bundle_from_under_each_other() {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = std::sync::Arc::new(Cache::new(Some(dir.path().join("c"))).unwrap());
+        let (tar, hash) = bundle_tar();
+        let threads: Vec<_> = (0..4)
+            .map(|_| {
+                let (cache, tar, hash) = (cache.clone(), tar.clone(), hash.clone());
+                std::thread::spawn(move || {
+                    for _ in 0..25 {
+                        let d = cache.put(&hash, &tar).unwrap();
+                        // The scene must be readable the moment put returns, whatever the
+                        // other workers are doing.
+                        std::fs::read(d.join("s.lxs")).unwrap();
+                    }
+                })
+            })
+            .collect();
+        for t in threads {
+            t.join().unwrap();
+        }
+        assert!(cache.get(&hash).is_some());
+        let leftovers: Vec<_> = std::fs::read_dir(dir.path().join("c"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .filter(|n| n.to_string_lossy().starts_with(".tmp-"))
+            .collect();
+        assert!(leftovers.is_empty(), "{leftovers:?}");
     }
 
     #[test]
