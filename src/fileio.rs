@@ -208,6 +208,16 @@ impl SceneFiles {
         Ok(out)
     }
 
+    /// The content of the small text file `name` names (lens, camera response, spectral and
+    /// nk data), refused above `max` bytes as well as above [`SceneFiles::max_bytes`].
+    pub fn read_small_text(&self, name: &str, max: u64) -> Result<String, FileError> {
+        let limited = SceneFiles {
+            max_bytes: self.max_bytes.min(max),
+            ..self.clone()
+        };
+        limited.read_to_string(name)
+    }
+
     /// The content of the file `name` names as UTF-8 text.
     pub fn read_to_string(&self, name: &str) -> Result<String, FileError> {
         String::from_utf8(self.read(name)?).map_err(|_| FileError::Io {

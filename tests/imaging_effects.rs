@@ -96,13 +96,14 @@ fn flm_round_trip_keeps_and_applies_the_effects() {
 #[test]
 fn camera_response_file_applies_after_the_colour_space() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/imaging");
+    let files = luxfarm::fileio::SceneFiles::confined(&dir, &dir).unwrap();
     let f = film();
     let plain = tonemap::tonemap(&f, &film_params(&[]).tonemap);
     let mut p = film_params(&[(
         "cameraresponse",
         ParamValue::String(vec!["halfblue.crf".into()]),
     )]);
-    p.tonemap.effects.load_response(&dir).unwrap();
+    p.tonemap.effects.load_response(&files).unwrap();
     let crf = p.tonemap.effects.response.clone().unwrap();
     let with = tonemap::tonemap(&f, &p.tonemap);
     for (a, b) in plain.rgb.iter().zip(&with.rgb) {
@@ -117,5 +118,18 @@ fn camera_response_file_applies_after_the_colour_space() {
         "cameraresponse",
         ParamValue::String(vec!["nope.crf".into()]),
     )]);
-    assert!(q.tonemap.effects.load_response(&dir).is_err());
+    assert!(q.tonemap.effects.load_response(&files).is_err());
+    // a file outside the scene's directory is refused, even through a symbolic link
+    let outside = tempfile::tempdir().unwrap();
+    std::fs::copy(dir.join("halfblue.crf"), outside.path().join("x.crf")).unwrap();
+    let scene = tempfile::tempdir().unwrap();
+    std::os::unix::fs::symlink(outside.path().join("x.crf"), scene.path().join("link.crf"))
+        .unwrap();
+    let confined = luxfarm::fileio::SceneFiles::confined(scene.path(), scene.path()).unwrap();
+    let mut r = film_params(&[(
+        "cameraresponse",
+        ParamValue::String(vec!["link.crf".into()]),
+    )]);
+    let e = r.tonemap.effects.load_response(&confined).unwrap_err();
+    assert!(e.contains("link.crf"), "{e}");
 }

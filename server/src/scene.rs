@@ -69,8 +69,7 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
         ServerError::BadRequest(format!("film error: {}", strip_root(&e.to_string(), root)))
     })?;
     // The camera response file, read like the scene's other files (its outputs apply it).
-    let dir = path.parent().unwrap_or(root);
-    params.tonemap.effects.load_response(dir).map_err(|m| {
+    params.tonemap.effects.load_response(&files).map_err(|m| {
         ServerError::BadRequest(format!(
             "film error: cameraresponse: {}",
             strip_root(&m, root)

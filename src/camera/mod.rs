@@ -150,12 +150,12 @@ impl Camera {
         Camera::build_in(desc, film, None, warnings)
     }
 
-    /// As [`Camera::build`], with the scene directory the realistic camera's lens file is
-    /// read from (without one, a realistic camera is an error).
+    /// As [`Camera::build`], with the scene's files the realistic camera's lens file is read
+    /// from (without them, a realistic camera is an error).
     pub fn build_in(
         desc: &CameraDesc,
         film: &FilmGeometry,
-        base_dir: Option<&std::path::Path>,
+        files: Option<&crate::fileio::SceneFiles>,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Camera, BuildError> {
         let e = &desc.entity;
@@ -184,7 +184,7 @@ impl Camera {
             "perspective" => CameraModel::Perspective(Perspective::build(&mut s, film)?),
             "orthographic" => CameraModel::Orthographic(Orthographic::build(&mut s, film)?),
             "environment" => CameraModel::Environment(Environment::build(&s, film)),
-            "realistic" => CameraModel::Realistic(Box::new(realistic::build(&s, film, base_dir)?)),
+            "realistic" => CameraModel::Realistic(Box::new(realistic::build(&s, film, files)?)),
             other => {
                 return Err(s.err(format!(
                     "unknown camera \"{other}\" (known: perspective, orthographic, environment, realistic)"

@@ -23,10 +23,10 @@
 //! the weight cos⁴θ. The lens file is read confined to the scene's directory.
 
 use super::FilmGeometry;
+use crate::fileio::SceneFiles;
 use crate::plugin::{BuildError, Stmt};
 use crate::sampling::concentric_disc;
 use glam::{Vec2, Vec3A};
-use std::path::Path;
 
 /// Largest lens file read (bytes) and element count.
 pub const MAX_LENS_FILE: u64 = 1 << 20;
@@ -38,11 +38,11 @@ pub const MAX_ELEMENTS: usize = 256;
 pub(super) fn build(
     s: &Stmt,
     film: &FilmGeometry,
-    base_dir: Option<&Path>,
+    files: Option<&SceneFiles>,
 ) -> Result<Realistic, BuildError> {
     let p = s.params();
-    let base = base_dir.ok_or_else(|| s.err("the realistic camera needs the scene's directory"))?;
-    let rows = read_lens_file(base, p.string_or("specfile", "")).map_err(|m| s.err(m))?;
+    let files = files.ok_or_else(|| s.err("the realistic camera needs the scene's files"))?;
+    let rows = read_lens_file(files, p.string_or("specfile", "")).map_err(|m| s.err(m))?;
     for name in [
         "lensradius",
         "focaldistance",
@@ -113,32 +113,15 @@ pub fn parse_lens(text: &str) -> Result<Vec<LensRow>, String> {
     Ok(rows)
 }
 
-/// Reads a lens file named relative to the scene directory, refusing absolute names and
-/// names leaving the directory.
-pub fn read_lens_file(base_dir: &Path, name: &str) -> Result<Vec<LensRow>, String> {
-    use std::path::Component;
-    let rel = Path::new(name);
+/// Reads a lens file through the scene's files (confined to the bundle on the farm).
+pub fn read_lens_file(files: &SceneFiles, name: &str) -> Result<Vec<LensRow>, String> {
     if name.is_empty() {
         return Err("no lens file (specfile) given".into());
     }
-    if !rel
-        .components()
-        .all(|c| matches!(c, Component::Normal(_) | Component::CurDir))
-    {
-        return Err(format!(
-            "lens file \"{name}\" is outside the scene directory"
-        ));
-    }
-    let path = base_dir.join(rel);
-    let meta = std::fs::metadata(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    if meta.len() > MAX_LENS_FILE {
-        return Err(format!(
-            "{}: larger than {MAX_LENS_FILE} bytes",
-            path.display()
-        ));
-    }
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    parse_lens(&text).map_err(|e| format!("{}: {e}", path.display()))
+    let text = files
+        .read_small_text(name, MAX_LENS_FILE)
+        .map_err(|e| format!("lens file {e}"))?;
+    parse_lens(&text).map_err(|e| format!("lens file \"{name}\": {e}"))
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -355,8 +338,10 @@ mod tests {
         assert!(parse_lens("50 5 1.5\n").is_err());
         assert!(parse_lens("50 5 x 4\n").unwrap_err().contains("line 1"));
         assert!(parse_lens("# nothing\n").is_err());
-        assert!(read_lens_file(Path::new("/tmp"), "../etc/passwd").is_err());
-        assert!(read_lens_file(Path::new("/tmp"), "/etc/passwd").is_err());
+        let dir = tempfile::tempdir().unwrap();
+        let files = SceneFiles::confined(dir.path(), dir.path()).unwrap();
+        assert!(read_lens_file(&files, "../etc/passwd").is_err());
+        assert!(read_lens_file(&files, "/etc/passwd").is_err());
     }
 
     #[test]

@@ -230,13 +230,13 @@ impl Effects {
         self.vignetting_enabled && self.vignetting_scale != 0.0
     }
 
-    /// Loads the `cameraresponse` file from the scene directory (nothing when none is set).
-    pub fn load_response(&mut self, base_dir: &std::path::Path) -> Result<(), String> {
+    /// Loads the `cameraresponse` file through the scene's files (nothing when none is set).
+    pub fn load_response(&mut self, files: &crate::fileio::SceneFiles) -> Result<(), String> {
         if self.camera_response.is_empty() {
             self.response = None;
             return Ok(());
         }
-        let crf = super::response::CameraResponse::read(base_dir, &self.camera_response)?;
+        let crf = super::response::CameraResponse::read(files, &self.camera_response)?;
         self.response = Some(std::sync::Arc::new(crf));
         Ok(())
     }

@@ -14,7 +14,7 @@
 //! Not done: LuxRender's built-in named presets (names that are not files); a name that is no
 //! readable file is an error.
 
-use std::path::Path;
+use crate::fileio::SceneFiles;
 
 /// Largest CRF file read (bytes) and points per curve.
 pub const MAX_CRF_FILE: u64 = 4 << 20;
@@ -77,32 +77,12 @@ impl CameraResponse {
         Ok(crf)
     }
 
-    /// Reads a CRF file named relative to the scene directory (absolute names and names
-    /// leaving the directory are refused).
-    pub fn read(base_dir: &Path, name: &str) -> Result<CameraResponse, String> {
-        use std::path::Component;
-        let rel = Path::new(name);
-        if !rel
-            .components()
-            .all(|c| matches!(c, Component::Normal(_) | Component::CurDir))
-        {
-            return Err(format!(
-                "camera response file \"{name}\" is outside the scene directory"
-            ));
-        }
-        let path = base_dir.join(rel);
-        let meta = std::fs::metadata(&path).map_err(|e| {
-            format!("camera response \"{name}\": {e} (built-in presets are not supported)")
-        })?;
-        if meta.len() > MAX_CRF_FILE {
-            return Err(format!(
-                "{}: larger than {MAX_CRF_FILE} bytes",
-                path.display()
-            ));
-        }
-        let text =
-            std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        CameraResponse::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+    /// Reads a CRF file through the scene's files (confined to the bundle on the farm).
+    pub fn read(files: &SceneFiles, name: &str) -> Result<CameraResponse, String> {
+        let text = files
+            .read_small_text(name, MAX_CRF_FILE)
+            .map_err(|e| format!("camera response {e} (built-in presets are not supported)"))?;
+        CameraResponse::parse(&text).map_err(|e| format!("camera response \"{name}\": {e}"))
     }
 
     /// Maps a linear RGB colour through the response.
@@ -293,6 +273,9 @@ mod tests {
         assert!((m[0] - 0.212_671).abs() < 1e-4 && m[0] == m[2], "{m:?}");
         assert!(CameraResponse::parse("nothing here").is_err());
         assert!(CameraResponse::parse("XRed\ngraph x\nI = 0 1\nB = 0\n").is_err());
-        assert!(CameraResponse::read(Path::new("/tmp"), "../x.crf").is_err());
+        let dir = tempfile::tempdir().unwrap();
+        let files = SceneFiles::confined(dir.path(), dir.path()).unwrap();
+        assert!(CameraResponse::read(&files, "../x.crf").is_err());
+        assert!(CameraResponse::read(&files, "/etc/passwd").is_err());
     }
 }

@@ -29,9 +29,19 @@ pub enum ExrCompression {
     None,
 }
 
+/// A value as a half float: values beyond the half range (65504; an untonemapped film in
+/// LuxRender's units reaches it) saturate instead of becoming infinite, and NaN is written 0.
+fn to_half(v: f32) -> f16 {
+    if v.is_nan() {
+        f16::ZERO
+    } else {
+        f16::from_f32(v.clamp(f16::MIN.to_f32(), f16::MAX.to_f32()))
+    }
+}
+
 fn channel(name: &str, v: Vec<f32>, half: bool) -> AnyChannel<FlatSamples> {
     let samples = if half {
-        FlatSamples::F16(v.into_iter().map(f16::from_f32).collect())
+        FlatSamples::F16(v.into_iter().map(to_half).collect())
     } else {
         FlatSamples::F32(v)
     };
@@ -122,6 +132,16 @@ pub fn write_exr(
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn half_samples_saturate_instead_of_overflowing() {
+        assert_eq!(to_half(1.0e6), f16::MAX);
+        assert_eq!(to_half(-1.0e6), f16::MIN);
+        assert_eq!(to_half(f32::INFINITY), f16::MAX);
+        assert_eq!(to_half(f32::NAN), f16::ZERO);
+        assert_eq!(to_half(0.5), f16::from_f32(0.5));
+    }
+
     use super::*;
 
     #[test]

@@ -10,11 +10,11 @@
 use super::bsdf::Lobes;
 use super::bxdf::microfacet::{Fresnel, MicrofacetReflection};
 use super::bxdf::schlick::SchlickDist;
-use super::nk_data::NkTable;
 use super::{Builder, MaterialError};
 use crate::fileio::FileError;
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;
+use crate::spectrum::nk::NkTable;
 use crate::spectrum::Rgb;
 use crate::texture::{param_loc, FloatTex};
 

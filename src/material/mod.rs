@@ -36,7 +36,6 @@ pub mod metal;
 pub mod metal2;
 pub mod mirror;
 pub mod mix;
-pub mod nk_data;
 pub mod roughglass;
 pub mod scatter;
 pub mod set;

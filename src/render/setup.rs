@@ -64,7 +64,7 @@ impl Renderable {
         let files = files.into();
         let mut warnings = Vec::new();
         let mut film_params = FilmParams::from_entity(desc.film.as_ref())?;
-        if let Err(m) = film_params.tonemap.effects.load_response(files.base_dir()) {
+        if let Err(m) = film_params.tonemap.effects.load_response(&files) {
             let loc = desc
                 .film
                 .as_ref()
@@ -87,7 +87,7 @@ impl Renderable {
             yres: film_params.yres,
             crop: film_params.crop,
         };
-        let mut camera = Camera::build_in(cam_desc, &fg, Some(files.base_dir()), &mut warnings)?;
+        let mut camera = Camera::build_in(cam_desc, &fg, Some(&files), &mut warnings)?;
         let filter = Filter::build(desc.pixel_filter.as_ref(), &mut warnings)?;
         let sampler = Sampler::build(desc.sampler.as_ref(), &mut warnings)?;
         let integrator = Integrator::build(desc.surface_integrator.as_ref(), &mut warnings)?;

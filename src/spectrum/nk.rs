@@ -5,8 +5,7 @@
 //! first last count`, then `n k` lines) and luxpop (lines of Ångström, n, k; `;` comments).
 //! [`NkTable::to_rgb`] is the RGB renderer's reading of a table.
 //!
-//! This is the home of these tables for textures and materials alike; the material folder's
-//! `nk_data.rs` holds the same presets from before the fresnel textures existed.
+//! This is the one home of these tables: the `metal` material and the fresnel textures read them.
 #![allow(clippy::excessive_precision, clippy::approx_constant)]
 
 #[rustfmt::skip]

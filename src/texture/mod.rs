@@ -276,19 +276,7 @@ pub(crate) fn build_fresnel(
 /// The text of the data file a scene names `name` (spectral and nk data), opened through the
 /// scene's `files` and refused above `max` bytes. Errors give the reason.
 pub(crate) fn read_bounded(files: &SceneFiles, name: &str, max: u64) -> Result<String, String> {
-    use std::io::Read;
-    let (file, len) = files.open(name).map_err(|e| e.reason())?;
-    if len > max {
-        return Err(format!("{len} bytes is larger than the {max} accepted"));
-    }
-    let mut text = String::new();
-    file.take(max.saturating_add(1))
-        .read_to_string(&mut text)
-        .map_err(|e| e.to_string())?;
-    if text.len() as u64 > max {
-        return Err(format!("larger than the {max} bytes accepted"));
-    }
-    Ok(text)
+    files.read_small_text(name, max).map_err(|e| e.reason())
 }
 
 #[cfg(test)]

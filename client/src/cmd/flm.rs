@@ -288,7 +288,8 @@ fn tonemap(a: TonemapArgs) -> anyhow::Result<ExitCode> {
     let mut p = FilmParams::from_flm(&header);
     // A camera response named in the FLM is read beside it, when present.
     let dir = a.file.parent().unwrap_or(std::path::Path::new("."));
-    if let Err(m) = p.tonemap.effects.load_response(dir) {
+    let files = luxfarm::fileio::SceneFiles::unconfined(dir);
+    if let Err(m) = p.tonemap.effects.load_response(&files) {
         tracing::warn!("camera response not applied: {m}");
     }
     apply_overrides(&a, &mut p)?;

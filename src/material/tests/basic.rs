@@ -66,7 +66,9 @@ fn glossy_absorption_and_multibounce_sample_consistently() {
 
 #[test]
 fn metal_lobes_sample_consistently() {
-    let (n, k) = nk_data::NkTable::preset("gold").unwrap().to_rgb();
+    let (n, k) = crate::spectrum::nk::NkTable::preset("gold")
+        .unwrap()
+        .to_rgb();
     let m = MicrofacetReflection {
         scale: Rgb::WHITE,
         fresnel: Fresnel::Conductor {
@@ -444,4 +446,13 @@ fn a_shared_texture_set_builds_each_texture_once() {
     let light_tex = textures.color_param(&ps, "L", Rgb::WHITE).unwrap();
     assert_eq!(light_tex.as_const(), Some(Rgb::new(0.1, 0.2, 0.3)));
     assert_eq!(textures.built_names(), vec!["t".to_string()]);
+}
+
+#[test]
+fn gold_reflects_red_over_green_over_blue() {
+    let (n, k) = crate::spectrum::nk::NkTable::preset("gold")
+        .unwrap()
+        .to_rgb();
+    let r = crate::material::bxdf::fresnel::conductor(1.0, Rgb::from_array(n), Rgb::from_array(k));
+    assert!(r.r > r.g && r.g > r.b, "{r:?}");
 }

@@ -189,3 +189,38 @@ fn roughglass_reflection_and_transmission_at_normal_incidence() {
         "roughglass transmission",
     );
 }
+
+/// metal2 with a fresnel texture (`fresnelname "gold"`) reflects as gold: the conductor of
+/// gold's (n, k) at normal incidence, red over green over blue, where the constant default
+/// (a dielectric of index 5) is grey.
+#[test]
+fn metal2_takes_its_optical_constants_from_a_fresnel_texture() {
+    let text = "WorldBegin\n\
+        Texture \"au\" \"fresnel\" \"fresnelname\" \"string name\" [\"gold\"]\n\
+        MakeNamedMaterial \"m\" \"string type\" [\"metal2\"] \"texture fresnel\" [\"au\"] \
+        \"float uroughness\" [0.1] \"float vroughness\" [0.1]\n\
+        MakeNamedMaterial \"d\" \"string type\" [\"metal2\"]\n\
+        WorldEnd\n";
+    let d = crate::lxs::parse_str(text, "metal2.lxs", &Default::default()).unwrap();
+    let set = MaterialSet::build(&d, &[0, 1], &MaterialCtx::default()).unwrap();
+    assert!(set.warnings.is_empty(), "{:?}", set.warnings);
+    let gold = set.get(Some(0)).bsdf(&flat_si(), 0.5).f(Vec3A::Z, Vec3A::Z);
+    let (n, k) = crate::spectrum::nk::NkTable::preset("gold")
+        .unwrap()
+        .to_rgb();
+    let want =
+        crate::material::bxdf::fresnel::conductor(1.0, Rgb::from_array(n), Rgb::from_array(k));
+    // f(0°, 0°) = F(0) D(0) G1² / 4 with D(0) = 1/(π r) for the Schlick distribution: the
+    // channels keep F's ratios.
+    for c in 0..3 {
+        close(
+            gold[c] / gold[1],
+            (want[c] / want[1]) as f64,
+            1e-3,
+            "gold's colour",
+        );
+    }
+    assert!(gold.r > gold.g && gold.g > gold.b, "{gold:?}");
+    let grey = set.get(Some(1)).bsdf(&flat_si(), 0.5).f(Vec3A::Z, Vec3A::Z);
+    close(grey.r, grey.b as f64, 1e-6, "the default is grey");
+}
