@@ -5,11 +5,29 @@
 use crate::{Result, WireError};
 use std::path::{Component, Path, PathBuf};
 
+/// Longest path component accepted (the usual file-system limit, NAME_MAX).
+pub const MAX_COMPONENT: usize = 255;
+/// Longest entry name accepted (leaves room under PATH_MAX for the directory it lands in).
+pub const MAX_ENTRY_NAME: usize = 1024;
+
 /// Checks an entry name and turns it into a relative path made of normal components only:
-/// no absolute path (`/x`, `\x`, `C:x`), no `..`, no NUL; `.` and empty components are
-/// dropped; `/` and `\` both separate.
+/// no absolute path (`/x`, `\x`, `C:x`), no `..`, no NUL, no component longer than
+/// [`MAX_COMPONENT`] bytes and no name longer than [`MAX_ENTRY_NAME`]; `.` and empty
+/// components are dropped; `/` and `\` both separate.
 pub fn safe_relative(name: &str) -> Result<PathBuf> {
-    let bad = |why: &str| WireError::Bundle(format!("bundle entry {name:?}: {why}"));
+    let shown: String = name.chars().take(80).collect();
+    let shown = if shown.len() < name.len() {
+        format!("{shown}...")
+    } else {
+        shown
+    };
+    let bad = |why: &str| WireError::Bundle(format!("bundle entry {shown:?}: {why}"));
+    if name.len() > MAX_ENTRY_NAME {
+        return Err(bad(&format!(
+            "name of {} bytes, longer than the {MAX_ENTRY_NAME} accepted",
+            name.len()
+        )));
+    }
     if name.is_empty() {
         return Err(bad("empty name"));
     }
@@ -21,6 +39,12 @@ pub fn safe_relative(name: &str) -> Result<PathBuf> {
         match part {
             "" | "." => continue,
             ".." => return Err(bad("'..' refused")),
+            p if p.len() > MAX_COMPONENT => {
+                return Err(bad(&format!(
+                    "a path component of {} bytes, longer than the {MAX_COMPONENT} accepted",
+                    p.len()
+                )))
+            }
             p => {
                 let c = Path::new(p).components().next();
                 if !matches!(c, Some(Component::Normal(_))) || p.contains('\0') {
@@ -57,6 +81,12 @@ mod tests {
         ] {
             assert!(safe_relative(name).is_err(), "{name:?}");
         }
+        // Over-long components and names are refused with their size, the name shortened.
+        let long = format!("{}/scene.lxs", "d".repeat(290));
+        let e = safe_relative(&long).unwrap_err().to_string();
+        assert!(e.contains("290 bytes") && e.len() < 300, "{e}");
+        assert!(safe_relative(&"a/".repeat(600)).is_err());
+        assert!(safe_relative(&format!("{}/x", "d".repeat(255))).is_ok());
     }
 
     #[test]
