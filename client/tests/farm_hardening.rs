@@ -338,3 +338,54 @@ fn a_worker_failure_reason_names_no_worker_path() {
         assert!(!text.contains(leak), "the reason shows {leak}: {v}");
     }
 }
+
+/// A message whose field 1 is bytes where RegisterRequest has a string: with invalid UTF-8 it
+/// cannot be decoded as a RegisterRequest.
+#[derive(Clone, PartialEq, prost::Message)]
+struct NotARegisterRequest {
+    #[prost(bytes = "vec", tag = "1")]
+    name: Vec<u8>,
+}
+
+/// One unary gRPC call of `path` carrying `msg`; the status code of the answer.
+async fn grpc_call(url: &str, path: &'static str, msg: NotARegisterRequest) -> tonic::Code {
+    let ch = luxfarm_proto::connect::channel(url, None, None).unwrap();
+    let mut g = tonic::client::Grpc::new(ch);
+    g.ready().await.unwrap();
+    let codec = tonic_prost::ProstCodec::<NotARegisterRequest, ()>::default();
+    let r = g
+        .unary(
+            tonic::Request::new(msg),
+            tonic::codegen::http::uri::PathAndQuery::from_static(path),
+            codec,
+        )
+        .await;
+    match r {
+        Ok(_) => tonic::Code::Ok,
+        Err(s) => s.code(),
+    }
+}
+
+#[test]
+fn malformed_grpc_is_the_callers_fault_and_unknown_methods_are_unimplemented() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(&dir.path().join("data"), &[]);
+    let url = s.url();
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    rt.block_on(async {
+        let bad = NotARegisterRequest {
+            name: vec![0xff, 0xfe, 0x80],
+        };
+        let code = grpc_call(&url, "/luxfarm.v1.Worker/Register", bad.clone()).await;
+        assert_eq!(code, tonic::Code::InvalidArgument);
+        let code = grpc_call(&url, "/luxfarm.v1.Nope/Call", bad.clone()).await;
+        assert_eq!(code, tonic::Code::Unimplemented);
+        // The caller's rights are checked before the method is looked up: a non-worker
+        // learns nothing about the Worker service's methods.
+        let code = grpc_call(&url, "/luxfarm.v1.Worker/NoSuchCall", bad).await;
+        assert_eq!(code, tonic::Code::PermissionDenied);
+    });
+    // The master is still serving.
+    let ok = http().get(format!("{url}/healthz")).send().unwrap();
+    assert!(ok.status().is_success());
+}
