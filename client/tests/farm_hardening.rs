@@ -389,3 +389,56 @@ fn malformed_grpc_is_the_callers_fault_and_unknown_methods_are_unimplemented() {
     let ok = http().get(format!("{url}/healthz")).send().unwrap();
     assert!(ok.status().is_success());
 }
+
+#[test]
+fn a_checkpoint_that_cannot_be_written_is_named_and_contained_to_its_job() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let s = server(
+        &data,
+        &["--checkpoint-interval", "0.3", "--upload-interval", "0.3"],
+    );
+    let scene = std::fs::read(small_scene(dir.path(), "a", (16, 16), "")).unwrap();
+    let (st, job) = post_job(&s, scene, "?filename=a.lxs&haltspp=1000000");
+    assert_eq!(st, 201, "{job}");
+    let a = job["id"].as_str().unwrap().to_string();
+    let _w = worker(&s.url(), 1, &[]);
+    let jobdir = data.join("jobs").join(&a);
+    wait_for(120, "a first checkpoint", || {
+        files_under(&jobdir)
+            .iter()
+            .any(|p| p.to_string_lossy().contains("checkpoint"))
+    });
+    // The job's directory becomes a file: every later checkpoint write of this job fails.
+    std::fs::rename(&jobdir, dir.path().join("moved-away")).unwrap();
+    std::fs::write(&jobdir, b"not a directory").unwrap();
+    let v = wait_job(&s, &a, 60, |v| v.to_string().contains("checkpoint failed"));
+    let text = v.to_string();
+    assert!(text.contains("checkpoint failed"), "{v}");
+    assert!(
+        text.contains(&format!("jobs/{a}")),
+        "the file is not named: {v}"
+    );
+    assert!(
+        !text.contains(&dir.path().to_string_lossy().to_string()),
+        "a host path is shown: {v}"
+    );
+    // Another job still renders to its halt while the first one's checkpoints fail.
+    let scene = std::fs::read(small_scene(dir.path(), "b", (8, 8), "")).unwrap();
+    let (st, job) = post_job(&s, scene, "?filename=b.lxs&haltspp=1&priority=90");
+    assert_eq!(st, 201, "{job}");
+    let b = job["id"].as_str().unwrap().to_string();
+    // Cancelling the failing job takes effect and frees its worker for the other one.
+    let r = http().delete(s.api(&format!("/jobs/{a}"))).send().unwrap();
+    assert_eq!(r.status().as_u16(), 200);
+    let v = wait_job(&s, &a, 30, |v| v["state"] == "cancelled");
+    assert_eq!(v["state"], "cancelled", "{v}");
+    let v = wait_job(&s, &b, 120, |v| v["state"] == "done");
+    assert_eq!(v["state"], "done", "{v}");
+    assert!(
+        files_under(&data.join("jobs").join(&b))
+            .iter()
+            .any(|p| p.to_string_lossy().contains("checkpoint")),
+        "the other job wrote no checkpoint"
+    );
+}
