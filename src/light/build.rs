@@ -23,7 +23,7 @@ use std::sync::Arc;
 
 /// The `LightSource` plugin names luxfarm builds.
 pub const KINDS: &str =
-    "point, spot, distant, infinite, sun, sky, sunsky, rectangle, disc, sphere, cylinder";
+    "point, spot, distant, infinite, sun, sky, sunsky, sky2, sunsky2, rectangle, disc, sphere, cylinder";
 
 impl Light {
     /// Builds the light(s) of a `LightSource` statement; `group` is its film light group.

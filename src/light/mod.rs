@@ -29,7 +29,7 @@
 //!   Maps are importance sampled with a 2D piecewise-constant distribution.
 //! - **sun**, **sky**, **sunsky**: Preetham et al.'s daylight as LuxRender has it: a sun disc
 //!   of spectral radiance from the turbidity and an analytic sky (see [`sun`], [`sky`],
-//!   [`sunsky`]).
+//!   [`sunsky`]); **sky2**, **sunsky2**: Hosek & Wilkie's sky ([`sky2`]), with the same sun.
 //!
 //! Every light's `nsamples` (1) is the number of shadow rays per direct-lighting estimate;
 //! `lownsamples` replaces it from path depth `lowlevel` on (0: never), as mental ray's
@@ -54,6 +54,8 @@ pub mod primitive;
 pub mod primshape;
 pub mod rectangle;
 pub mod sky;
+pub mod sky2;
+pub mod sky2_data;
 pub mod sphere;
 pub mod spot;
 pub mod strategy;
@@ -77,6 +79,7 @@ pub use infinite::InfiniteLight;
 pub use point::PointLight;
 pub use primitive::{PrimShape, PrimitiveLight, PRIMITIVE_KINDS};
 pub use sky::SkyLight;
+pub use sky2::Sky2Light;
 pub use spot::SpotLight;
 pub use strategy::{LightSelector, LightStrategy};
 pub use sun::SunLight;
@@ -222,6 +225,8 @@ pub enum Light {
     Primitive(PrimitiveLight),
     Sun(SunLight),
     Sky(Box<SkyLight>),
+    /// The Hosek–Wilkie sky (`sky2`).
+    Sky2(Box<Sky2Light>),
 }
 
 impl Light {
@@ -235,6 +240,7 @@ impl Light {
             Light::Primitive(l) => &l.common,
             Light::Sun(l) => &l.common,
             Light::Sky(l) => &l.common,
+            Light::Sky2(l) => &l.common,
         }
     }
 
@@ -299,7 +305,8 @@ impl Light {
             | Light::Area(_)
             | Light::Primitive(_)
             | Light::Sun(_)
-            | Light::Sky(_) => false,
+            | Light::Sky(_)
+            | Light::Sky2(_) => false,
         }
     }
 
@@ -307,7 +314,7 @@ impl Light {
     pub fn is_infinite(&self) -> bool {
         matches!(
             self,
-            Light::Infinite(_) | Light::Distant(_) | Light::Sun(_) | Light::Sky(_)
+            Light::Infinite(_) | Light::Distant(_) | Light::Sun(_) | Light::Sky(_) | Light::Sky2(_)
         )
     }
 
@@ -318,6 +325,7 @@ impl Light {
             Light::Infinite(l) => l.world_radius = radius,
             Light::Sun(l) => l.world_radius = radius,
             Light::Sky(l) => l.world_radius = radius,
+            Light::Sky2(l) => l.world_radius = radius,
             _ => {}
         }
         let _ = center;
@@ -340,6 +348,7 @@ impl Light {
             Light::Primitive(l) => l.sample_li(r, u),
             Light::Sun(l) => l.sample_li(r, u),
             Light::Sky(l) => l.sample_li(r, u),
+            Light::Sky2(l) => l.sample_li(r, u),
         }?;
         (s.pdf > 0.0 && s.pdf.is_finite() && s.li.is_finite() && !s.li.is_black()).then_some(s)
     }
@@ -356,6 +365,7 @@ impl Light {
             Light::Primitive(l) => hit.map_or_else(|| l.pdf_li(r, wi), |h| l.pdf_at(r, h)),
             Light::Sun(l) => l.pdf_li(wi),
             Light::Sky(l) => l.pdf_li(wi),
+            Light::Sky2(l) => l.pdf_li(wi),
         }
     }
 
@@ -367,6 +377,7 @@ impl Light {
             Light::Distant(l) => l.le(dir),
             Light::Sun(l) => l.le(dir),
             Light::Sky(l) => l.le(dir),
+            Light::Sky2(l) => l.le(dir),
             _ => Rgb::BLACK,
         }
     }
@@ -382,6 +393,7 @@ impl Light {
             Light::Primitive(l) => l.power(),
             Light::Sun(l) => l.power(),
             Light::Sky(l) => l.power(),
+            Light::Sky2(l) => l.power(),
         };
         if p.is_finite() {
             p.max(0.0)
