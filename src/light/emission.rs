@@ -84,9 +84,7 @@ impl Light {
             | Light::Infinite(_)
             | Light::Sun(_)
             | Light::Sky(_)
-            | Light::Sky2(_) => {
-                self.sample_le_infinite(u_pos, u_dir, time, sphere)
-            }
+            | Light::Sky2(_) => self.sample_le_infinite(u_pos, u_dir, time, sphere),
             // Not emitted by light subpaths: bidirectional refuses scenes with them
             // (`Light::physical`).
             Light::Primitive(_) => None,

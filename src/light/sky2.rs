@@ -184,7 +184,8 @@ impl Sky2Light {
         let mut total = 0.0f64;
         for j in 0..h {
             for i in 0..w {
-                let (d, sin_t) = st_to_dir((i as f32 + 0.5) / w as f32, (j as f32 + 0.5) / h as f32);
+                let (d, sin_t) =
+                    st_to_dir((i as f32 + 0.5) / w as f32, (j as f32 + 0.5) / h as f32);
                 let y = (model.xyz(d)[1] * gain).max(0.0);
                 weights.push(y * sin_t);
                 total += f64::from(y * sin_t);

@@ -86,7 +86,11 @@ fn sampling_pdf_matches_and_estimates_irradiance() {
         let theta = (i as f32 + 0.5) / nt as f32 * FRAC_PI_2;
         for j in 0..np {
             let phi = (j as f32 + 0.5) / np as f32 * 2.0 * PI;
-            let w = Vec3A::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+            let w = Vec3A::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
             let dw = theta.sin() * (FRAC_PI_2 / nt as f32) * (2.0 * PI / np as f32);
             quad += f64::from(l.le(w).g * w.z * dw);
         }
