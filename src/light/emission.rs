@@ -151,7 +151,7 @@ impl Light {
                     0.0
                 }
             }
-            Light::Point(l) => l.pdf_dir(),
+            Light::Point(l) => l.pdf_dir(w),
             Light::Spot(l) => l.pdf_dir(w),
             _ => 0.0,
         }
@@ -174,7 +174,7 @@ impl Light {
                 };
                 l.le(&si, w, None)
             }
-            Light::Point(l) => l.intensity,
+            Light::Point(l) => l.intensity_toward(w),
             Light::Spot(l) => l.intensity_toward(w),
             _ => Rgb::BLACK,
         }

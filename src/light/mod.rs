@@ -11,7 +11,8 @@
 //! - **rectangle**, **disc**, **sphere**, **cylinder** (luxfarm's, after mental ray's area
 //!   primitives): emitters that are not scene geometry (see [`primitive`]); rays pass
 //!   through them and pick up their emission.
-//! - **point**: intensity `L × gain` (W/sr); `power`/`efficacy` (default 0) normalise by
+//! - **point**, **goniometric**: intensity `L × gain` (W/sr), shaped by an IES profile
+//!   (`iesname`) and/or a lat-long map (`mapname`) as [`gonio`] describes; `power`/`efficacy` (default 0) normalise by
 //!   4π·Y(L). `from` offsets the position. luxfarm's own `falloffexponent` k (default 2, the
 //!   physical inverse square) sets the falloff 1/d^k for scenes imported from formats whose
 //!   lights do not fall off physically (LightWave, mental ray); spot lights take it too
@@ -47,6 +48,8 @@ pub mod distant;
 pub mod emission;
 pub mod emitter;
 pub mod falloff;
+pub mod gonio;
+pub mod ies;
 pub mod infinite;
 pub mod latlong;
 pub mod point;
