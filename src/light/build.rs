@@ -24,7 +24,7 @@ use std::sync::Arc;
 
 /// The `LightSource` plugin names luxfarm builds.
 pub const KINDS: &str =
-    "point, goniometric, spot, distant, infinite, sun, sky, sunsky, sky2, sunsky2, rectangle, disc, sphere, cylinder";
+    "point, goniometric, projection, spot, distant, infinite, sun, sky, sunsky, sky2, sunsky2, rectangle, disc, sphere, cylinder";
 
 impl Light {
     /// Builds the light(s) of a `LightSource` statement; `group` is its film light group.
@@ -59,6 +59,17 @@ impl Light {
                     ));
                 }
                 Light::Point(PointLight::with_profile(p, l2w, &color, common, profile))
+            }
+            "projection" => {
+                let profile = Goniometric::projection_from_params(p, files)
+                    .map_err(|(name, m)| BuildError::new(&param_loc(p, name, &e.loc), m))?;
+                Light::Point(PointLight::with_profile(
+                    p,
+                    l2w,
+                    &color,
+                    common,
+                    Some(profile),
+                ))
             }
             "spot" => Light::Spot(SpotLight::new(p, l2w, &color, common)),
             "distant" => Light::Distant(DistantLight::new(p, l2w, &color, common)),

@@ -125,3 +125,56 @@ fn image_profile_and_emission_sampling() {
         "{want}"
     );
 }
+
+#[test]
+fn projector_by_hand() {
+    // A 2×1 slide (aspect 2): texels 1 and 3; fov 90° so tan(fov/2) = 1, window [−2, 2] × [−1, 1],
+    // LuxRender's A = 4·1/2 = 2.
+    let slide = vec![Rgb::splat(1.0), Rgb::splat(3.0)];
+    let p = Projector::new(2, 1, slide, 90.0).unwrap();
+    // On the axis: s = 0.5, halfway between the texel centres: 2 / A = 1.
+    assert!((p.eval(Vec3A::Z).g - 1.0).abs() < 1e-5);
+    // Toward (0.5, 0, 1): s = 0.625, the slide gives 1·0.25 + 3·0.75 = 2.5; cos θ = 1/√1.25.
+    let d = Vec3A::new(0.5, 0.0, 1.0).normalize();
+    let want = 2.5 / (2.0 * d.z.powi(3));
+    assert!(
+        (p.eval(d).g - want).abs() < 1e-4 * want,
+        "{} {want}",
+        p.eval(d).g
+    );
+    // Outside the window, and behind the projector: dark.
+    assert_eq!(p.eval(Vec3A::new(2.5, 0.0, 1.0).normalize()).g, 0.0);
+    assert_eq!(p.eval(Vec3A::new(0.0, 1.2, 1.0).normalize()).g, 0.0);
+    assert_eq!(p.eval(-Vec3A::Z).g, 0.0);
+    assert!(Projector::new(2, 1, vec![Rgb::WHITE; 2], 0.0).is_err());
+
+    // Through a point light: a wall at z = 2 gets the even irradiance slide / (A·d²).
+    let light = PointLight::with_profile(
+        &ParamSet::new(),
+        Mat4::IDENTITY,
+        &white(),
+        LightCommon::single(0),
+        Some(Goniometric::projection(
+            Projector::new(1, 1, vec![Rgb::splat(4.0)], 60.0).unwrap(),
+        )),
+    );
+    let tan = 30f32.to_radians().tan();
+    let a = 4.0 * tan * tan;
+    for x in [0.0f32, 0.5, 1.0] {
+        let r = Interaction {
+            p: Vec3A::new(x, 0.3, 2.0),
+            ..Default::default()
+        };
+        match light.sample_li(&r) {
+            Some(s) => {
+                let e = s.li.g * (-s.wi.z);
+                let want = 4.0 / (a * 4.0);
+                assert!(
+                    x < 2.0 * tan && (e - want).abs() < 1e-3 * want,
+                    "x {x}: {e} {want}"
+                );
+            }
+            None => assert!(x >= 2.0 * tan, "x {x} is inside the window"),
+        }
+    }
+}
