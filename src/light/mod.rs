@@ -24,10 +24,11 @@
 //!   in the cosine from `cone` (inner cosine) to `spread`, as mental ray's spot shaders do.
 //! - **distant**: irradiance `L × gain` from direction `to → from` (light travels from `from`
 //!   to `to`); `theta` > 0 (degrees) spreads it over a cone of directions.
-//! - **infinite**: radiance `L × gain` (× the lat-long map `mapname`, raised to `gamma`) for
-//!   escaping rays; the map is indexed with the light-space direction d by
-//!   s = φ/2π (φ = atan2(y, x) in [0, 2π)), t = θ/π (θ from +z), row 0 at the top.
-//!   Maps are importance sampled with a 2D piecewise-constant distribution.
+//! - **infinite**: radiance `L × gain` (× the map `mapname`, raised to `gamma`) for
+//!   escaping rays; the map is indexed with the light-space direction through its `mapping`
+//!   (latlong: s = φ/2π (φ = atan2(y, x) in [0, 2π)), t = θ/π (θ from +z), row 0 at the top;
+//!   angular and vcross as [`envmapping`] describes). Maps are importance sampled with a 2D
+//!   piecewise-constant distribution.
 //! - **sun**, **sky**, **sunsky**: Preetham et al.'s daylight as LuxRender has it: a sun disc
 //!   of spectral radiance from the turbidity and an analytic sky (see [`sun`], [`sky`],
 //!   [`sunsky`]); **sky2**, **sunsky2**: Hosek & Wilkie's sky ([`sky2`]), with the same sun.
@@ -47,6 +48,7 @@ pub mod disc;
 pub mod distant;
 pub mod emission;
 pub mod emitter;
+pub mod envmapping;
 pub mod falloff;
 pub mod gonio;
 pub mod ies;
