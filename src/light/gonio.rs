@@ -269,14 +269,14 @@ impl Goniometric {
         let mut f = Rgb::WHITE;
         if let Some(m) = &self.map {
             let (s, t, _) = dir_to_st(d);
-            f = f * m.lookup(s, t, true);
+            f *= m.lookup(s, t, true);
         }
         if let Some(p) = &self.projector {
-            f = f * p.eval(d);
+            f *= p.eval(d);
         }
         if let Some(p) = &self.ies {
             let z = if self.flip_z { -d.z } else { d.z };
-            f = f * p.candela([d.x, d.y, z]);
+            f *= p.candela([d.x, d.y, z]);
         }
         f
     }

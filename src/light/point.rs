@@ -24,8 +24,14 @@ pub struct PointLight {
     /// k of the 1/d^k falloff (`falloffexponent`, 2 by default).
     pub falloff_exponent: f32,
     y: f32,
-    /// Directional profile and the world-to-light rotation it is looked up with.
-    profile: Option<Goniometric>,
+    /// Directional profile with the light's frame it is looked up in.
+    profile: Option<Box<Profile>>,
+}
+
+/// A goniometric profile and the light-to-world transform (and inverse) it turns with.
+#[derive(Debug)]
+struct Profile {
+    gonio: Goniometric,
     l2w: Mat4,
     w2l: Mat4,
 }
@@ -56,9 +62,13 @@ impl PointLight {
             pos: l2w.transform_point3a(from),
             intensity: l * scale,
             y: color.y * scale * mean,
-            profile,
-            l2w,
-            w2l: l2w.inverse(),
+            profile: profile.map(|gonio| {
+                Box::new(Profile {
+                    gonio,
+                    l2w,
+                    w2l: l2w.inverse(),
+                })
+            }),
         }
     }
 
@@ -67,8 +77,8 @@ impl PointLight {
         match &self.profile {
             None => self.intensity,
             Some(p) => {
-                let d = self.w2l.transform_vector3a(w).normalize_or_zero();
-                self.intensity * p.eval(d)
+                let d = p.w2l.transform_vector3a(w).normalize_or_zero();
+                self.intensity * p.gonio.eval(d)
             }
         }
     }
@@ -107,8 +117,8 @@ impl PointLight {
                 crate::sampling::UNIFORM_SPHERE_PDF,
             ),
             Some(p) => {
-                let (dl, _) = p.sample(u_dir)?;
-                let d = self.l2w.transform_vector3a(dl).normalize_or_zero();
+                let (dl, _) = p.gonio.sample(u_dir)?;
+                let d = p.l2w.transform_vector3a(dl).normalize_or_zero();
                 (d, self.pdf_dir(d))
             }
         };
@@ -130,7 +140,7 @@ impl PointLight {
     pub fn pdf_dir(&self, w: Vec3A) -> f32 {
         match &self.profile {
             None => crate::sampling::UNIFORM_SPHERE_PDF,
-            Some(p) => p.pdf(self.w2l.transform_vector3a(w).normalize_or_zero()),
+            Some(p) => p.gonio.pdf(p.w2l.transform_vector3a(w).normalize_or_zero()),
         }
     }
 }

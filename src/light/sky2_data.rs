@@ -13,6 +13,9 @@
 //! - `RADIANCE[channel][albedo][turbidity][control point]`: the overall radiance scale, same
 //!   interpolation.
 
+// The values are the published ones, digit for digit.
+#![allow(clippy::excessive_precision)]
+
 /// Parameters A..I of the distribution function, per control point.
 pub const PARAMS: usize = 9;
 /// Control points of the quintic Bézier in the solar elevation.
