@@ -10,6 +10,7 @@
 //! AreaLightSource entity + its shape's area --Light::build_area--> Light::Area
 //! ```
 
+use super::gonio::Goniometric;
 use super::{
     sunsky, AreaLight, DistantLight, Emission, EmissionProfile, InfiniteLight, Light, LightColor,
     LightCommon, PointLight, PrimShape, PrimitiveLight, SpotLight,
@@ -23,7 +24,7 @@ use std::sync::Arc;
 
 /// The `LightSource` plugin names luxfarm builds.
 pub const KINDS: &str =
-    "point, spot, distant, infinite, sun, sky, sunsky, rectangle, disc, sphere, cylinder";
+    "point, goniometric, projection, spot, distant, infinite, sun, sky, sunsky, sky2, sunsky2, rectangle, disc, sphere, cylinder";
 
 impl Light {
     /// Builds the light(s) of a `LightSource` statement; `group` is its film light group.
@@ -48,7 +49,28 @@ impl Light {
             return Ok(vec![Light::Primitive(light)]);
         }
         Ok(vec![match e.kind.as_str() {
-            "point" => Light::Point(PointLight::new(p, l2w, &color, common)),
+            "point" | "goniometric" => {
+                let profile = Goniometric::from_params(p, files)
+                    .map_err(|(name, m)| BuildError::new(&param_loc(p, name, &e.loc), m))?;
+                if e.kind == "goniometric" && profile.is_none() {
+                    return Err(BuildError::new(
+                        &e.loc,
+                        "LightSource \"goniometric\" needs a \"mapname\"".to_string(),
+                    ));
+                }
+                Light::Point(PointLight::with_profile(p, l2w, &color, common, profile))
+            }
+            "projection" => {
+                let profile = Goniometric::projection_from_params(p, files)
+                    .map_err(|(name, m)| BuildError::new(&param_loc(p, name, &e.loc), m))?;
+                Light::Point(PointLight::with_profile(
+                    p,
+                    l2w,
+                    &color,
+                    common,
+                    Some(profile),
+                ))
+            }
             "spot" => Light::Spot(SpotLight::new(p, l2w, &color, common)),
             "distant" => Light::Distant(DistantLight::new(p, l2w, &color, common)),
             "infinite" | "infinitesample" => {

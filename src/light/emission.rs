@@ -80,9 +80,11 @@ impl Light {
             Light::Area(l) => l.sample_le(u_pos, u_dir, u_pick, time, shapes),
             Light::Point(l) => l.sample_le(u_dir, time),
             Light::Spot(l) => l.sample_le(u_dir, time),
-            Light::Distant(_) | Light::Infinite(_) | Light::Sun(_) | Light::Sky(_) => {
-                self.sample_le_infinite(u_pos, u_dir, time, sphere)
-            }
+            Light::Distant(_)
+            | Light::Infinite(_)
+            | Light::Sun(_)
+            | Light::Sky(_)
+            | Light::Sky2(_) => self.sample_le_infinite(u_pos, u_dir, time, sphere),
             // Not emitted by light subpaths: bidirectional refuses scenes with them
             // (`Light::physical`).
             Light::Primitive(_) => None,
@@ -116,6 +118,7 @@ impl Light {
             Light::Infinite(l) => l.sample_li(&at, u_dir),
             Light::Sun(l) => l.sample_li(&at, u_dir),
             Light::Sky(l) => l.sample_li(&at, u_dir),
+            Light::Sky2(l) => l.sample_li(&at, u_dir),
             Light::Area(_) | Light::Point(_) | Light::Spot(_) | Light::Primitive(_) => None,
         }?;
         let to_light = ls.wi;
@@ -148,7 +151,7 @@ impl Light {
                     0.0
                 }
             }
-            Light::Point(l) => l.pdf_dir(),
+            Light::Point(l) => l.pdf_dir(w),
             Light::Spot(l) => l.pdf_dir(w),
             _ => 0.0,
         }
@@ -171,7 +174,7 @@ impl Light {
                 };
                 l.le(&si, w, None)
             }
-            Light::Point(l) => l.intensity,
+            Light::Point(l) => l.intensity_toward(w),
             Light::Spot(l) => l.intensity_toward(w),
             _ => Rgb::BLACK,
         }

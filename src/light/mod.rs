@@ -11,7 +11,8 @@
 //! - **rectangle**, **disc**, **sphere**, **cylinder** (luxfarm's, after mental ray's area
 //!   primitives): emitters that are not scene geometry (see [`primitive`]); rays pass
 //!   through them and pick up their emission.
-//! - **point**: intensity `L × gain` (W/sr); `power`/`efficacy` (default 0) normalise by
+//! - **point**, **goniometric**: intensity `L × gain` (W/sr), shaped by an IES profile
+//!   (`iesname`) and/or a lat-long map (`mapname`) as [`gonio`] describes; `power`/`efficacy` (default 0) normalise by
 //!   4π·Y(L). `from` offsets the position. luxfarm's own `falloffexponent` k (default 2, the
 //!   physical inverse square) sets the falloff 1/d^k for scenes imported from formats whose
 //!   lights do not fall off physically (LightWave, mental ray); spot lights take it too
@@ -23,13 +24,14 @@
 //!   in the cosine from `cone` (inner cosine) to `spread`, as mental ray's spot shaders do.
 //! - **distant**: irradiance `L × gain` from direction `to → from` (light travels from `from`
 //!   to `to`); `theta` > 0 (degrees) spreads it over a cone of directions.
-//! - **infinite**: radiance `L × gain` (× the lat-long map `mapname`, raised to `gamma`) for
-//!   escaping rays; the map is indexed with the light-space direction d by
-//!   s = φ/2π (φ = atan2(y, x) in [0, 2π)), t = θ/π (θ from +z), row 0 at the top.
-//!   Maps are importance sampled with a 2D piecewise-constant distribution.
+//! - **infinite**: radiance `L × gain` (× the map `mapname`, raised to `gamma`) for
+//!   escaping rays; the map is indexed with the light-space direction through its `mapping`
+//!   (latlong: s = φ/2π (φ = atan2(y, x) in [0, 2π)), t = θ/π (θ from +z), row 0 at the top;
+//!   angular and vcross as [`envmapping`] describes). Maps are importance sampled with a 2D
+//!   piecewise-constant distribution.
 //! - **sun**, **sky**, **sunsky**: Preetham et al.'s daylight as LuxRender has it: a sun disc
 //!   of spectral radiance from the turbidity and an analytic sky (see [`sun`], [`sky`],
-//!   [`sunsky`]).
+//!   [`sunsky`]); **sky2**, **sunsky2**: Hosek & Wilkie's sky ([`sky2`]), with the same sun.
 //!
 //! Every light's `nsamples` (1) is the number of shadow rays per direct-lighting estimate;
 //! `lownsamples` replaces it from path depth `lowlevel` on (0: never), as mental ray's
@@ -46,7 +48,10 @@ pub mod disc;
 pub mod distant;
 pub mod emission;
 pub mod emitter;
+pub mod envmapping;
 pub mod falloff;
+pub mod gonio;
+pub mod ies;
 pub mod infinite;
 pub mod latlong;
 pub mod point;
@@ -54,6 +59,8 @@ pub mod primitive;
 pub mod primshape;
 pub mod rectangle;
 pub mod sky;
+pub mod sky2;
+pub mod sky2_data;
 pub mod sphere;
 pub mod spot;
 pub mod strategy;
@@ -77,6 +84,7 @@ pub use infinite::InfiniteLight;
 pub use point::PointLight;
 pub use primitive::{PrimShape, PrimitiveLight, PRIMITIVE_KINDS};
 pub use sky::SkyLight;
+pub use sky2::Sky2Light;
 pub use spot::SpotLight;
 pub use strategy::{LightSelector, LightStrategy};
 pub use sun::SunLight;
@@ -222,6 +230,8 @@ pub enum Light {
     Primitive(PrimitiveLight),
     Sun(SunLight),
     Sky(Box<SkyLight>),
+    /// The Hosek–Wilkie sky (`sky2`).
+    Sky2(Box<Sky2Light>),
 }
 
 impl Light {
@@ -235,6 +245,7 @@ impl Light {
             Light::Primitive(l) => &l.common,
             Light::Sun(l) => &l.common,
             Light::Sky(l) => &l.common,
+            Light::Sky2(l) => &l.common,
         }
     }
 
@@ -299,7 +310,8 @@ impl Light {
             | Light::Area(_)
             | Light::Primitive(_)
             | Light::Sun(_)
-            | Light::Sky(_) => false,
+            | Light::Sky(_)
+            | Light::Sky2(_) => false,
         }
     }
 
@@ -307,7 +319,7 @@ impl Light {
     pub fn is_infinite(&self) -> bool {
         matches!(
             self,
-            Light::Infinite(_) | Light::Distant(_) | Light::Sun(_) | Light::Sky(_)
+            Light::Infinite(_) | Light::Distant(_) | Light::Sun(_) | Light::Sky(_) | Light::Sky2(_)
         )
     }
 
@@ -318,6 +330,7 @@ impl Light {
             Light::Infinite(l) => l.world_radius = radius,
             Light::Sun(l) => l.world_radius = radius,
             Light::Sky(l) => l.world_radius = radius,
+            Light::Sky2(l) => l.world_radius = radius,
             _ => {}
         }
         let _ = center;
@@ -340,6 +353,7 @@ impl Light {
             Light::Primitive(l) => l.sample_li(r, u),
             Light::Sun(l) => l.sample_li(r, u),
             Light::Sky(l) => l.sample_li(r, u),
+            Light::Sky2(l) => l.sample_li(r, u),
         }?;
         (s.pdf > 0.0 && s.pdf.is_finite() && s.li.is_finite() && !s.li.is_black()).then_some(s)
     }
@@ -356,6 +370,7 @@ impl Light {
             Light::Primitive(l) => hit.map_or_else(|| l.pdf_li(r, wi), |h| l.pdf_at(r, h)),
             Light::Sun(l) => l.pdf_li(wi),
             Light::Sky(l) => l.pdf_li(wi),
+            Light::Sky2(l) => l.pdf_li(wi),
         }
     }
 
@@ -367,6 +382,7 @@ impl Light {
             Light::Distant(l) => l.le(dir),
             Light::Sun(l) => l.le(dir),
             Light::Sky(l) => l.le(dir),
+            Light::Sky2(l) => l.le(dir),
             _ => Rgb::BLACK,
         }
     }
@@ -382,6 +398,7 @@ impl Light {
             Light::Primitive(l) => l.power(),
             Light::Sun(l) => l.power(),
             Light::Sky(l) => l.power(),
+            Light::Sky2(l) => l.power(),
         };
         if p.is_finite() {
             p.max(0.0)

@@ -1,5 +1,11 @@
-//! Point light: intensity `L × gain` from a point, optionally normalised by power/efficacy.
+//! Point light: intensity `L × gain` from a point, optionally normalised by power/efficacy,
+//! optionally shaped by a goniometric profile ([`super::gonio`]: `iesname`, `mapname`,
+//! `flipz`; LuxRender's `goniometric` light is a point light with a `mapname`). With a profile
+//! the intensity toward a direction is `L × gain × profile(light-space direction)` and the
+//! power normalisation divides by the profile's mean as well; light subpaths leave in
+//! directions drawn ∝ the profile.
 
+use super::gonio::Goniometric;
 use super::{
     distance_falloff, falloff_exponent, point3, power_gain, LightColor, LightCommon, LightSample,
 };
@@ -18,22 +24,62 @@ pub struct PointLight {
     /// k of the 1/d^k falloff (`falloffexponent`, 2 by default).
     pub falloff_exponent: f32,
     y: f32,
+    /// Directional profile with the light's frame it is looked up in.
+    profile: Option<Box<Profile>>,
+}
+
+/// A goniometric profile and the light-to-world transform (and inverse) it turns with.
+#[derive(Debug)]
+struct Profile {
+    gonio: Goniometric,
+    l2w: Mat4,
+    w2l: Mat4,
 }
 
 impl PointLight {
     pub fn new(params: &ParamSet, l2w: Mat4, color: &LightColor, common: LightCommon) -> Self {
+        PointLight::with_profile(params, l2w, color, common, None)
+    }
+
+    /// A point light shaped by `profile` (looked up in the light's space).
+    pub fn with_profile(
+        params: &ParamSet,
+        l2w: Mat4,
+        color: &LightColor,
+        common: LightCommon,
+        profile: Option<Goniometric>,
+    ) -> Self {
         let gain = params.float_or("gain", 1.0);
         let power = params.float_or("power", 0.0);
         let efficacy = params.float_or("efficacy", 0.0);
         let from = point3(params.point("from").unwrap_or([0.0; 3]));
-        let scale = gain * power_gain(power, efficacy, 4.0 * PI, color.y);
+        let mean = profile.as_ref().map_or(1.0, Goniometric::mean);
+        let scale = gain * power_gain(power, efficacy, 4.0 * PI * mean, color.y);
         let l = color.emission.eval(&SurfaceInteraction::default());
         PointLight {
             common,
             falloff_exponent: falloff_exponent(params),
             pos: l2w.transform_point3a(from),
             intensity: l * scale,
-            y: color.y * scale,
+            y: color.y * scale * mean,
+            profile: profile.map(|gonio| {
+                Box::new(Profile {
+                    gonio,
+                    l2w,
+                    w2l: l2w.inverse(),
+                })
+            }),
+        }
+    }
+
+    /// Radiant intensity toward the unit world direction `w`.
+    pub fn intensity_toward(&self, w: Vec3A) -> Rgb {
+        match &self.profile {
+            None => self.intensity,
+            Some(p) => {
+                let d = p.w2l.transform_vector3a(w).normalize_or_zero();
+                self.intensity * p.gonio.eval(d)
+            }
         }
     }
 
@@ -43,9 +89,10 @@ impl PointLight {
         if d2 <= 0.0 {
             return None;
         }
+        let wi = d / d2.sqrt();
         Some(LightSample {
-            li: self.intensity * distance_falloff(d2, self.falloff_exponent),
-            wi: d / d2.sqrt(),
+            li: self.intensity_toward(-wi) * distance_falloff(d2, self.falloff_exponent),
+            wi,
             pdf: 1.0,
             p_light: Interaction {
                 p: self.pos,
@@ -61,9 +108,20 @@ impl PointLight {
         4.0 * PI * self.y
     }
 
-    /// A ray leaving the light (light subpaths): uniform over the sphere of directions.
+    /// A ray leaving the light (light subpaths): uniform over the sphere of directions, or
+    /// drawn ∝ the profile.
     pub fn sample_le(&self, u_dir: glam::Vec2, time: f32) -> Option<super::emission::LightRay> {
-        let d = crate::sampling::uniform_sphere(u_dir);
+        let (d, pdf_dir) = match &self.profile {
+            None => (
+                crate::sampling::uniform_sphere(u_dir),
+                crate::sampling::UNIFORM_SPHERE_PDF,
+            ),
+            Some(p) => {
+                let (dl, _) = p.gonio.sample(u_dir)?;
+                let d = p.l2w.transform_vector3a(dl).normalize_or_zero();
+                (d, self.pdf_dir(d))
+            }
+        };
         Some(super::emission::LightRay {
             ray: crate::geometry::Ray {
                 o: self.pos,
@@ -72,15 +130,18 @@ impl PointLight {
                 time,
             },
             n: Vec3A::ZERO,
-            le: self.intensity,
+            le: self.intensity_toward(d),
             pdf_pos: 1.0,
-            pdf_dir: self.pdf_dir(),
+            pdf_dir,
         })
     }
 
-    /// Solid-angle density of [`Self::sample_le`]'s directions.
-    pub fn pdf_dir(&self) -> f32 {
-        crate::sampling::UNIFORM_SPHERE_PDF
+    /// Solid-angle density of [`Self::sample_le`]'s direction `w` (unit, world).
+    pub fn pdf_dir(&self, w: Vec3A) -> f32 {
+        match &self.profile {
+            None => crate::sampling::UNIFORM_SPHERE_PDF,
+            Some(p) => p.gonio.pdf(p.w2l.transform_vector3a(w).normalize_or_zero()),
+        }
     }
 }
 

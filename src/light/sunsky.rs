@@ -1,21 +1,22 @@
-//! The `sun`, `sky` and `sunsky` LightSource plugins of LuxRender 1.x. `sunsky` is both
-//! lights built from the same parameters (so they share `sundir`, `turbidity`, `gain` and
+//! The `sun`, `sky`, `sunsky`, `sky2` and `sunsky2` LightSource plugins of LuxRender 1.x.
+//! `sunsky` (`sunsky2`) is both the sun and the Preetham `sky` (the Hosek–Wilkie `sky2`) built
+//! from the same parameters (so they share `sundir`, `turbidity`, `gain` and
 //! `nsamples`, and the light group), the sun first, as LuxRender's API does it. Note that
 //! LuxRender's defaults for a missing `sundir` differ: (0, 0, −1) for the sun (below the
 //! horizon: it emits nothing) and (0, 0, 1) for the sky. `L` is not a parameter of these
 //! lights (0.x exporters wrote it; it is reported unused).
 //!
-//! Hosek–Wilkie's `sky2`/`sunsky2` are different plugins, not supported here.
+//! `sunsky2`'s sun is LuxRender's `sun` plugin, as in LuxRender 1.x.
 
-use super::{Light, LightCommon, SkyLight, SunLight};
+use super::{Light, LightCommon, Sky2Light, SkyLight, SunLight};
 use crate::lxs::{Loc, ParamSet};
 use crate::plugin::BuildError;
 use glam::Mat4;
 
 /// The plugin names handled here.
-pub const KINDS: [&str; 3] = ["sun", "sky", "sunsky"];
+pub const KINDS: [&str; 5] = ["sun", "sky", "sunsky", "sky2", "sunsky2"];
 
-/// Builds the light(s) of a `sun`, `sky` or `sunsky` LightSource; `None` for other kinds.
+/// Builds the light(s) of a daylight LightSource (see [`KINDS`]); `None` for other kinds.
 pub fn build(
     kind: &str,
     params: &ParamSet,
@@ -26,10 +27,13 @@ pub fn build(
     let err = |m: String| BuildError::new(loc, m);
     let sun = || SunLight::new(params, l2w, common).map(Light::Sun);
     let sky = || SkyLight::new(params, l2w, common).map(|s| Light::Sky(Box::new(s)));
+    let sky2 = || Sky2Light::new(params, l2w, common).map(|s| Light::Sky2(Box::new(s)));
     let built = match kind {
         "sun" => sun().map(|l| vec![l]),
         "sky" => sky().map(|l| vec![l]),
         "sunsky" => sun().and_then(|a| Ok(vec![a, sky()?])),
+        "sky2" => sky2().map(|l| vec![l]),
+        "sunsky2" => sun().and_then(|a| Ok(vec![a, sky2()?])),
         _ => return None,
     };
     Some(built.map_err(err))
@@ -69,7 +73,26 @@ mod tests {
             assert!(!l.is_delta() && l.is_infinite());
         }
         assert_eq!(ps.unused().count(), 1, "L is not a sun/sky parameter");
-        assert!(build("sky2", &ps, Mat4::IDENTITY, common(), &Loc::default()).is_none());
+        assert!(build("sky3", &ps, Mat4::IDENTITY, common(), &Loc::default()).is_none());
+    }
+
+    #[test]
+    fn sunsky2_is_the_sun_and_a_hosek_wilkie_sky() {
+        let mut ps = ParamSet::new();
+        ps.add("sundir", ParamValue::Vector(vec![[0.0, 0.6, 0.8]]));
+        ps.add("turbidity", ParamValue::Float(vec![4.0]));
+        let lights = build("sunsky2", &ps, Mat4::IDENTITY, common(), &Loc::default())
+            .unwrap()
+            .unwrap();
+        let (Light::Sun(sun), Light::Sky2(sky)) = (&lights[0], &lights[1]) else {
+            panic!("expected a sun then a sky2");
+        };
+        assert!((sun.to_light - sky.model.sun).length() < 1e-6);
+        assert_eq!(ps.unused().count(), 0);
+        let sky2 = build("sky2", &ps, Mat4::IDENTITY, common(), &Loc::default())
+            .unwrap()
+            .unwrap();
+        assert!(matches!(sky2.as_slice(), [Light::Sky2(_)]));
     }
 
     #[test]
