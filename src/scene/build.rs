@@ -11,12 +11,15 @@ use crate::material::{MaterialCtx, MaterialSet};
 use crate::plugin::{report_unused, warn, BuildError};
 use crate::shape::ShapeCtx;
 use crate::texture::{TextureCtx, TextureSet};
+use crate::volume::MediaSet;
 
 /// What the render setup tells the world about how it will be used.
 #[derive(Clone, Copy, Debug)]
 pub struct WorldOptions {
     /// How direct lighting picks lights (the integrator's `lightstrategy`).
     pub light_strategy: LightStrategy,
+    /// Whether participating media are rendered (the volume integrator is not `none`).
+    pub media: bool,
 }
 
 impl World {
@@ -63,6 +66,11 @@ impl World {
                 files: files.clone(),
             },
         );
+        let media = if opts.media {
+            MediaSet::build(desc, &built.media, &mut textures, warnings)?.map(Box::new)
+        } else {
+            None
+        };
         let group_of = |name: &str| groups.iter().position(|g| g == name).unwrap_or(0);
         let mut lights = Vec::new();
         for ld in &desc.lights {
@@ -134,6 +142,7 @@ impl World {
         );
         let has_null = prims.iter().any(|p| materials.get(p.material).is_null());
         Ok(World {
+            media,
             has_null,
             groups,
             geometry,
