@@ -184,7 +184,11 @@ fn allmaterials_08_glass2_scatter_and_checker_as_luxrender_defines_them() {
     let media = scene.world.media().expect("allmaterials_08 has media");
     assert_eq!(media.media.len(), 5);
     assert_eq!(media.media.iter().filter(|m| m.scatters()).count(), 2);
-    assert!(!w.iter().any(|m| m.contains("ignored") && m.contains("olume")), "{w:#?}");
+    assert!(
+        !w.iter()
+            .any(|m| m.contains("ignored") && m.contains("olume")),
+        "{w:#?}"
+    );
     let names = shape_materials(&desc);
     let (mut glass2, mut scatter, mut cube) = (0, 0, 0);
     for (prim, name) in names.iter().enumerate() {

@@ -67,8 +67,8 @@ fn render_mean(text: &str) -> ([f64; 3], Vec<String>) {
     let xyz = normalized_xyz(&film);
     let mut m = [0.0; 3];
     for p in &xyz {
-        for c in 0..3 {
-            m[c] += p[c] / xyz.len() as f64;
+        for (acc, v) in m.iter_mut().zip(p) {
+            *acc += v / xyz.len() as f64;
         }
     }
     (m, warnings)
@@ -80,8 +80,8 @@ fn white_xyz() -> [f64; 3] {
 
 fn check_ratio(name: &str, got: [f64; 3], want: f64, tol: f64) {
     let w = white_xyz();
-    for c in 0..3 {
-        let ratio = got[c] / w[c];
+    for (c, (g, wc)) in got.iter().zip(w).enumerate() {
+        let ratio = g / wc;
         eprintln!("{name}: channel {c}: {ratio:.5}, expected {want:.5}");
         assert!(
             (ratio - want).abs() <= tol * want.max(1e-3),
@@ -144,8 +144,14 @@ fn scattering_medium_of_albedo_one_conserves_energy_in_a_white_furnace() {
 #[test]
 fn emission_integrator_only_attenuates() {
     // With "emission" (LuxRender's default) the fog only absorbs: exp(-sigma_t·2R).
-    let world = r#"MakeNamedVolume "fog" "homogeneous" "color sigma_a" [0 0 0] "color sigma_s" [1 1 1]"#;
-    let text = scene(r#"VolumeIntegrator "emission""#, world, r#"Interior "fog""#, 1);
+    let world =
+        r#"MakeNamedVolume "fog" "homogeneous" "color sigma_a" [0 0 0] "color sigma_s" [1 1 1]"#;
+    let text = scene(
+        r#"VolumeIntegrator "emission""#,
+        world,
+        r#"Interior "fog""#,
+        1,
+    );
     let (m, _) = render_mean(&text);
     check_ratio("emission", m, (-2.0 * R).exp(), 0.01);
     // With "none" the medium is dropped.
@@ -157,7 +163,12 @@ fn emission_integrator_only_attenuates() {
 #[test]
 fn vacuum_media_render_as_no_media() {
     let world = r#"MakeNamedVolume "world" "clear" "float fresnel" [1] "color absorption" [0 0 0]"#;
-    let with = scene(r#"VolumeIntegrator "multi""#, world, r#"Exterior "world""#, 2);
+    let with = scene(
+        r#"VolumeIntegrator "multi""#,
+        world,
+        r#"Exterior "world""#,
+        2,
+    );
     let without = scene("", "", "", 2);
     let (a, wa) = render_mean(&with);
     let (b, _) = render_mean(&without);
@@ -170,8 +181,10 @@ fn glass_transmission_enters_and_leaves_the_interior_medium() {
     // Glass of index 1 neither reflects nor bends: the ray enters the medium through the
     // BSDF's transmission and leaves it the same way.
     let world = r#"MakeNamedVolume "ink" "clear" "color absorption" [0.5 0.5 0.5]"#;
-    let text = scene(r#"VolumeIntegrator "multi""#, world, r#"Interior "ink""#, 2)
-        .replace(r#"Material "null""#, r#"Material "glass" "float index" [1.0]"#);
+    let text = scene(r#"VolumeIntegrator "multi""#, world, r#"Interior "ink""#, 2).replace(
+        r#"Material "null""#,
+        r#"Material "glass" "float index" [1.0]"#,
+    );
     let (m, _) = render_mean(&text);
     check_ratio("glass", m, (-2.0 * 0.5 * R).exp(), 0.01);
 }
@@ -189,9 +202,12 @@ fn bad_medium_parameters_are_located_errors() {
     assert!(err.contains("sigma_a"), "{err}");
     let text = scene("", r#"MakeNamedVolume "ink" "fog""#, r#"Interior "ink""#, 1);
     let desc = parse_text(&text, Path::new("/tmp/render_media.lxs"));
-    let err = Renderable::build(&desc, Path::new("/tmp")).err().map(|e| e.to_string());
+    let err = Renderable::build(&desc, Path::new("/tmp"))
+        .err()
+        .map(|e| e.to_string());
     assert!(
-        err.as_deref().is_some_and(|e| e.contains(":10:") && e.contains("unknown volume")),
+        err.as_deref()
+            .is_some_and(|e| e.contains(":10:") && e.contains("unknown volume")),
         "{err:?}"
     );
 }

@@ -32,6 +32,7 @@ pub mod bidirectional;
 pub mod direct;
 pub mod directlighting;
 pub mod path;
+pub mod spectral;
 pub mod volume;
 
 use crate::lxs::{Diagnostic, Entity};

@@ -9,18 +9,21 @@
 //! it, and with the `single`/`multi` volume integrator may scatter in it, the scattering point
 //! then being a path vertex with direct lighting through the phase function. A scene without
 //! media never has a current medium and takes none of these branches.
+//!
+//! In a scene whose materials disperse light, a path that meets a dispersing surface is given
+//! a wavelength there ([`super::spectral`]); other scenes and paths stay RGB.
 
-use super::direct::{
-    add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival, Scatterer,
-};
+use super::direct::{add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival, Scatterer};
+use super::spectral::sample_wavelength;
 use super::volume::VolumeIntegrator;
 use super::DirectSettings;
 use crate::geometry::{Interaction, Ray};
-use glam::Vec3A;
+use crate::material::glass::cauchy_shift;
 use crate::plugin::{BuildError, Stmt};
 use crate::sampler::SampleStream;
 use crate::scene::World;
 use crate::spectrum::Rgb;
+use glam::Vec3A;
 
 /// Russian roulette after this many vertices (LuxRender starts at path length 3).
 const RR_START: u32 = 3;
@@ -89,6 +92,8 @@ impl PathIntegrator {
         let media = scene.media();
         let mut medium = media.and_then(|m| m.camera);
         let mut scatters_left = self.volume.max_scatters();
+        // The path's wavelength once it met a dispersing surface (see `super::spectral`).
+        let mut lambda: Option<f32> = None;
         loop {
             // Matched by reference: moving the hit out of the Option would copy it.
             let hit = scene.intersect(&ray);
@@ -208,7 +213,21 @@ impl PathIntegrator {
                 break;
             }
             let last = depth + 1 >= self.max_depth;
-            let bsdf = material.bsdf(si, s.next_1d());
+            let mut bsdf = material.bsdf(si, s.next_1d());
+            if scene.spectral() {
+                if let Some(b) = material.dispersion(si) {
+                    let nm = match lambda {
+                        Some(nm) => nm,
+                        None => {
+                            let (nm, w) = sample_wavelength(s.next_1d());
+                            beta *= w;
+                            lambda = Some(nm);
+                            nm
+                        }
+                    };
+                    bsdf.disperse(cauchy_shift(b, nm));
+                }
+            }
             if dls && bsdf.has_non_specular() {
                 let at = Scatterer::Surface { si, bsdf: &bsdf };
                 sample_lights(scene, &self.direct, &at, medium, s, beta, last, depth, l);
@@ -258,4 +277,3 @@ impl PathIntegrator {
         beta.is_finite() && !beta.is_black()
     }
 }
-

@@ -141,7 +141,14 @@ impl World {
             "world built"
         );
         let has_null = prims.iter().any(|p| materials.get(p.material).is_null());
+        let spectral = dispersing_material(desc, &prims, &materials);
+        if let Some(name) = &spectral {
+            tracing::info!(
+                "scene needs spectra: {name} disperses; paths through it carry one wavelength"
+            );
+        }
         Ok(World {
+            spectral: spectral.is_some(),
             media,
             has_null,
             groups,
@@ -159,6 +166,25 @@ impl World {
             },
         })
     }
+}
+
+/// The first material a primitive uses that disperses light, named for the log
+/// ("glass 'prism'"); `None` when the scene stays RGB.
+fn dispersing_material(
+    desc: &SceneDescription,
+    prims: &[super::PrimInfo],
+    materials: &MaterialSet,
+) -> Option<String> {
+    let p = prims
+        .iter()
+        .find(|p| materials.get(p.material).disperses())?;
+    let m = materials.get(p.material);
+    let name = p
+        .material
+        .and_then(|i| desc.materials.get(i))
+        .and_then(|d| d.name.clone())
+        .unwrap_or_else(|| "(unnamed)".into());
+    Some(format!("{} '{name}'", m.type_name))
 }
 
 /// Warns about parameters of world statements (lights, shapes, area lights, the materials

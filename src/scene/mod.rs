@@ -58,6 +58,8 @@ pub struct World {
     /// The participating media; `None` when the scene has none that acts on light (or the
     /// volume integrator is `none`): rays then take no medium code path.
     media: Option<Box<MediaSet>>,
+    /// Whether some material disperses light: paths through it then carry a wavelength.
+    spectral: bool,
 }
 
 /// Null-material surfaces a visibility test passes through before giving up.
@@ -132,6 +134,11 @@ impl World {
             };
         }
         false
+    }
+
+    /// Whether some material disperses light (the scene needs spectral paths).
+    pub fn spectral(&self) -> bool {
+        self.spectral
     }
 
     /// The scene's participating media, when it has any that act on light.

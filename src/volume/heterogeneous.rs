@@ -23,7 +23,10 @@ const OPAQUE: f32 = 1e-4;
 #[derive(Debug)]
 pub enum Density {
     /// Colour textures for sigma_a and sigma_s.
-    Textures { sigma_a: ColorTex, sigma_s: ColorTex },
+    Textures {
+        sigma_a: ColorTex,
+        sigma_s: ColorTex,
+    },
     /// sigma × a·e^(-b·h), h = (p - origin)·up.
     Exponential {
         sigma_a: Rgb,

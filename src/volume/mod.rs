@@ -184,9 +184,9 @@ fn read_g(s: &mut Stmt) -> f32 {
     let p = s.params();
     let g = match p.get("g").map(|p| &p.value) {
         Some(crate::lxs::ParamValue::Float(v)) => v.first().copied().unwrap_or(0.0),
-        Some(crate::lxs::ParamValue::Color(v)) => v
-            .first()
-            .map_or(0.0, |c| (c[0] + c[1] + c[2]) / 3.0),
+        Some(crate::lxs::ParamValue::Color(v)) => {
+            v.first().map_or(0.0, |c| (c[0] + c[1] + c[2]) / 3.0)
+        }
         Some(_) => {
             s.warn("volume \"g\" must be a float or a color; using 0");
             0.0
@@ -207,11 +207,7 @@ fn read_g(s: &mut Stmt) -> f32 {
 
 /// A colour coefficient that is constant over the medium (a colour, a float, or a texture
 /// that evaluates to a constant such as `colordepth` of constants), ≥ 0 and finite.
-fn constant_color(
-    s: &mut Stmt,
-    textures: &mut TextureSet,
-    name: &str,
-) -> Result<Rgb, VolumeError> {
+fn constant_color(s: &mut Stmt, textures: &mut TextureSet, name: &str) -> Result<Rgb, VolumeError> {
     let t = textures.color_param(s.params(), name, Rgb::BLACK)?;
     let c = match t.as_const() {
         Some(c) => c,
@@ -344,7 +340,13 @@ impl MediaSet {
 
     /// The medium a ray is in after leaving primitive `prim`'s surface in direction `d` (`n`
     /// its geometric normal), coming from `current`.
-    pub fn after(&self, prim: u32, n: Vec3A, d: Vec3A, current: Option<MediumId>) -> Option<MediumId> {
+    pub fn after(
+        &self,
+        prim: u32,
+        n: Vec3A,
+        d: Vec3A,
+        current: Option<MediumId>,
+    ) -> Option<MediumId> {
         match self.boundary(prim) {
             Some(b) if d.dot(n) < 0.0 => b.interior,
             Some(b) => b.exterior,
