@@ -41,3 +41,4 @@ pub mod shape;
 pub mod spectrum;
 pub mod texture;
 pub mod tonemap;
+pub mod volume;

@@ -3,6 +3,10 @@
 //! emission a ray picks up where it meets an emitter ([`add_emission`]: an area light's
 //! surface, or a crossing of an area primitive, which rays pass through).
 //!
+//! Light is scattered toward the path at a surface (its BSDF) or at a point of a participating
+//! medium (its phase function), [`Scatterer`]; in a scene with media, shadow rays carry the
+//! transmittance of the media they cross.
+//!
 //! `depth` is the number of bounces before a shading point (0 at the camera ray's hit): a
 //! light's shadow-ray count may drop from a depth on (`lownsamples` at `lowlevel`).
 
@@ -14,6 +18,8 @@ use crate::sampler::SampleStream;
 use crate::sampling::power_heuristic;
 use crate::scene::World;
 use crate::spectrum::Rgb;
+use crate::volume::{HenyeyGreenstein, MediaSet, MediumId};
+use glam::Vec3A;
 
 /// Expected number of shadow-ray draws on light `i` per estimate at a shading point `depth`
 /// bounces down the path (n_i in the integrators' module docs).
@@ -93,15 +99,69 @@ pub fn add_emission(
     add_group(l, light.group(), beta * le * w);
 }
 
-/// One shadow-ray sample of light `i`: f·L·w/p (not yet divided by the number of draws).
-/// `full_weight` gives light samples the whole weight (no BSDF sample will follow).
+/// Where light is scattered toward the path: a surface point with its BSDF, or a point in a
+/// medium with its phase function.
+#[derive(Clone, Copy)]
+pub enum Scatterer<'a> {
+    Surface {
+        si: &'a SurfaceInteraction,
+        bsdf: &'a Bsdf,
+    },
+    Medium {
+        it: &'a Interaction,
+        /// The path's propagation direction arriving at the point.
+        d_in: Vec3A,
+        phase: HenyeyGreenstein,
+    },
+}
+
+impl Scatterer<'_> {
+    fn it(&self) -> &Interaction {
+        match self {
+            Scatterer::Surface { si, .. } => &si.it,
+            Scatterer::Medium { it, .. } => it,
+        }
+    }
+
+    /// f·|cos| (the phase value in a medium) toward the light direction `wi`, and the density
+    /// with which the path would have sampled `wi`.
+    fn f_pdf(&self, wi: Vec3A) -> (Rgb, f32) {
+        match self {
+            Scatterer::Surface { si, bsdf } => {
+                let (f, pdf) = bsdf.f_pdf(si.wo, wi);
+                (f * wi.dot(bsdf.frame.n).abs(), pdf)
+            }
+            Scatterer::Medium { d_in, phase, .. } => {
+                let p = phase.eval(*d_in, wi);
+                (Rgb::splat(p), p)
+            }
+        }
+    }
+
+    /// The medium a shadow ray toward `wi` starts in, the path being in `medium`.
+    fn medium_toward(
+        &self,
+        media: &MediaSet,
+        wi: Vec3A,
+        medium: Option<MediumId>,
+    ) -> Option<MediumId> {
+        match self {
+            Scatterer::Surface { si, .. } => media.after(si.prim, si.it.n, wi, medium),
+            Scatterer::Medium { .. } => medium,
+        }
+    }
+}
+
+/// One shadow-ray sample of light `i`: f·L·Tr·w/p (not yet divided by the number of draws).
+/// `full_weight` gives light samples the whole weight (no BSDF sample will follow); `medium`
+/// is the medium the path is in (always `None` in a scene without media).
 #[allow(clippy::too_many_arguments)]
 fn sample_one(
     scene: &World,
     settings: &DirectSettings,
     i: usize,
-    si: &SurfaceInteraction,
-    bsdf: &Bsdf,
+    at: &Scatterer,
+    medium: Option<MediumId>,
     s: &mut SampleStream,
     full_weight: bool,
     depth: u32,
@@ -111,14 +171,25 @@ fn sample_one(
     let Some(light) = scene.lights().get(i) else {
         return Rgb::BLACK;
     };
-    let Some(ls) = light.sample_li(&si.it, u, u_pick, scene) else {
+    let Some(ls) = light.sample_li(at.it(), u, u_pick, scene) else {
         return Rgb::BLACK;
     };
-    let (f, pdf_bsdf) = bsdf.f_pdf(si.wo, ls.wi);
-    let f = f * ls.wi.dot(bsdf.frame.n).abs();
-    if f.is_black() || !scene.unoccluded(&si.it, &ls) {
+    let (f, pdf_bsdf) = at.f_pdf(ls.wi);
+    if f.is_black() {
         return Rgb::BLACK;
     }
+    let f = match scene.media() {
+        None if scene.unoccluded(at.it(), &ls) => f,
+        None => return Rgb::BLACK,
+        Some(media) => {
+            let start = at.medium_toward(media, ls.wi, medium);
+            let tr = scene.transmittance(at.it(), &ls, start);
+            if tr.is_black() {
+                return Rgb::BLACK;
+            }
+            f * tr
+        }
+    };
     let w = if ls.delta || full_weight {
         1.0
     } else {
@@ -128,14 +199,14 @@ fn sample_one(
     f * ls.li * (w / ls.pdf)
 }
 
-/// Adds `beta ×` the light-sampled direct lighting at `si` (a shading point `depth` bounces
-/// down the path) to the light groups in `l`.
+/// Adds `beta ×` the light-sampled direct lighting at `at` (a scattering point `depth`
+/// bounces down the path, in `medium`) to the light groups in `l`.
 #[allow(clippy::too_many_arguments)]
 pub fn sample_lights(
     scene: &World,
     settings: &DirectSettings,
-    si: &SurfaceInteraction,
-    bsdf: &Bsdf,
+    at: &Scatterer,
+    medium: Option<MediumId>,
     s: &mut SampleStream,
     beta: Rgb,
     full_weight: bool,
@@ -148,7 +219,7 @@ pub fn sample_lights(
                 let n = light.nsamples_at(depth) * settings.shadow_rays;
                 let mut sum = Rgb::BLACK;
                 for _ in 0..n {
-                    sum += sample_one(scene, settings, i, si, bsdf, s, full_weight, depth);
+                    sum += sample_one(scene, settings, i, at, medium, s, full_weight, depth);
                 }
                 add_group(l, light.group(), beta * sum / n as f32);
             }
@@ -160,7 +231,7 @@ pub fn sample_lights(
                 if q <= 0.0 || i >= scene.lights().len() {
                     continue;
                 }
-                let c = sample_one(scene, settings, i, si, bsdf, s, full_weight, depth);
+                let c = sample_one(scene, settings, i, at, medium, s, full_weight, depth);
                 let g = scene.lights()[i].group();
                 add_group(l, g, beta * c / (n as f32 * q));
             }

@@ -2,7 +2,7 @@
 //! sample, combined with MIS) at the first hit, and recursion along perfectly specular
 //! reflection/refraction up to `maxdepth` (5) times.
 
-use super::direct::{add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival};
+use super::direct::{add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival, Scatterer};
 use super::DirectSettings;
 use crate::geometry::{Interaction, Ray, SurfaceInteraction};
 use crate::material::Bsdf;
@@ -69,7 +69,8 @@ impl DirectLightingIntegrator {
             pass = 0;
             let bsdf = material.bsdf(si, s.next_1d());
             if bsdf.has_non_specular() {
-                sample_lights(scene, &self.direct, si, &bsdf, s, beta, false, depth, l);
+                let at = Scatterer::Surface { si, bsdf: &bsdf };
+                sample_lights(scene, &self.direct, &at, None, s, beta, false, depth, l);
                 self.bsdf_sample(scene, si, &bsdf, s, beta, depth, l);
             }
             if depth >= self.max_depth {

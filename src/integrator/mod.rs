@@ -32,6 +32,8 @@ pub mod bidirectional;
 pub mod direct;
 pub mod directlighting;
 pub mod path;
+pub mod spectral;
+pub mod volume;
 
 use crate::lxs::{Diagnostic, Entity};
 use crate::plugin::{BuildError, Stmt};
@@ -40,6 +42,7 @@ use crate::spectrum::Rgb;
 pub use bidirectional::BidirIntegrator;
 pub use directlighting::DirectLightingIntegrator;
 pub use path::PathIntegrator;
+pub use volume::VolumeIntegrator;
 
 use crate::camera::Camera;
 use crate::geometry::Ray;
@@ -191,6 +194,19 @@ impl Integrator {
         if let Integrator::Bidirectional(b) = self {
             b.prepare(world);
         }
+    }
+
+    /// Tells the integrator how far media are rendered (the scene's VolumeIntegrator).
+    pub fn set_volume(&mut self, v: VolumeIntegrator) {
+        if let Integrator::Path(p) = self {
+            p.volume = v;
+        }
+    }
+
+    /// Whether the integrator carries paths through participating media (path does;
+    /// directlighting and bidirectional do not yet).
+    pub fn renders_media(&self) -> bool {
+        matches!(self, Integrator::Path(_))
     }
 
     /// Whether samples may contribute away from their own film position ([`Splat`]s: the

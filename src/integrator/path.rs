@@ -3,14 +3,27 @@
 //! Rendering a `distributedpath` scene it also applies the materials' `compo_*` flags as
 //! LuxRender's distributedpath does ([`crate::material::Compositing`]): hidden emission or
 //! surfaces, overridden alpha.
+//!
+//! In a scene with participating media ([`crate::volume`]) the path knows the medium it is in
+//! (the camera's, changed where it crosses a medium boundary): each segment is attenuated by
+//! it, and with the `single`/`multi` volume integrator may scatter in it, the scattering point
+//! then being a path vertex with direct lighting through the phase function. A scene without
+//! media never has a current medium and takes none of these branches.
+//!
+//! In a scene whose materials disperse light, a path that meets a dispersing surface is given
+//! a wavelength there ([`super::spectral`]); other scenes and paths stay RGB.
 
-use super::direct::{add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival};
+use super::direct::{add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival, Scatterer};
+use super::spectral::sample_wavelength;
+use super::volume::VolumeIntegrator;
 use super::DirectSettings;
 use crate::geometry::{Interaction, Ray};
+use crate::material::glass::cauchy_shift;
 use crate::plugin::{BuildError, Stmt};
 use crate::sampler::SampleStream;
 use crate::scene::World;
 use crate::spectrum::Rgb;
+use glam::Vec3A;
 
 /// Russian roulette after this many vertices (LuxRender starts at path length 3).
 const RR_START: u32 = 3;
@@ -35,6 +48,8 @@ pub struct PathIntegrator {
     pub direct: DirectSettings,
     /// Apply the materials' compositing flags (set when standing in for distributedpath).
     pub compositing: bool,
+    /// How far media are rendered (the scene's VolumeIntegrator).
+    pub volume: VolumeIntegrator,
 }
 
 impl PathIntegrator {
@@ -60,6 +75,7 @@ impl PathIntegrator {
             direct_light_sampling: p.bool_or("directlightsampling", true),
             direct: DirectSettings::build(s),
             compositing: false,
+            volume: VolumeIntegrator::default(),
         })
     }
 
@@ -73,6 +89,11 @@ impl PathIntegrator {
         let mut depth = 0u32;
         let mut pass = 0u32;
         let dls = self.direct_light_sampling;
+        let media = scene.media();
+        let mut medium = media.and_then(|m| m.camera);
+        let mut scatters_left = self.volume.max_scatters();
+        // The path's wavelength once it met a dispersing surface (see `super::spectral`).
+        let mut lambda: Option<f32> = None;
         loop {
             // Matched by reference: moving the hit out of the Option would copy it.
             let hit = scene.intersect(&ray);
@@ -83,10 +104,68 @@ impl PathIntegrator {
             } else {
                 Arrival::Bsdf(&prev, prev_pdf, depth - 1)
             };
-            let t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+            let mut t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+            let mut scattered = None;
+            if let Some(m) = medium.and_then(|id| media.and_then(|ms| ms.get(id))) {
+                if scatters_left > 0 && m.scatters() {
+                    let ms = m.sample(&ray, t_hit, s.next_1d(), s.next_1d());
+                    beta *= ms.weight;
+                    if let Some(t) = ms.scatter_t {
+                        t_hit = t;
+                        scattered = Some(m);
+                    }
+                } else {
+                    beta *= m.tr(&ray, t_hit);
+                }
+            }
             scene.crossed_lights(&ray, t_hit, |i, c| {
                 add_emission(scene, &self.direct, i, c, arrival, beta, l)
             });
+            if let Some(m) = scattered {
+                // A scattering vertex in the medium.
+                if depth >= self.max_depth || beta.is_black() {
+                    break;
+                }
+                let it = Interaction {
+                    p: ray.at(t_hit),
+                    time: ray.time,
+                    ..Interaction::default()
+                };
+                let d_in = ray.d.normalize_or_zero();
+                let phase = m.phase();
+                let last = depth + 1 >= self.max_depth;
+                if dls {
+                    let at = Scatterer::Medium {
+                        it: &it,
+                        d_in,
+                        phase,
+                    };
+                    sample_lights(scene, &self.direct, &at, medium, s, beta, last, depth, l);
+                }
+                if last {
+                    break;
+                }
+                // The phase function is sampled exactly: the throughput is unchanged.
+                let (wi, pdf) = phase.sample(d_in, s.next_2d());
+                if pdf <= 0.0 || wi == Vec3A::ZERO {
+                    break;
+                }
+                scatters_left -= 1;
+                specular = false;
+                prev_pdf = pdf;
+                prev = it;
+                ray = Ray {
+                    o: it.p,
+                    d: wi,
+                    t_max: f32::INFINITY,
+                    time: ray.time,
+                };
+                depth += 1;
+                if !self.roulette(depth, &mut beta, s) {
+                    break;
+                }
+                continue;
+            }
             let Some(si) = &hit else {
                 if depth == 0 {
                     alpha = 0.0;
@@ -123,6 +202,9 @@ impl PathIntegrator {
                 if pass > MAX_PASS_THROUGH {
                     break;
                 }
+                if let Some(ms) = media {
+                    medium = ms.after(si.prim, si.it.n, ray.d, medium);
+                }
                 ray = si.it.spawn_ray(ray.d);
                 continue;
             }
@@ -131,9 +213,24 @@ impl PathIntegrator {
                 break;
             }
             let last = depth + 1 >= self.max_depth;
-            let bsdf = material.bsdf(si, s.next_1d());
+            let mut bsdf = material.bsdf(si, s.next_1d());
+            if scene.spectral() {
+                if let Some(b) = material.dispersion(si) {
+                    let nm = match lambda {
+                        Some(nm) => nm,
+                        None => {
+                            let (nm, w) = sample_wavelength(s.next_1d());
+                            beta *= w;
+                            lambda = Some(nm);
+                            nm
+                        }
+                    };
+                    bsdf.disperse(cauchy_shift(b, nm));
+                }
+            }
             if dls && bsdf.has_non_specular() {
-                sample_lights(scene, &self.direct, si, &bsdf, s, beta, last, depth, l);
+                let at = Scatterer::Surface { si, bsdf: &bsdf };
+                sample_lights(scene, &self.direct, &at, medium, s, beta, last, depth, l);
             }
             if last {
                 break;
@@ -150,24 +247,33 @@ impl PathIntegrator {
             prev_pdf = bs.pdf;
             prev = si.it;
             ray = si.it.spawn_ray(bs.wi);
-            depth += 1;
-            if depth >= RR_START {
-                let q = match self.roulette {
-                    Roulette::None => 1.0,
-                    Roulette::Probability(p) => p,
-                    Roulette::Efficiency => beta.max_component().min(1.0),
-                };
-                if q < 1.0 {
-                    if s.next_1d() >= q {
-                        break;
-                    }
-                    beta = beta / q;
-                }
+            if let Some(ms) = media {
+                medium = ms.after(si.prim, si.it.n, bs.wi, medium);
             }
-            if !beta.is_finite() || beta.is_black() {
+            depth += 1;
+            if !self.roulette(depth, &mut beta, s) {
                 break;
             }
         }
         alpha
+    }
+
+    /// Russian roulette after a bounce to `depth`: false when the path ends; a surviving
+    /// path's throughput is divided by its continuation probability.
+    fn roulette(&self, depth: u32, beta: &mut Rgb, s: &mut SampleStream) -> bool {
+        if depth >= RR_START {
+            let q = match self.roulette {
+                Roulette::None => 1.0,
+                Roulette::Probability(p) => p,
+                Roulette::Efficiency => beta.max_component().min(1.0),
+            };
+            if q < 1.0 {
+                if s.next_1d() >= q {
+                    return false;
+                }
+                *beta = *beta / q;
+            }
+        }
+        beta.is_finite() && !beta.is_black()
     }
 }

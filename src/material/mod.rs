@@ -140,6 +140,28 @@ impl Material {
         }
     }
 
+    /// Cauchy's `cauchyb` at the hit when the material disperses light (glass and roughglass
+    /// with cauchyb ≠ 0): the index at wavelength λ is then raised by cauchyb/λ²
+    /// ([`glass::cauchy_shift`], applied by [`Bsdf::disperse`]).
+    pub fn dispersion(&self, si: &SurfaceInteraction) -> Option<f32> {
+        let t = match &self.kind {
+            MaterialKind::Glass(g) => g.cauchyb.as_ref(),
+            MaterialKind::RoughGlass(g) => g.cauchyb.as_ref(),
+            _ => None,
+        }?;
+        let b = t.eval(si);
+        (b != 0.0 && b.is_finite()).then_some(b)
+    }
+
+    /// Whether the material can disperse light (it then needs spectral paths).
+    pub fn disperses(&self) -> bool {
+        match &self.kind {
+            MaterialKind::Glass(g) => g.cauchyb.is_some(),
+            MaterialKind::RoughGlass(g) => g.cauchyb.is_some(),
+            _ => false,
+        }
+    }
+
     /// Null materials let rays continue unchanged (the integrator skips the hit).
     pub fn is_null(&self) -> bool {
         matches!(self.kind, MaterialKind::Null)

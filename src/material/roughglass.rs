@@ -1,12 +1,12 @@
 //! `roughglass`: rough dielectric with `Kr`, `Kt` (default 1), `index` (1.5), `uroughness`
 //! and `vroughness` (0.001, clamped to [6e-3, 1] as LuxRender 1.x does, Schlick distribution;
-//! unequal u/v roughness is anisotropic). Dispersion (`cauchyb` ≠ 0 or `dispersion`) needs
-//! spectral rendering: ignored with a located warning.
+//! unequal u/v roughness is anisotropic). Dispersion through `cauchyb` as [`super::glass`]'s;
+//! a `dispersion` flag is not read (a located warning says so).
 
 use super::bsdf::Lobes;
 use super::bxdf::rough_dielectric::RoughDielectric;
 use super::bxdf::schlick::SchlickDist;
-use super::glass::check_dispersion;
+use super::glass::read_cauchyb;
 use super::metal::roughness_pair;
 use super::{Builder, MaterialError};
 use crate::geometry::SurfaceInteraction;
@@ -21,21 +21,24 @@ pub struct RoughGlass {
     pub index: FloatTex,
     pub u: FloatTex,
     pub v: FloatTex,
+    /// `cauchyb`, when not the constant 0 (see [`super::glass`]).
+    pub cauchyb: Option<FloatTex>,
 }
 
 impl RoughGlass {
     pub fn build(b: &mut Builder, e: &Entity) -> Result<RoughGlass, MaterialError> {
         let p = &e.params;
-        check_dispersion(b, e)?;
+        let cauchyb = read_cauchyb(b, e)?;
         if p.bool_or("dispersion", false) {
             let loc = param_loc(p, "dispersion", &e.loc);
             b.warn(
                 &loc,
-                "dispersion needs spectral rendering, which is not built: ignored".into(),
+                "roughglass disperses through cauchyb; the dispersion flag is ignored".into(),
             );
         }
         let (u, v) = roughness_pair(b, e, 0.001)?;
         Ok(RoughGlass {
+            cauchyb,
             kr: b.textures.color_param(p, "Kr", Rgb::WHITE)?,
             kt: b.textures.color_param(p, "Kt", Rgb::WHITE)?,
             index: b.textures.float_param(p, "index", 1.5)?,

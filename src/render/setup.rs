@@ -13,7 +13,7 @@ use crate::camera::{Camera, FilmGeometry};
 use crate::fileio::SceneFiles;
 use crate::film::{FilmError, FilmParams};
 use crate::filter::Filter;
-use crate::integrator::Integrator;
+use crate::integrator::{Integrator, VolumeIntegrator};
 use crate::lxs::{Diagnostic, Entity, Loc, SceneDescription};
 use crate::plugin::{report_unused, warn, BuildError};
 use crate::sampler::Sampler;
@@ -91,8 +91,10 @@ impl Renderable {
         let filter = Filter::build(desc.pixel_filter.as_ref(), &mut warnings)?;
         let sampler = Sampler::build(desc.sampler.as_ref(), &mut warnings)?;
         let integrator = Integrator::build(desc.surface_integrator.as_ref(), &mut warnings)?;
+        let volume = VolumeIntegrator::build(desc.volume_integrator.as_ref(), &mut warnings);
         let opts = WorldOptions {
             light_strategy: integrator.direct_settings().strategy,
+            media: volume.renders_media(),
         };
         let world = World::build(desc, &files, opts, &mut warnings)?;
         let mut integrator = integrator;
@@ -119,6 +121,10 @@ impl Renderable {
                 integrator = Integrator::build(Some(&path), &mut warnings)?;
             }
         }
+        if world.media().is_some() && !integrator.renders_media() {
+            integrator = media_fallback(desc, &mut warnings)?;
+        }
+        integrator.set_volume(volume);
         integrator.prepare(&world);
         if camera.needs_autofocus() {
             camera.autofocus(|r| world.intersect(r).map(|si| si.t));
@@ -139,16 +145,38 @@ impl Renderable {
     }
 }
 
-/// Statements luxfarm parses but does not render yet (participating media) or has no use for
-/// (its own BVH and renderer): one located warning each, saying what is ignored, and their
-/// parameters go through the unused-parameter report like every other statement's.
+/// The path integrator standing in for a surface integrator that cannot carry paths through
+/// the scene's participating media, with a located warning.
+fn media_fallback(
+    desc: &SceneDescription,
+    warnings: &mut Vec<Diagnostic>,
+) -> Result<Integrator, BuildError> {
+    let (loc, kind) = desc
+        .surface_integrator
+        .as_ref()
+        .map(|e| (e.loc.clone(), e.kind.as_str()))
+        .unwrap_or_default();
+    warn(
+        warnings,
+        &loc,
+        format!(
+            "SurfaceIntegrator \"{kind}\" does not render participating media yet; the scene \
+             has media: rendering with \"path\""
+        ),
+    );
+    let path = Entity {
+        kind: "path".into(),
+        loc,
+        ..Default::default()
+    };
+    Integrator::build(Some(&path), warnings)
+}
+
+/// Statements luxfarm parses but does not render (region volumes) or has no use for (its own
+/// BVH and renderer): one located warning each, saying what is ignored; their parameters go
+/// through the unused-parameter report like every other statement's.
 fn warn_ignored(desc: &SceneDescription, w: &mut Vec<Diagnostic>) {
     let options = [
-        (
-            "VolumeIntegrator",
-            desc.volume_integrator.as_ref(),
-            "participating media are not rendered yet",
-        ),
         (
             "Accelerator",
             desc.accelerator.as_ref(),
@@ -170,55 +198,10 @@ fn warn_ignored(desc: &SceneDescription, w: &mut Vec<Diagnostic>) {
             report_unused(label, e, w);
         }
     }
-    for v in &desc.volumes {
-        let what = match &v.name {
-            Some(n) => format!("MakeNamedVolume \"{n}\" ({})", v.entity.kind),
-            None => format!("Volume \"{}\"", v.entity.kind),
-        };
-        warn(
-            w,
-            &v.entity.loc,
-            format!("{what} is ignored: participating media are not rendered yet"),
-        );
-        report_unused(
-            if v.name.is_some() {
-                "MakeNamedVolume"
-            } else {
-                "Volume"
-            },
-            &v.entity,
-            w,
-        );
+    if let Some(e) = &desc.volume_integrator {
+        report_unused("VolumeIntegrator", e, w);
     }
-    // One warning per medium name (LuxBlend gives every shape an Exterior), at its first use.
-    let mut uses: std::collections::BTreeMap<&str, (&Loc, usize)> = Default::default();
-    let shapes = desc
-        .shapes
-        .iter()
-        .chain(desc.objects.iter().flat_map(|o| o.shapes.iter()));
-    for s in shapes {
-        for name in [&s.interior, &s.exterior].into_iter().flatten() {
-            uses.entry(name).or_insert((&s.entity.loc, 0)).1 += 1;
-        }
-    }
-    for (name, (loc, n)) in uses {
-        warn(
-            w,
-            loc,
-            format!(
-                "Interior/Exterior \"{name}\" ({n} shape(s), first here) is ignored: participating media are not rendered yet"
-            ),
-        );
-    }
-    if let Some(name) = desc.camera.as_ref().and_then(|c| c.exterior.as_ref()) {
-        if let Some(c) = &desc.camera {
-            warn(
-                w,
-                &c.entity.loc,
-                format!("the camera's Exterior \"{name}\" is ignored: participating media are not rendered yet"),
-            );
-        }
-    }
+    crate::volume::warn_unrendered(desc, w);
 }
 
 /// Warns about parameters of the setup statements that no plugin read.

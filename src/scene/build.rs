@@ -11,12 +11,15 @@ use crate::material::{MaterialCtx, MaterialSet};
 use crate::plugin::{report_unused, warn, BuildError};
 use crate::shape::ShapeCtx;
 use crate::texture::{TextureCtx, TextureSet};
+use crate::volume::MediaSet;
 
 /// What the render setup tells the world about how it will be used.
 #[derive(Clone, Copy, Debug)]
 pub struct WorldOptions {
     /// How direct lighting picks lights (the integrator's `lightstrategy`).
     pub light_strategy: LightStrategy,
+    /// Whether participating media are rendered (the volume integrator is not `none`).
+    pub media: bool,
 }
 
 impl World {
@@ -63,6 +66,11 @@ impl World {
                 files: files.clone(),
             },
         );
+        let media = if opts.media {
+            MediaSet::build(desc, &built.media, &mut textures, warnings)?.map(Box::new)
+        } else {
+            None
+        };
         let group_of = |name: &str| groups.iter().position(|g| g == name).unwrap_or(0);
         let mut lights = Vec::new();
         for ld in &desc.lights {
@@ -133,7 +141,15 @@ impl World {
             "world built"
         );
         let has_null = prims.iter().any(|p| materials.get(p.material).is_null());
+        let spectral = dispersing_material(desc, &prims, &materials);
+        if let Some(name) = &spectral {
+            tracing::info!(
+                "scene needs spectra: {name} disperses; paths through it carry one wavelength"
+            );
+        }
         Ok(World {
+            spectral: spectral.is_some(),
+            media,
             has_null,
             groups,
             geometry,
@@ -150,6 +166,25 @@ impl World {
             },
         })
     }
+}
+
+/// The first material a primitive uses that disperses light, named for the log
+/// ("glass 'prism'"); `None` when the scene stays RGB.
+fn dispersing_material(
+    desc: &SceneDescription,
+    prims: &[super::PrimInfo],
+    materials: &MaterialSet,
+) -> Option<String> {
+    let p = prims
+        .iter()
+        .find(|p| materials.get(p.material).disperses())?;
+    let m = materials.get(p.material);
+    let name = p
+        .material
+        .and_then(|i| desc.materials.get(i))
+        .and_then(|d| d.name.clone())
+        .unwrap_or_else(|| "(unnamed)".into());
+    Some(format!("{} '{name}'", m.type_name))
 }
 
 /// Warns about parameters of world statements (lights, shapes, area lights, the materials

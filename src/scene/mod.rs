@@ -22,6 +22,8 @@ use crate::accel::{Geometry, ShapeId};
 use crate::geometry::{Interaction, Ray, SurfaceInteraction};
 use crate::light::{AreaLight, BoundingSphere, Light, LightSample, LightSelector, ShapeSampler};
 use crate::material::{Material, MaterialSet};
+use crate::spectrum::Rgb;
+use crate::volume::{MediaSet, MediumId};
 use glam::Vec2;
 
 pub use build::WorldOptions;
@@ -53,6 +55,11 @@ pub struct World {
     sphere: BoundingSphere,
     /// Whether some primitive has the null material (shadow rays then cross null surfaces).
     has_null: bool,
+    /// The participating media; `None` when the scene has none that acts on light (or the
+    /// volume integrator is `none`): rays then take no medium code path.
+    media: Option<Box<MediaSet>>,
+    /// Whether some material disperses light: paths through it then carry a wavelength.
+    spectral: bool,
 }
 
 /// Null-material surfaces a visibility test passes through before giving up.
@@ -127,6 +134,61 @@ impl World {
             };
         }
         false
+    }
+
+    /// Whether some material disperses light (the scene needs spectral paths).
+    pub fn spectral(&self) -> bool {
+        self.spectral
+    }
+
+    /// The scene's participating media, when it has any that act on light.
+    pub fn media(&self) -> Option<&MediaSet> {
+        self.media.as_deref()
+    }
+
+    /// The fraction of light that reaches `from` from the light sample, starting in medium
+    /// `medium`: black when a surface that is not null blocks it, otherwise the product of
+    /// the transmittances of the media it crosses (null surfaces that bound media change the
+    /// medium). Without media this is [`Self::unoccluded`] as 0 or 1.
+    pub fn transmittance(
+        &self,
+        from: &Interaction,
+        ls: &LightSample,
+        medium: Option<MediumId>,
+    ) -> Rgb {
+        let Some(media) = self.media() else {
+            return if self.unoccluded(from, ls) {
+                Rgb::WHITE
+            } else {
+                Rgb::BLACK
+            };
+        };
+        let spawn = |it: &Interaction| {
+            if ls.infinite {
+                it.spawn_ray(ls.wi)
+            } else {
+                it.spawn_ray_to(&ls.p_light)
+            }
+        };
+        let mut ray = spawn(from);
+        let mut medium = medium;
+        let mut tr = Rgb::WHITE;
+        for _ in 0..MAX_NULL_CROSSINGS {
+            let hit = self.geometry.intersect(&ray);
+            let t_end = hit.as_ref().map_or(ray.t_max, |h| h.t);
+            if let Some(m) = medium.and_then(|id| media.get(id)) {
+                tr *= m.tr(&ray, t_end);
+            }
+            let Some(si) = hit else {
+                return tr;
+            };
+            if !self.material(si.prim).is_null() || tr.is_black() {
+                return Rgb::BLACK;
+            }
+            medium = media.after(si.prim, si.it.n, ray.d, medium);
+            ray = spawn(&si.it);
+        }
+        Rgb::BLACK
     }
 
     /// The scene's bounding sphere (lights at infinity emit from its radius).

@@ -120,6 +120,16 @@ pub struct Bsdf {
 }
 
 impl Bsdf {
+    /// Raises the index of refraction of its dielectric lobes by `delta` (dispersion: the
+    /// index at the path's wavelength); other lobes are unchanged.
+    pub fn disperse(&mut self, delta: f32) {
+        match &mut self.lobes {
+            Lobes::Dielectric(d) if !d.architectural => d.eta = (d.eta + delta).max(1e-3),
+            Lobes::RoughDielectric(r) => r.eta = (r.eta + delta).max(1e-3),
+            _ => {}
+        }
+    }
+
     /// A BSDF in the shading frame of `si`.
     pub fn new(si: &SurfaceInteraction, lobes: Lobes) -> Bsdf {
         let n = if si.shading.n == Vec3A::ZERO {

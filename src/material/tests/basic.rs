@@ -167,7 +167,10 @@ fn building_only_used_materials_with_defaults_and_fallbacks() {
     assert!(msgs
         .iter()
         .any(|m| m.starts_with("scene.lxs:2:1: material \"carpaint2000\"")));
-    assert!(msgs.iter().any(|m| m.contains("dispersion")));
+    // cauchyb ≠ 0 is dispersion, rendered (no warning), not ignored.
+    assert!(set.get(Some(3)).disperses());
+    assert!(!set.get(Some(0)).disperses());
+    assert!(!msgs.iter().any(|m| m.contains("dispersion")), "{msgs:?}");
 }
 
 #[test]

@@ -1,0 +1,373 @@
+//! Participating media ("volumes"): the plugin family of `MakeNamedVolume` — `clear`,
+//! `homogeneous`, `heterogeneous`, `exponential` — and [`MediaSet`], which tells a renderer
+//! which medium a ray travels in.
+//!
+//! ```text
+//! MakeNamedVolume (VolumeDesc) --Medium::build (one file per medium)--> Medium
+//! shapes' Interior/Exterior names, camera's Exterior --MediaSet::build--> MediaSet
+//!     (only the media something references; none at all when no referenced medium acts on
+//!      light: the world then holds no MediaSet and rays take no medium code path)
+//! ```
+//!
+//! A shape with an Interior or Exterior is a medium boundary: a ray crossing it against its
+//! geometric normal enters the interior medium, along it the exterior one (an unset side is
+//! vacuum). A shape with neither leaves the ray's medium unchanged. The camera starts in its
+//! Exterior; without one, in the medium named "world" when the scene defines it (the default
+//! medium LuxBlend writes on every shape's outside), else in vacuum.
+//!
+//! Units: coefficients are per scene unit (metres), distances are along the ray.
+
+pub mod clear;
+pub mod exponential;
+pub mod heterogeneous;
+pub mod homogeneous;
+pub mod phase;
+
+use crate::geometry::Ray;
+use crate::lxs::{Diagnostic, SceneDescription};
+use crate::plugin::{report_unused, warn, BuildError, Stmt};
+use crate::spectrum::Rgb;
+use crate::texture::{TextureError, TextureSet};
+use glam::Vec3A;
+use std::collections::BTreeMap;
+
+pub use clear::Clear;
+pub use heterogeneous::Heterogeneous;
+pub use homogeneous::Homogeneous;
+pub use phase::HenyeyGreenstein;
+
+/// Why a medium could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum VolumeError {
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    #[error(transparent)]
+    Texture(#[from] TextureError),
+}
+
+impl From<VolumeError> for BuildError {
+    fn from(e: VolumeError) -> BuildError {
+        match e {
+            VolumeError::Build(b) => b,
+            VolumeError::Texture(t) => t.into(),
+        }
+    }
+}
+
+/// Index of a medium in [`MediaSet::media`].
+pub type MediumId = u32;
+
+/// Where a ray scatters in a medium, or that it passes to the end of its segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MediumSample {
+    /// Ray parameter of the scattering point; `None`: the ray reaches the segment's end.
+    pub scatter_t: Option<f32>,
+    /// What the path throughput is multiplied by (transmittance, times sigma_s at a
+    /// scattering point, over the sampling density).
+    pub weight: Rgb,
+}
+
+#[derive(Debug)]
+pub enum Medium {
+    Clear(Clear),
+    Homogeneous(Homogeneous),
+    /// `heterogeneous` and `exponential`: ray marched.
+    Marched(Heterogeneous),
+}
+
+impl Medium {
+    /// Builds a medium from its statement; `None` for a name no medium has.
+    pub fn build(
+        v: &crate::lxs::VolumeDesc,
+        textures: &mut TextureSet,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Medium, BuildError> {
+        let mut s = Stmt::new("volume", &v.entity, warnings);
+        Ok(match v.entity.kind.as_str() {
+            "clear" => Medium::Clear(Clear::build(&mut s, textures)?),
+            "homogeneous" | "homogenous" => {
+                Medium::Homogeneous(Homogeneous::build(&mut s, textures)?)
+            }
+            "heterogeneous" => Medium::Marched(Heterogeneous::build(&mut s, textures)?),
+            "exponential" => {
+                Medium::Marched(exponential::build(&mut s, textures, &v.object_to_world)?)
+            }
+            other => {
+                return Err(s.err(format!(
+                    "unknown volume \"{other}\" (clear, homogeneous, heterogeneous, exponential)"
+                )))
+            }
+        })
+    }
+
+    /// Whether light crosses the medium unchanged (a clear medium without absorption).
+    pub fn is_vacuum(&self) -> bool {
+        match self {
+            Medium::Clear(c) => c.absorption.is_black(),
+            Medium::Homogeneous(h) => h.sigma_a.is_black() && h.sigma_s.is_black(),
+            Medium::Marched(_) => false,
+        }
+    }
+
+    /// Whether the medium can scatter light.
+    pub fn scatters(&self) -> bool {
+        match self {
+            Medium::Clear(_) => false,
+            Medium::Homogeneous(h) => !h.sigma_s.is_black(),
+            Medium::Marched(_) => true,
+        }
+    }
+
+    /// Transmittance along the ray over its parametric extent [0, `t_max`].
+    pub fn tr(&self, ray: &Ray, t_max: f32) -> Rgb {
+        match self {
+            Medium::Clear(c) => c.tr(ray, t_max),
+            Medium::Homogeneous(h) => h.tr(ray, t_max),
+            Medium::Marched(m) => m.tr(ray, t_max),
+        }
+    }
+
+    /// Samples a scattering point along [0, `t_max`] (`u`, `u_channel` uniform in [0, 1)).
+    /// Media that do not scatter only attenuate.
+    pub fn sample(&self, ray: &Ray, t_max: f32, u: f32, u_channel: f32) -> MediumSample {
+        match self {
+            Medium::Homogeneous(h) => h.sample(ray, t_max, u, u_channel),
+            Medium::Marched(m) => m.sample(ray, t_max, u, u_channel),
+            Medium::Clear(c) => MediumSample {
+                scatter_t: None,
+                weight: c.tr(ray, t_max),
+            },
+        }
+    }
+
+    /// The phase function at scattering points.
+    pub fn phase(&self) -> HenyeyGreenstein {
+        HenyeyGreenstein::new(match self {
+            Medium::Clear(_) => 0.0,
+            Medium::Homogeneous(h) => h.g,
+            Medium::Marched(m) => m.g,
+        })
+    }
+}
+
+/// Exp(-sigma × distance) per channel (1 where sigma is 0, even over an infinite distance).
+pub fn transmittance(sigma: Rgb, dist: f32) -> Rgb {
+    sigma.map(|s| if s > 0.0 { (-s * dist).exp() } else { 1.0 })
+}
+
+/// The average of the three channels.
+pub fn channel_avg(c: Rgb) -> f32 {
+    (c.r + c.g + c.b) / 3.0
+}
+
+/// The coefficients every scattering medium reads.
+struct Common {
+    sigma_a: Rgb,
+    sigma_s: Rgb,
+    g: f32,
+}
+
+fn read_common(s: &mut Stmt, textures: &mut TextureSet) -> Result<Common, VolumeError> {
+    let sigma_a = constant_color(s, textures, "sigma_a")?;
+    let sigma_s = constant_color(s, textures, "sigma_s")?;
+    let g = read_g(s);
+    s.params().get("fresnel");
+    Ok(Common {
+        sigma_a,
+        sigma_s,
+        g,
+    })
+}
+
+/// `g`: a float or a colour (LuxRender's colour texture), averaged into one asymmetry.
+fn read_g(s: &mut Stmt) -> f32 {
+    let p = s.params();
+    let g = match p.get("g").map(|p| &p.value) {
+        Some(crate::lxs::ParamValue::Float(v)) => v.first().copied().unwrap_or(0.0),
+        Some(crate::lxs::ParamValue::Color(v)) => {
+            v.first().map_or(0.0, |c| (c[0] + c[1] + c[2]) / 3.0)
+        }
+        Some(_) => {
+            s.warn("volume \"g\" must be a float or a color; using 0");
+            0.0
+        }
+        None => 0.0,
+    };
+    if g.is_finite() && g.abs() < 1.0 {
+        g
+    } else {
+        s.warn(format!("volume \"g\" must be in (-1, 1), got {g}; clamped"));
+        if g.is_finite() {
+            g.clamp(-0.99, 0.99)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// A colour coefficient that is constant over the medium (a colour, a float, or a texture
+/// that evaluates to a constant such as `colordepth` of constants), ≥ 0 and finite.
+fn constant_color(s: &mut Stmt, textures: &mut TextureSet, name: &str) -> Result<Rgb, VolumeError> {
+    let t = textures.color_param(s.params(), name, Rgb::BLACK)?;
+    let c = match t.as_const() {
+        Some(c) => c,
+        None => {
+            s.warn(format!(
+                "volume \"{}\": \"{name}\" is not constant; its value at the origin is used \
+                 (use \"heterogeneous\" for media that vary in space)",
+                s.kind()
+            ));
+            t.eval(&crate::geometry::SurfaceInteraction::default())
+        }
+    };
+    if c.is_finite() && c.r >= 0.0 && c.g >= 0.0 && c.b >= 0.0 {
+        Ok(c)
+    } else {
+        Err(s
+            .err(format!(
+                "volume \"{}\": \"{name}\" must be finite and ≥ 0, got {} {} {}",
+                s.kind(),
+                c.r,
+                c.g,
+                c.b
+            ))
+            .into())
+    }
+}
+
+/// Interior and exterior medium of a primitive that is a medium boundary.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Boundary {
+    pub interior: Option<MediumId>,
+    pub exterior: Option<MediumId>,
+}
+
+/// The media a scene's rays travel in, shared by the render threads.
+#[derive(Debug)]
+pub struct MediaSet {
+    pub media: Vec<Medium>,
+    /// Per primitive id: `Some` when the primitive is a medium boundary.
+    boundaries: Vec<Option<Boundary>>,
+    /// The medium camera rays start in.
+    pub camera: Option<MediumId>,
+    /// Whether some medium scatters.
+    pub scatters: bool,
+}
+
+impl MediaSet {
+    /// Builds the media that `prim_media` (Interior/Exterior names per primitive id) and the
+    /// camera reference. `None` when none of them acts on light: such a scene renders as one
+    /// without media.
+    pub fn build(
+        desc: &SceneDescription,
+        prim_media: &[(Option<&str>, Option<&str>)],
+        textures: &mut TextureSet,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Option<MediaSet>, BuildError> {
+        let mut ids: BTreeMap<String, Option<MediumId>> = BTreeMap::new();
+        let mut media = Vec::new();
+        let mut resolve = |name: Option<&str>,
+                           media: &mut Vec<Medium>,
+                           warnings: &mut Vec<Diagnostic>|
+         -> Result<Option<MediumId>, BuildError> {
+            let Some(name) = name else {
+                return Ok(None);
+            };
+            if let Some(id) = ids.get(name) {
+                return Ok(*id);
+            }
+            let Some(v) = desc
+                .named_volumes
+                .get(name)
+                .and_then(|&i| desc.volumes.get(i))
+            else {
+                ids.insert(name.to_string(), None);
+                return Ok(None);
+            };
+            let m = Medium::build(v, textures, warnings)?;
+            report_unused("MakeNamedVolume", &v.entity, warnings);
+            let id = if m.is_vacuum() {
+                None
+            } else {
+                media.push(m);
+                Some(media.len() as MediumId - 1)
+            };
+            ids.insert(name.to_string(), id);
+            Ok(id)
+        };
+        let mut boundaries = Vec::with_capacity(prim_media.len());
+        for &(interior, exterior) in prim_media {
+            if interior.is_none() && exterior.is_none() {
+                boundaries.push(None);
+                continue;
+            }
+            boundaries.push(Some(Boundary {
+                interior: resolve(interior, &mut media, warnings)?,
+                exterior: resolve(exterior, &mut media, warnings)?,
+            }));
+        }
+        let camera_name = desc
+            .camera
+            .as_ref()
+            .and_then(|c| c.exterior.as_deref())
+            .or_else(|| desc.named_volumes.contains_key("world").then_some("world"));
+        let camera = resolve(camera_name, &mut media, warnings)?;
+        if media.is_empty() {
+            return Ok(None);
+        }
+        let scatters = media.iter().any(Medium::scatters);
+        tracing::info!(
+            media = media.len(),
+            scatters,
+            "scene has participating media"
+        );
+        Ok(Some(MediaSet {
+            media,
+            boundaries,
+            camera,
+            scatters,
+        }))
+    }
+
+    pub fn get(&self, id: MediumId) -> Option<&Medium> {
+        self.media.get(id as usize)
+    }
+
+    /// The boundary a primitive is, if any.
+    pub fn boundary(&self, prim: u32) -> Option<Boundary> {
+        self.boundaries.get(prim as usize).copied().flatten()
+    }
+
+    /// The medium a ray is in after leaving primitive `prim`'s surface in direction `d` (`n`
+    /// its geometric normal), coming from `current`.
+    pub fn after(
+        &self,
+        prim: u32,
+        n: Vec3A,
+        d: Vec3A,
+        current: Option<MediumId>,
+    ) -> Option<MediumId> {
+        match self.boundary(prim) {
+            Some(b) if d.dot(n) < 0.0 => b.interior,
+            Some(b) => b.exterior,
+            None => current,
+        }
+    }
+}
+
+/// Warns (located) about the region `Volume` statements, which are not rendered, and reports
+/// unused parameters of named volumes nothing references.
+pub fn warn_unrendered(desc: &SceneDescription, warnings: &mut Vec<Diagnostic>) {
+    for v in desc.volumes.iter().filter(|v| v.name.is_none()) {
+        warn(
+            warnings,
+            &v.entity.loc,
+            format!(
+                "Volume \"{}\" (a region volume) is ignored: region volumes are not rendered \
+                 yet; give a shape an Interior medium instead",
+                v.entity.kind
+            ),
+        );
+        report_unused("Volume", &v.entity, warnings);
+    }
+}
