@@ -34,6 +34,13 @@ pub struct SubmitOptions {
     pub frame: Option<i64>,
     /// The submitter (a token's name; set by the API from the caller's identity).
     pub owner: String,
+    /// The sequence the job is a frame of (its id) and the frame's number there.
+    pub sequence: Option<String>,
+    pub sequence_frame: Option<i64>,
+    /// Tags a worker must all have; memory (MiB) it must have; most workers at once.
+    pub tags: Vec<String>,
+    pub min_memory_mb: Option<u64>,
+    pub max_workers: Option<u32>,
 }
 
 /// What admission decided: the job's halt rules and the notes shown with it.
@@ -48,6 +55,11 @@ pub struct Admitted {
 /// Refuses halt overrides that are not finite positive numbers, or beyond the master's
 /// limits.
 pub fn check_overrides(cfg: &Config, o: &SubmitOptions) -> Result<()> {
+    if let Some(p) = o.priority.filter(|p| !(0..=100).contains(p)) {
+        return Err(ServerError::BadRequest(format!(
+            "priority {p}: priorities run from 0 (default) to 100 (first)"
+        )));
+    }
     check_halts(cfg, o.haltspp, o.halttime, o.haltthreshold)
 }
 

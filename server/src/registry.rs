@@ -7,8 +7,13 @@
 //!   old id + its credential     -> same id, same credential (after a master restart)
 //!   otherwise                   -> a new id and a new credential (stored hashed)
 //! ```
+//!
+//! The worker also declares what it offers: tags (cleaned by [`clean_tags`]: lowercase
+//! letters, digits, `-`, `_`, `.`; at most [`MAX_TAGS`]), its memory and its build; the
+//! scheduler matches them against what jobs ask for (`lease`).
 
 use crate::auth::{hash_token, WORKER_PREFIX};
+use crate::db::WorkerRow;
 use crate::error::{Result, ServerError};
 use crate::farm::{lock, new_id, now_ms, secret, Farm, WorkerRt};
 use luxfarm_proto as pb;
@@ -16,6 +21,41 @@ use std::time::Instant;
 
 /// Longest worker name kept.
 const MAX_NAME: usize = 128;
+
+/// Most tags a worker or a job may carry, and the longest tag.
+pub const MAX_TAGS: usize = 32;
+pub const MAX_TAG_LEN: usize = 64;
+
+/// Tags as the master keeps them: trimmed, lowercased, only `[a-z0-9._-]`, sorted, without
+/// duplicates; a tag with another character is refused (it would not match what users type).
+pub fn clean_tags(tags: &[String]) -> Result<Vec<String>> {
+    let mut out: Vec<String> = Vec::new();
+    for t in tags.iter().flat_map(|t| t.split(',')) {
+        let t = t.trim().to_ascii_lowercase();
+        if t.is_empty() {
+            continue;
+        }
+        let ok = t.len() <= MAX_TAG_LEN
+            && t.chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+        if !ok {
+            let shown: String = t.chars().take(MAX_TAG_LEN).collect();
+            return Err(ServerError::BadRequest(format!(
+                "tag {shown:?}: tags are 1 to {MAX_TAG_LEN} of a-z 0-9 . _ -"
+            )));
+        }
+        out.push(t);
+    }
+    out.sort();
+    out.dedup();
+    if out.len() > MAX_TAGS {
+        return Err(ServerError::BadRequest(format!(
+            "{} tags: at most {MAX_TAGS}",
+            out.len()
+        )));
+    }
+    Ok(out)
+}
 
 /// The refusal of a worker speaking another protocol version.
 pub fn protocol_mismatch(worker_protocol: u32, worker_build: &str) -> ServerError {
@@ -57,7 +97,23 @@ impl Farm {
             None => (new_id("w"), secret(WORKER_PREFIX)?),
         };
         let now = now_ms();
-        lock(&self.db).upsert_worker(&id, &name, r.threads, &hash_token(&token), now)?;
+        let tags = clean_tags(&r.tags)?;
+        let build: String = r
+            .build
+            .chars()
+            .map(|c| if c.is_control() { ' ' } else { c })
+            .take(MAX_NAME)
+            .collect();
+        lock(&self.db).upsert_worker(&WorkerRow {
+            id: id.clone(),
+            name: name.clone(),
+            threads: r.threads,
+            last_seen_ms: now,
+            token_hash: hash_token(&token),
+            tags: tags.clone(),
+            memory_mb: r.memory_mb,
+            build: build.clone(),
+        })?;
         let mut workers = lock(&self.workers);
         let lease = workers.get(&id).and_then(|w| w.lease.clone());
         workers.insert(
@@ -71,6 +127,9 @@ impl Farm {
                 lease,
                 lost: false,
                 samples: 0.0,
+                tags,
+                memory_mb: r.memory_mb,
+                build,
             },
         );
         drop(workers);
@@ -112,8 +171,27 @@ impl Farm {
                 lease: None,
                 lost: false,
                 samples: 0.0,
+                tags: row.tags,
+                memory_mb: row.memory_mb,
+                build: row.build,
             },
         );
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tags_are_normalised_and_bad_ones_refused() {
+        let t = |v: &[&str]| clean_tags(&v.iter().map(|s| s.to_string()).collect::<Vec<_>>());
+        assert_eq!(t(&["GPU", " big-mem,gpu", ""]).unwrap(), ["big-mem", "gpu"]);
+        assert!(t(&["a b"]).is_err());
+        assert!(t(&["../x"]).is_err());
+        assert!(t(&[&"x".repeat(65)]).is_err());
+        let many: Vec<String> = (0..33).map(|i| format!("t{i}")).collect();
+        assert!(clean_tags(&many).is_err());
     }
 }
