@@ -223,10 +223,6 @@ function sequenceStrip(q) {
     el("h3", {}, `${q.name} `, stateBadge(q.state), el("span", { class: "mute" }, ` ${q.frames_done}/${q.frames.length} frames · ${q.policy}`)),
     el("div", { class: "strip" }, ...cells));
 }
-  };
-  await refresh();
-  timer = setInterval(refresh, 2500);
-}
 
 // ---- tonemapping panel --------------------------------------------------------------------
 
