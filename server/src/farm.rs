@@ -302,7 +302,7 @@ impl Farm {
             std::fs::rename(&unpacked, &scene_dir)?;
         }
         let id = new_id("j");
-        let tags = crate::registry::clean_tags(&opts.tags)?;
+        let tags = admission::clean_tags(&opts.tags)?;
         let frame_number = opts.sequence_frame.or(opts.frame);
         let sequence = opts.sequence.as_deref().filter(|s| !s.is_empty());
         let frame_name = match sequence {

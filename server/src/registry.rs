@@ -8,8 +8,8 @@
 //!   otherwise                   -> a new id and a new credential (stored hashed)
 //! ```
 //!
-//! The worker also declares what it offers: tags (cleaned by [`clean_tags`]: lowercase
-//! letters, digits, `-`, `_`, `.`; at most [`MAX_TAGS`]), its memory and its build; the
+//! The worker also declares what it offers: tags (cleaned by `admission::clean_tags`: lowercase
+//! letters, digits, `-`, `_`, `.`; at most `admission::MAX_TAGS`), its memory and its build; the
 //! scheduler matches them against what jobs ask for (`lease`).
 
 use crate::auth::{hash_token, WORKER_PREFIX};
@@ -21,41 +21,6 @@ use std::time::Instant;
 
 /// Longest worker name kept.
 const MAX_NAME: usize = 128;
-
-/// Most tags a worker or a job may carry, and the longest tag.
-pub const MAX_TAGS: usize = 32;
-pub const MAX_TAG_LEN: usize = 64;
-
-/// Tags as the master keeps them: trimmed, lowercased, only `[a-z0-9._-]`, sorted, without
-/// duplicates; a tag with another character is refused (it would not match what users type).
-pub fn clean_tags(tags: &[String]) -> Result<Vec<String>> {
-    let mut out: Vec<String> = Vec::new();
-    for t in tags.iter().flat_map(|t| t.split(',')) {
-        let t = t.trim().to_ascii_lowercase();
-        if t.is_empty() {
-            continue;
-        }
-        let ok = t.len() <= MAX_TAG_LEN
-            && t.chars()
-                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
-        if !ok {
-            let shown: String = t.chars().take(MAX_TAG_LEN).collect();
-            return Err(ServerError::BadRequest(format!(
-                "tag {shown:?}: tags are 1 to {MAX_TAG_LEN} of a-z 0-9 . _ -"
-            )));
-        }
-        out.push(t);
-    }
-    out.sort();
-    out.dedup();
-    if out.len() > MAX_TAGS {
-        return Err(ServerError::BadRequest(format!(
-            "{} tags: at most {MAX_TAGS}",
-            out.len()
-        )));
-    }
-    Ok(out)
-}
 
 /// The refusal of a worker speaking another protocol version.
 pub fn protocol_mismatch(worker_protocol: u32, worker_build: &str) -> ServerError {
@@ -97,7 +62,7 @@ impl Farm {
             None => (new_id("w"), secret(WORKER_PREFIX)?),
         };
         let now = now_ms();
-        let tags = clean_tags(&r.tags)?;
+        let tags = crate::admission::clean_tags(&r.tags)?;
         let build: String = r
             .build
             .chars()
@@ -177,21 +142,5 @@ impl Farm {
             },
         );
         true
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn tags_are_normalised_and_bad_ones_refused() {
-        let t = |v: &[&str]| clean_tags(&v.iter().map(|s| s.to_string()).collect::<Vec<_>>());
-        assert_eq!(t(&["GPU", " big-mem,gpu", ""]).unwrap(), ["big-mem", "gpu"]);
-        assert!(t(&["a b"]).is_err());
-        assert!(t(&["../x"]).is_err());
-        assert!(t(&[&"x".repeat(65)]).is_err());
-        let many: Vec<String> = (0..33).map(|i| format!("t{i}")).collect();
-        assert!(clean_tags(&many).is_err());
     }
 }

@@ -556,7 +556,7 @@ async fn image_png(
 /// The download name of a job's output: `NAME_0001.png` for a frame of a sequence.
 async fn output_file(farm: &AppState, id: &str, ext: &'static str) -> Result<String> {
     let (f, i) = (farm.clone(), id.to_string());
-    blocking(move || Ok(crate::sequence::output_name(&f.job_row(&i)?, ext))).await
+    blocking(move || Ok(f.job_row(&i)?.output_name(ext))).await
 }
 
 /// Known workers.

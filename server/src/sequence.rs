@@ -11,7 +11,7 @@
 //! is named `NAME_0001.png` (four digits at least, as LuxRender exporters number files).
 
 use crate::admission;
-use crate::db::{JobRow, JobState, SequenceRow};
+use crate::db::{JobState, SequenceRow};
 use crate::error::{Result, ServerError};
 use crate::farm::{lock, new_id, now_ms, Farm};
 use crate::schedule::Policy;
@@ -23,15 +23,6 @@ pub const MAX_FRAMES: usize = 100_000;
 /// A job (or output) name for one frame: `base_0012` (at least four digits).
 pub fn frame_name(base: &str, frame: i64) -> String {
     format!("{base}_{frame:04}")
-}
-
-/// The file name of a job's output: `NAME_0001.EXT` for a frame of a sequence (its job
-/// name), `image.EXT` otherwise.
-pub fn output_name(row: &JobRow, ext: &str) -> String {
-    match row.sequence_frame {
-        Some(_) if row.sequence_id.is_some() => format!("{}.{ext}", row.name),
-        _ => format!("image.{ext}"),
-    }
 }
 
 /// A sequence as the API shows it.
@@ -161,7 +152,7 @@ impl Farm {
                 haltspp: row.haltspp,
                 active_leases: v.active_leases,
                 reason: row.reason.clone(),
-                output: output_name(row, "png"),
+                output: row.output_name("png"),
             });
         }
         Ok(SequenceView {

@@ -152,7 +152,7 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
         notes: row.notes.clone(),
         sequence: row.sequence_id.clone(),
         sequence_frame: row.sequence_frame,
-        output_name: crate::sequence::output_name(row, "png"),
+        output_name: row.output_name("png"),
         tags: row.tags.clone(),
         min_memory_mb: row.min_memory_mb,
         max_workers: row.max_workers,

@@ -108,6 +108,17 @@ pub struct JobRow {
     pub max_workers: u32,
 }
 
+impl JobRow {
+    /// The file name of the job's output: `NAME_0001.EXT` for a frame of a sequence (its job
+    /// name, which the master gives it), `image.EXT` otherwise.
+    pub fn output_name(&self, ext: &str) -> String {
+        match self.sequence_frame {
+            Some(_) if self.sequence_id.is_some() => format!("{}.{ext}", self.name),
+            _ => format!("image.{ext}"),
+        }
+    }
+}
+
 /// A new job to insert.
 #[derive(Default)]
 pub struct NewJob<'a> {
