@@ -211,10 +211,8 @@ function sequenceStrip(q) {
   const auth = t ? `&token=${encodeURIComponent(t)}` : "";
   const cells = q.frames.map((f) => {
     const kids = [el("span", { class: "frame-no" }, String(f.number).padStart(4, "0"))];
-    if (f.spp > 0) {
-      const v = Math.round(f.spp * 100);
-      kids.unshift(el("img", { src: `${API}/jobs/${f.job_id}/preview.png?max_size=64&v=${v}${auth}`, alt: f.output }));
-    }
+    // preview.png answers with an ETag and no-cache: the browser revalidates each redraw.
+    if (f.spp > 0) kids.unshift(el("img", { src: `${API}/jobs/${f.job_id}/preview.png?max_size=64${auth}`, alt: f.output }));
     kids.push(el("span", { class: "frame-spp" }, f.haltspp ? `${num(f.spp, 0)}/${num(f.haltspp, 0)}` : num(f.spp, 0)));
     return el("a", { class: `frame state-${f.state}${f.halting ? " halting" : ""}`, href: `#/job/${f.job_id}`,
       "data-number": String(f.number), "data-state": f.state, title: `${f.output}: ${f.state}${f.reason ? ` (${f.reason})` : ""}` }, ...kids);
