@@ -3,7 +3,8 @@
 //! chromedriver, started here on a free port) opens the dashboard, finds the job, watches the
 //! preview load and change, switches the tonemapping (the preview is refetched with the new
 //! query and gets brighter), cancels the job and sees it cancelled. The browser console must
-//! stay free of errors; screenshots are saved to `target/dashboard*.png`.
+//! stay free of errors; screenshots are saved to `target/dashboard*.png`. A second test shows a
+//! frame sequence as a strip that fills in over Server-Sent Events, without poll requests.
 //!
 //! The WebDriver client is a few JSON calls over the `reqwest` already used by the farm tests.
 //! Without `/usr/bin/chromium` and `chromedriver` the test fails and says how to install them
@@ -457,4 +458,84 @@ fn dashboard_asks_for_the_token_and_sends_it() {
          return t && t.textContent.includes('no jobs')
             && getComputedStyle(document.getElementById('error')).display === 'none' ? true : null;",
     );
+}
+
+/// A frame sequence on the dashboard: the job list shows it as a strip of frames that fill
+/// in as the two workers render them, with thumbnails, while the page takes its updates from
+/// the Server-Sent Events stream and sends no poll request.
+#[test]
+fn dashboard_strip_follows_a_sequence_over_server_sent_events() {
+    let browser = Browser::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let s = server(&dir.path().join("data"), &["--upload-interval", "0.5"]);
+    let cornell = std::fs::read_to_string(shared().join("scenes/cornell/cornell.lxs"))
+        .expect("read cornell.lxs");
+    browser.goto(&format!("{}/", s.url()));
+    browser.wait_js(
+        30,
+        "the event stream to open",
+        "return document.body.dataset.live === 'sse' ? true : null;",
+    );
+    let seq = http()
+        .post(s.api("/sequences"))
+        .json(&json!({"name": "strip", "policy": "earliest"}))
+        .send()
+        .expect("POST /sequences")
+        .json::<Value>()
+        .expect("JSON");
+    let seq = seq["id"].as_str().expect("sequence id").to_string();
+    // The baseline: what the page fetched before the sequence existed.
+    let fetches = "return performance.getEntriesByType('resource')
+        .filter((e) => ['fetch', 'xmlhttprequest'].includes(e.initiatorType)
+          && /\\/api\\/v1\\/(jobs|sequences|workers)/.test(e.name)).length;";
+    let before = browser.js(fetches);
+    for f in 1..=4 {
+        let x = -0.3 + 0.2 * f64::from(f);
+        let scene = cornell
+            .replace("LookAt 0 -3.9 1", &format!("LookAt {x:.2} -3.9 1"))
+            .replace(
+                "[256] \"integer yresolution\" [256]",
+                "[32] \"integer yresolution\" [32]",
+            );
+        let (st, job) = post_job(
+            &s,
+            scene.into_bytes(),
+            &format!("?filename=c.lxs&haltspp=32&sequence={seq}&sequence_frame={f}"),
+        );
+        assert_eq!(st, 201, "{job}");
+        assert_eq!(job["name"], format!("strip_{f:04}"));
+    }
+    let strip = format!("document.querySelector('.sequence[data-id=\"{seq}\"]')");
+    browser.wait_js(
+        30,
+        "the strip",
+        &format!("const q = {strip}; return q && q.querySelectorAll('.frame').length === 4 ? true : null;"),
+    );
+    let _w1 = worker(&s.url(), 1, &[]);
+    let _w2 = worker(&s.url(), 1, &[]);
+    let done = browser.wait_js(
+        600,
+        "every frame done with a thumbnail",
+        &format!(
+            "const q = {strip}; if (!q || q.dataset.state !== 'done') return null;
+            const f = [...q.querySelectorAll('.frame')];
+            if (f.some((x) => x.dataset.state !== 'done')) return null;
+            const imgs = [...q.querySelectorAll('.frame img')];
+            if (imgs.length !== 4 || imgs.some((i) => !i.complete || !i.naturalWidth)) return null;
+            return f.map((x) => x.dataset.number);"
+        ),
+    );
+    assert_eq!(done, json!(["1", "2", "3", "4"]));
+    assert_eq!(
+        browser.js(fetches),
+        before,
+        "the job list polled while the event stream was open"
+    );
+    browser.screenshot(&target_dir().join("dashboard-strip.png"));
+    let errors: Vec<Value> = browser
+        .console()
+        .into_iter()
+        .filter(|e| e["level"] == "SEVERE")
+        .collect();
+    assert!(errors.is_empty(), "console errors: {errors:?}");
 }

@@ -65,6 +65,7 @@ async fn register_and_lease(
             protocol: pb::PROTOCOL_VERSION,
             build: pb::BUILD.into(),
             worker_token: String::new(),
+            ..Default::default()
         })
         .await
         .unwrap()
@@ -326,6 +327,7 @@ fn protocol_versions_and_leases_bound_to_their_worker() {
                 protocol: pb::PROTOCOL_VERSION + 1,
                 build: "9.9.9".into(),
                 worker_token: String::new(),
+                ..Default::default()
             })
             .await
             .expect_err("another protocol version is refused");
@@ -347,6 +349,7 @@ fn protocol_versions_and_leases_bound_to_their_worker() {
                 protocol: pb::PROTOCOL_VERSION,
                 build: pb::BUILD.into(),
                 worker_token: String::new(),
+                ..Default::default()
             })
             .await
             .unwrap()

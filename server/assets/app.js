@@ -1,5 +1,7 @@
 // luxfarm dashboard: a hash-routed single page over the REST API (/api/v1). No framework.
 // Every API error is shown in the banner (#error) with the server's JSON `error` and `detail`.
+// Lists (jobs, workers, sequences) arrive pushed over Server-Sent Events (/api/v1/events);
+// pages poll only while that stream is not open (a browser or proxy without SSE).
 
 const API = "/api/v1";
 const main = document.getElementById("main");
@@ -52,6 +54,49 @@ function clearError() {
 function showTokenForm() {
   document.getElementById("token-form").hidden = false;
   document.getElementById("token-input").focus();
+}
+
+// ---- push updates -------------------------------------------------------------------------
+
+// The latest `jobs`, `workers` and `sequences` events, and the current page's listener.
+const live = { source: null, open: false, data: {}, listener: null };
+
+function connectEvents() {
+  if (!window.EventSource || live.source) return;
+  const t = token();
+  const src = new EventSource(`${API}/events${t ? `?token=${encodeURIComponent(t)}` : ""}`);
+  live.source = src;
+  const mark = () => { document.body.dataset.live = live.open ? "sse" : "poll"; };
+  src.onopen = () => { live.open = true; mark(); };
+  src.onerror = () => {
+    // EventSource reconnects by itself; pages poll meanwhile.
+    live.open = src.readyState === EventSource.OPEN;
+    mark();
+  };
+  for (const kind of ["jobs", "workers", "sequences"]) {
+    src.addEventListener(kind, (ev) => {
+      live.open = true;
+      mark();
+      try { live.data[kind] = JSON.parse(ev.data); } catch (_) { return; }
+      if (live.listener) live.listener(kind, live.data[kind]);
+    });
+  }
+}
+
+function reconnectEvents() {
+  if (live.source) live.source.close();
+  live.source = null;
+  live.open = false;
+  connectEvents();
+}
+
+// Calls `onData(kind, data)` on pushed updates; `poll` runs every 2.5 s only while the event
+// stream is not open.
+function follow(onData, poll) {
+  live.listener = onData;
+  for (const [k, v] of Object.entries(live.data)) onData(k, v);
+  timer = setInterval(() => { if (!live.open) poll(); }, 2500);
+  if (!live.open) poll();
 }
 
 // ---- formatting -------------------------------------------------------------------------
@@ -123,7 +168,8 @@ async function jobsPage(my) {
       el("option", { value: s }, s || "all states")));
   filter.value = listState.filter;
   const table = el("table", { id: "jobs" });
-  main.replaceChildren(el("div", { class: "toolbar" }, el("h2", {}, "Jobs"), el("label", {}, "state ", filter)),
+  const strips = el("div", { id: "sequences" });
+  main.replaceChildren(strips, el("div", { class: "toolbar" }, el("h2", {}, "Jobs"), el("label", {}, "state ", filter)),
     el("div", { class: "scroll" }, table));
   let jobs = [];
   const draw = () => {
@@ -141,14 +187,39 @@ async function jobsPage(my) {
     if (!rows.length) body.push(el("tr", {}, el("td", { colspan: COLUMNS.length, class: "mute" }, "no jobs")));
     table.replaceChildren(el("thead", {}, head), el("tbody", {}, ...body));
   };
+  let sequences = [];
+  const drawStrips = () => {
+    strips.replaceChildren(...sequences.map(sequenceStrip));
+  };
   const refresh = async () => {
     try {
-      jobs = await api("/jobs");
-      if (my === page) draw();
+      [jobs, sequences] = await Promise.all([api("/jobs"), api("/sequences")]);
+      if (my === page) { draw(); drawStrips(); }
     } catch (e) { showError(e); }
   };
-  await refresh();
-  timer = setInterval(refresh, 2500);
+  follow((kind, data) => {
+    if (my !== page) return;
+    if (kind === "jobs") { jobs = data; draw(); }
+    if (kind === "sequences") { sequences = data; drawStrips(); }
+  }, refresh);
+}
+
+// A sequence as a strip of frames: each cell shows the frame's state, number, spp and a
+// thumbnail once it has samples.
+function sequenceStrip(q) {
+  const t = token();
+  const auth = t ? `&token=${encodeURIComponent(t)}` : "";
+  const cells = q.frames.map((f) => {
+    const kids = [el("span", { class: "frame-no" }, String(f.number).padStart(4, "0"))];
+    // preview.png answers with an ETag and no-cache: the browser revalidates each redraw.
+    if (f.spp > 0) kids.unshift(el("img", { src: `${API}/jobs/${f.job_id}/preview.png?max_size=64${auth}`, alt: f.output }));
+    kids.push(el("span", { class: "frame-spp" }, f.haltspp ? `${num(f.spp, 0)}/${num(f.haltspp, 0)}` : num(f.spp, 0)));
+    return el("a", { class: `frame state-${f.state}${f.halting ? " halting" : ""}`, href: `#/job/${f.job_id}`,
+      "data-number": String(f.number), "data-state": f.state, title: `${f.output}: ${f.state}${f.reason ? ` (${f.reason})` : ""}` }, ...kids);
+  });
+  return el("section", { class: "sequence", "data-id": q.id, "data-state": q.state },
+    el("h3", {}, `${q.name} `, stateBadge(q.state), el("span", { class: "mute" }, ` ${q.frames_done}/${q.frames.length} frames · ${q.policy}`)),
+    el("div", { class: "strip" }, ...cells));
 }
 
 // ---- tonemapping panel --------------------------------------------------------------------
@@ -416,28 +487,33 @@ function submitPage() {
 async function workersPage(my) {
   const table = el("table", { id: "workers" });
   main.replaceChildren(el("h2", {}, "Workers"), el("div", { class: "scroll" }, table));
+  const draw = (ws) => {
+    const rows = ws.map((w) =>
+      el("tr", { "data-id": w.id, "data-quarantined": w.quarantined ? "yes" : "no" }, el("td", {}, w.name),
+        el("td", {}, stateBadge(w.quarantined ? "quarantined" : w.state)),
+        el("td", {}, String(w.threads)), el("td", { "data-key": "samples_per_sec" }, num(w.samples_per_sec)),
+        el("td", {}, w.job_id ? el("a", { href: `#/job/${w.job_id}` }, w.job_id) : "–"),
+        el("td", {}, `${dur(w.last_seen_secs)} ago`), el("td", { class: "hide-narrow" }, num(w.samples)),
+        el("td", { "data-key": "tags" }, (w.tags || []).join(", ") || "–"),
+        el("td", { "data-key": "blocked", title: w.quarantined || "" }, (w.blocked_jobs || []).length ? `${w.blocked_jobs.length} job(s)` : "–")));
+    if (!rows.length) rows.push(el("tr", {}, el("td", { colspan: 9, class: "mute" }, "no workers")));
+    table.replaceChildren(el("tr", {}, ...["name", "state", "threads", "samples/s", "job", "heartbeat"].map((h) => el("th", {}, h)),
+      el("th", { class: "hide-narrow" }, "samples"), el("th", {}, "tags"), el("th", {}, "blocked from")), ...rows);
+  };
   const refresh = async () => {
     try {
       const ws = await api("/workers");
-      if (my !== page) return;
-      const rows = ws.map((w) =>
-        el("tr", { "data-id": w.id }, el("td", {}, w.name), el("td", {}, stateBadge(w.state)),
-          el("td", {}, String(w.threads)), el("td", { "data-key": "samples_per_sec" }, num(w.samples_per_sec)),
-          el("td", {}, w.job_id ? el("a", { href: `#/job/${w.job_id}` }, w.job_id) : "–"),
-          el("td", {}, `${dur(w.last_seen_secs)} ago`), el("td", { class: "hide-narrow" }, num(w.samples))));
-      if (!rows.length) rows.push(el("tr", {}, el("td", { colspan: 7, class: "mute" }, "no workers")));
-      table.replaceChildren(el("tr", {}, ...["name", "state", "threads", "samples/s", "job", "heartbeat"].map((h) => el("th", {}, h)),
-        el("th", { class: "hide-narrow" }, "samples")), ...rows);
+      if (my === page) draw(ws);
     } catch (e) { showError(e); }
   };
-  await refresh();
-  timer = setInterval(refresh, 2500);
+  follow((kind, data) => { if (my === page && kind === "workers") draw(data); }, refresh);
 }
 
 // ---- routing ------------------------------------------------------------------------------
 
 function route() {
   clearInterval(timer);
+  live.listener = null;
   page += 1;
   const my = page;
   const hash = location.hash || "#/jobs";
@@ -456,7 +532,9 @@ document.getElementById("token-form").addEventListener("submit", (ev) => {
   localStorage.setItem("luxfarm-token", document.getElementById("token-input").value.trim());
   document.getElementById("token-form").hidden = true;
   clearError();
+  reconnectEvents();
   route();
 });
 window.addEventListener("hashchange", route);
+connectEvents();
 route();

@@ -9,6 +9,9 @@
 //!              (the master's default when none is given, noted on the job)
 //! ```
 //!
+//! Tags (what jobs ask of workers and workers offer) are cleaned here too ([`clean_tags`]),
+//! for submissions and worker registrations alike.
+//!
 //! A job's memory on the master: its merged film (pixels x light groups x buffers x 5 f64),
 //! a copy of it while a checkpoint is written, and one decoded delta per merge slot.
 
@@ -34,6 +37,13 @@ pub struct SubmitOptions {
     pub frame: Option<i64>,
     /// The submitter (a token's name; set by the API from the caller's identity).
     pub owner: String,
+    /// The sequence the job is a frame of (its id) and the frame's number there.
+    pub sequence: Option<String>,
+    pub sequence_frame: Option<i64>,
+    /// Tags a worker must all have; memory (MiB) it must have; most workers at once.
+    pub tags: Vec<String>,
+    pub min_memory_mb: Option<u64>,
+    pub max_workers: Option<u32>,
 }
 
 /// What admission decided: the job's halt rules and the notes shown with it.
@@ -48,6 +58,11 @@ pub struct Admitted {
 /// Refuses halt overrides that are not finite positive numbers, or beyond the master's
 /// limits.
 pub fn check_overrides(cfg: &Config, o: &SubmitOptions) -> Result<()> {
+    if let Some(p) = o.priority.filter(|p| !(0..=100).contains(p)) {
+        return Err(ServerError::BadRequest(format!(
+            "priority {p}: priorities run from 0 (default) to 100 (first)"
+        )));
+    }
     check_halts(cfg, o.haltspp, o.halttime, o.haltthreshold)
 }
 
@@ -200,6 +215,41 @@ pub fn clean_name(name: &str) -> String {
         .to_string()
 }
 
+/// Most tags a worker or a job may carry, and the longest tag.
+pub const MAX_TAGS: usize = 32;
+pub const MAX_TAG_LEN: usize = 64;
+
+/// Tags as the master keeps them: trimmed, lowercased, only `[a-z0-9._-]`, sorted, without
+/// duplicates; a tag with another character is refused (it would not match what users type).
+pub fn clean_tags(tags: &[String]) -> Result<Vec<String>> {
+    let mut out: Vec<String> = Vec::new();
+    for t in tags.iter().flat_map(|t| t.split(',')) {
+        let t = t.trim().to_ascii_lowercase();
+        if t.is_empty() {
+            continue;
+        }
+        let ok = t.len() <= MAX_TAG_LEN
+            && t.chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+        if !ok {
+            let shown: String = t.chars().take(MAX_TAG_LEN).collect();
+            return Err(ServerError::BadRequest(format!(
+                "tag {shown:?}: tags are 1 to {MAX_TAG_LEN} of a-z 0-9 . _ -"
+            )));
+        }
+        out.push(t);
+    }
+    out.sort();
+    out.dedup();
+    if out.len() > MAX_TAGS {
+        return Err(ServerError::BadRequest(format!(
+            "{} tags: at most {MAX_TAGS}",
+            out.len()
+        )));
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -315,5 +365,16 @@ mod tests {
     fn names_lose_control_characters() {
         assert_eq!(clean_name("a\u{1b}[31mb\n"), "a [31mb");
         assert_eq!(clean_name(&"x".repeat(300)).len(), 200);
+    }
+
+    #[test]
+    fn tags_are_normalised_and_bad_ones_refused() {
+        let t = |v: &[&str]| clean_tags(&v.iter().map(|s| s.to_string()).collect::<Vec<_>>());
+        assert_eq!(t(&["GPU", " big-mem,gpu", ""]).unwrap(), ["big-mem", "gpu"]);
+        assert!(t(&["a b"]).is_err());
+        assert!(t(&["../x"]).is_err());
+        assert!(t(&[&"x".repeat(65)]).is_err());
+        let many: Vec<String> = (0..33).map(|i| format!("t{i}")).collect();
+        assert!(clean_tags(&many).is_err());
     }
 }

@@ -70,6 +70,20 @@ pub struct Config {
     /// Submissions unpacked at once (the others wait before their bundle is unpacked).
     #[arg(long, default_value_t = 2)]
     pub max_unpacking: usize,
+    /// Failed leases (render failures, timeouts, refused deltas) after which a worker is
+    /// blocked from a job.
+    #[arg(long, default_value_t = 3)]
+    pub block_after: u32,
+    /// Jobs a worker may be blocked from before it is quarantined farm-wide.
+    #[arg(long, default_value_t = 3)]
+    pub quarantine_after: u32,
+    /// Seconds after which a quarantine is forgiven (an admin may forgive sooner).
+    #[arg(long, default_value_t = 3600.0)]
+    pub quarantine_ttl: f64,
+    /// Workers an unfinished job without a `max_workers` counts as wanting in the
+    /// `luxfarm_leases_wanted` gauge (what an autoscaler scales workers on).
+    #[arg(long, default_value_t = 8)]
+    pub workers_per_job: u32,
 }
 
 impl Config {
@@ -96,6 +110,10 @@ impl Config {
             idle_timeout: 120.0,
             request_timeout: 900.0,
             max_unpacking: 2,
+            block_after: 3,
+            quarantine_after: 3,
+            quarantine_ttl: 3600.0,
+            workers_per_job: 8,
         }
     }
 
@@ -125,11 +143,15 @@ impl Config {
             ("--header-timeout", self.header_timeout),
             ("--idle-timeout", self.idle_timeout),
             ("--request-timeout", self.request_timeout),
+            ("--quarantine-ttl", self.quarantine_ttl),
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("{name} must be a positive number"));
             }
+        }
+        if self.block_after == 0 || self.quarantine_after == 0 {
+            return Err("--block-after and --quarantine-after must be at least 1".into());
         }
         if self.max_connections == 0 || self.max_unpacking == 0 {
             return Err("--max-connections and --max-unpacking must be at least 1".into());

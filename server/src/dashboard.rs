@@ -1,6 +1,7 @@
 //! The web dashboard: a static single page (HTML, CSS, plain JS modules) embedded in the binary
 //! and served at `/` and `/assets/*`. It needs no token itself; the page calls the REST API and
-//! sends the token the user gives it as `Authorization: Bearer`.
+//! sends the token the user gives it as `Authorization: Bearer`. Lists follow the event stream
+//! (`events`) and poll only while it is closed.
 
 use axum::extract::Path;
 use axum::http::{header, StatusCode};

@@ -132,6 +132,10 @@ pub struct WorkerRt {
     pub lease: Option<(String, String)>,
     pub lost: bool,
     pub samples: f64,
+    /// What the worker declared: tags, memory (MiB, 0: unknown) and build.
+    pub tags: Vec<String>,
+    pub memory_mb: u64,
+    pub build: String,
 }
 
 /// The master.
@@ -183,6 +187,9 @@ impl Farm {
                     lease,
                     lost: false,
                     samples: 0.0,
+                    tags: w.tags,
+                    memory_mb: w.memory_mb,
+                    build: w.build,
                 };
                 (w.id, rt)
             })
@@ -295,12 +302,20 @@ impl Farm {
             std::fs::rename(&unpacked, &scene_dir)?;
         }
         let id = new_id("j");
-        let name = opts
-            .name
-            .as_deref()
-            .map(admission::clean_name)
-            .filter(|n| !n.is_empty())
-            .unwrap_or_else(|| admission::clean_name(&info.name));
+        let tags = admission::clean_tags(&opts.tags)?;
+        let frame_number = opts.sequence_frame.or(opts.frame);
+        let sequence = opts.sequence.as_deref().filter(|s| !s.is_empty());
+        let frame_name = match sequence {
+            Some(seq) => Some(self.check_frame(seq, frame_number, &opts.owner)?),
+            None => None,
+        };
+        let name = frame_name.unwrap_or_else(|| {
+            opts.name
+                .as_deref()
+                .map(admission::clean_name)
+                .filter(|n| !n.is_empty())
+                .unwrap_or_else(|| admission::clean_name(&info.name))
+        });
         let seed = opts.seed.unwrap_or_else(|| now_ms() as u64);
         let scene_path = scene_rel.to_string_lossy().replace('\\', "/");
         lock(&self.db).insert_job(&NewJob {
@@ -319,6 +334,11 @@ impl Farm {
             frame: opts.frame,
             owner: &opts.owner,
             notes: &admitted.notes,
+            sequence_id: sequence,
+            sequence_frame: sequence.and(frame_number),
+            tags: &tags,
+            min_memory_mb: opts.min_memory_mb.unwrap_or(0),
+            max_workers: opts.max_workers.unwrap_or(0),
         })?;
         tracing::info!(job = %id, %name, bundle = %hash, "job queued");
         self.metrics.jobs_submitted.fetch_add(1, Ordering::Relaxed);

@@ -100,6 +100,11 @@ impl pb::jobs_server::Jobs for JobsService {
             scene: Some(h.scene),
             frame: h.frame,
             owner: who.owner(),
+            sequence: Some(h.sequence),
+            sequence_frame: h.sequence_frame,
+            tags: h.tags,
+            min_memory_mb: h.min_memory_mb,
+            max_workers: h.max_workers,
         };
         let _unpacking = self
             .0
@@ -141,6 +146,21 @@ impl pb::jobs_server::Jobs for JobsService {
         })
         .await?;
         Ok(Response::new(view.into()))
+    }
+
+    async fn create_sequence(
+        &self,
+        req: Request<pb::CreateSequenceRequest>,
+    ) -> Result<Response<pb::SequenceInfo>, Status> {
+        let who = identity(&req)?;
+        let r = req.into_inner();
+        let farm = self.0.clone();
+        let row = blocking(move || farm.create_sequence(&r.name, &r.policy, &who.owner())).await?;
+        Ok(Response::new(pb::SequenceInfo {
+            id: row.id,
+            name: row.name,
+            policy: row.policy,
+        }))
     }
 
     type WatchStream = BoxStream<pb::JobInfo>;

@@ -135,7 +135,8 @@ fn tick_job(farm: &Farm, rt: &Arc<JobRt>) -> Result<()> {
 }
 
 /// Ends the leases of workers silent for longer than the timeout (their merged samples stay;
-/// their unused budget returns to the job's pool).
+/// their unused budget returns to the job's pool); each counts as a failed lease of the worker
+/// (`blocks`).
 fn expire_workers(farm: &Farm) -> Result<()> {
     let timeout = Duration::from_secs_f64(farm.cfg.worker_timeout);
     let mut lost = Vec::new();
@@ -158,6 +159,12 @@ fn expire_workers(farm: &Farm) -> Result<()> {
             }
         }
         tracing::warn!(%worker, %job, %lease, "lease lost");
+        let timeout = farm.cfg.worker_timeout;
+        farm.record_failure(
+            &worker,
+            &job,
+            &format!("lease timed out: no heartbeat for {timeout} s"),
+        )?;
         farm.touch();
     }
     Ok(())

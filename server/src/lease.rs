@@ -21,6 +21,7 @@ use crate::error::{Result, ServerError};
 use crate::farm::{lock, new_id, now_ms, Farm, JobRt, LeaseRt, RunState};
 use crate::metrics::MergeTiming;
 use crate::scene;
+use crate::schedule;
 use luxfarm_proto as pb;
 use std::collections::{HashMap, VecDeque};
 use std::sync::atomic::Ordering;
@@ -127,9 +128,9 @@ impl Farm {
         }))
     }
 
-    /// The next assignment for a worker: the first unfinished job by priority then submission
-    /// order that is not halting and still has samples to hand out. None when there is
-    /// nothing to do (or the master is shutting down).
+    /// The next assignment for a worker: the first job of the scheduling order
+    /// (`schedule::order`: what the worker may take, priority, submission, sequence policies)
+    /// that is not halting. None when there is nothing to do (or the master is shutting down).
     pub fn assign(&self, worker_id: &str) -> Result<Option<pb::Assignment>> {
         if !self.seen(worker_id) {
             return Err(ServerError::NotFound(format!(
@@ -139,15 +140,34 @@ impl Farm {
         if self.is_draining() {
             return Ok(None);
         }
-        let jobs = lock(&self.db).jobs()?;
-        for row in jobs.into_iter().filter(|j| !j.state.is_final()) {
-            let Ok(rt) = self.job_rt(&row) else {
+        if let Some(why) = self.quarantine(worker_id)? {
+            tracing::debug!(worker = %worker_id, %why, "quarantined worker asked for work");
+            return Ok(None);
+        }
+        let (tags, memory_mb) = lock(&self.workers)
+            .get(worker_id)
+            .map(|w| (w.tags.clone(), w.memory_mb))
+            .unwrap_or_default();
+        let (jobs, open) = {
+            let db = lock(&self.db);
+            (db.jobs()?, db.open_lease_counts()?)
+        };
+        let jobs: Vec<JobRow> = jobs.into_iter().filter(|j| !j.state.is_final()).collect();
+        let policies = self.sequence_policies()?;
+        let blocked = self.blocked_jobs(worker_id)?;
+        let offer = schedule::Offer {
+            tags: &tags,
+            memory_mb,
+            blocked: &blocked,
+        };
+        for row in schedule::order(&jobs, &offer, &open, &policies) {
+            let Ok(rt) = self.job_rt(row) else {
                 continue;
             };
             if lock(&rt.state).halting.is_some() {
                 continue;
             }
-            return self.lease_job(worker_id, &row, &rt).map(Some);
+            return self.lease_job(worker_id, row, &rt).map(Some);
         }
         Ok(None)
     }
@@ -276,38 +296,23 @@ impl Farm {
             return self.duplicate(&row, &rt, h);
         }
         let decode_start = Instant::now();
-        let delta = luxfarm_wire::codec::decode_as(&h.encoding, data)?;
+        let delta = match luxfarm_wire::codec::decode_as(&h.encoding, data) {
+            Ok(d) => d,
+            Err(e) => {
+                let e = ServerError::from(e);
+                self.record_failure(worker, &row.id, &format!("delta refused: {e}"))?;
+                return Err(e);
+            }
+        };
         let decode = decode_start.elapsed();
         let samples = delta.total_samples();
         let merge_start = Instant::now();
-        {
-            let mut film = lock(&rt.film);
-            film.check_layout(&delta)
-                .map_err(|e| ServerError::BadRequest(format!("delta refused: {e}")))?;
-            // The ledger row and the merge happen under the film lock: never one without the
-            // other, and no concurrent duplicate can slip between check and insert.
-            if rt.closed.load(Ordering::SeqCst) {
-                return Err(ServerError::Conflict(format!(
-                    "job {} has ended: delta not merged",
-                    row.id
-                )));
-            }
-            let db = lock(&self.db);
-            if db.ledger_has(&h.lease_id, h.seq)? {
-                drop(db);
-                drop(film);
-                return self.duplicate(&row, &rt, h);
-            }
-            film.merge(&delta)
-                .map_err(|e| ServerError::BadRequest(format!("delta refused: {e}")))?;
-            db.ledger_insert(
-                &h.lease_id,
-                h.seq,
-                &row.id,
-                samples,
-                data.len() as u64,
-                now_ms(),
-            )?;
+        let merged = self.merge_delta(h, data, &row, &rt, &delta);
+        if let Err(ServerError::BadRequest(why)) = &merged {
+            self.record_failure(worker, &row.id, why)?;
+        }
+        if merged? == UploadStatus::Duplicate {
+            return self.duplicate(&row, &rt, h);
         }
         let merge = merge_start.elapsed();
         rt.version.fetch_add(1, Ordering::Relaxed);
@@ -323,6 +328,43 @@ impl Farm {
             .record_merge(data.len() as u64, samples, timing);
         self.touch();
         self.ack(UploadStatus::Merged, &row, &rt, &h.lease_id)
+    }
+
+    /// Merges a decoded delta under the film lock together with its ledger row (never one
+    /// without the other; no concurrent duplicate slips between check and insert). A delta of
+    /// the wrong layout is refused (BadRequest) and leaves the film untouched.
+    fn merge_delta(
+        &self,
+        h: &pb::UploadHeader,
+        data: &[u8],
+        row: &JobRow,
+        rt: &JobRt,
+        delta: &scene::Film,
+    ) -> Result<UploadStatus> {
+        let mut film = lock(&rt.film);
+        film.check_layout(delta)
+            .map_err(|e| ServerError::BadRequest(format!("delta refused: {e}")))?;
+        if rt.closed.load(Ordering::SeqCst) {
+            return Err(ServerError::Conflict(format!(
+                "job {} has ended: delta not merged",
+                row.id
+            )));
+        }
+        let db = lock(&self.db);
+        if db.ledger_has(&h.lease_id, h.seq)? {
+            return Ok(UploadStatus::Duplicate);
+        }
+        film.merge(delta)
+            .map_err(|e| ServerError::BadRequest(format!("delta refused: {e}")))?;
+        db.ledger_insert(
+            &h.lease_id,
+            h.seq,
+            &row.id,
+            delta.total_samples(),
+            data.len() as u64,
+            now_ms(),
+        )?;
+        Ok(UploadStatus::Merged)
     }
 
     /// Books a merged delta to its lease and worker; the last delta ends the lease.
@@ -424,28 +466,37 @@ impl Farm {
         reply
     }
 
-    /// A worker could not render its lease (the scene does not build): the job fails.
+    /// A worker could not render its lease (the scene does not build there, the worker ran
+    /// out of something): the lease ends and the failure counts against the worker on this
+    /// job (`blocks`); the job goes on with other workers, or fails once every live worker is
+    /// blocked from it.
     pub fn lease_failed(&self, worker: &str, lease_id: &str, reason: &str) -> Result<()> {
         let (_, row) = match self.held_lease(worker, lease_id) {
             Ok(l) => l,
             Err(ServerError::Conflict(_)) => return Ok(()),
             Err(e) => return Err(e),
         };
-        let reason: String = reason
-            .chars()
-            .map(|c| if c.is_control() && c != '\n' { ' ' } else { c })
-            .take(4000)
-            .collect();
-        tracing::error!(job = %row.id, lease = %lease_id, %reason, "worker could not render the job");
-        let reason = format!("worker {worker}: {reason}");
-        let rt = lock(&self.jobs).get(&row.id).cloned();
-        match rt {
-            Some(rt) => crate::halt::finish(self, &rt, JobState::Failed, &reason),
-            None => {
-                lock(&self.db).set_job_state(&row.id, JobState::Failed, &reason, now_ms())?;
-                self.touch();
-                Ok(())
+        self.end_failed_lease(worker, &row.id, lease_id, "failed")?;
+        self.record_failure(worker, &row.id, reason)
+    }
+
+    /// Ends a lease that failed (its merged samples stay; its unused budget returns to the
+    /// job's pool) and frees its worker.
+    fn end_failed_lease(&self, worker: &str, job: &str, lease_id: &str, why: &str) -> Result<()> {
+        lock(&self.db).end_lease(lease_id, why, now_ms())?;
+        let rt = lock(&self.jobs).get(job).cloned();
+        if let Some(rt) = rt {
+            if let Some(l) = lock(&rt.leases).get_mut(lease_id) {
+                l.ended = true;
+                l.stop = true;
             }
         }
+        if let Some(w) = lock(&self.workers).get_mut(worker) {
+            if w.lease.as_ref().is_some_and(|(_, l)| l == lease_id) {
+                w.lease = None;
+            }
+        }
+        self.work_available.notify_waiters();
+        Ok(())
     }
 }

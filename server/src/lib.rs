@@ -8,7 +8,10 @@
 //!   `admission`: what a job may cost and whether it can render; `auth`: identities, roles,
 //!   tokens; `registry`: worker registration (protocol versions, credentials); `lease`:
 //!   leases, uploads, heartbeats; `budget`: per-lease sample budgets (precise haltspp);
-//!   `halt`: halt rules, checkpoints, job end, cancel; `db`: the SQLite store.
+//!   `halt`: halt rules, checkpoints, job end, cancel; `db`: the SQLite store (schema versions
+//!   and upgrades in `db::migrate`); `schedule`: which job a worker gets (priority, tags,
+//!   memory, sequence policies); `sequence`: frame sequences; `blocks`: failing workers
+//!   blocked from jobs and quarantined.
 //!
 //! Durability of acknowledged deltas: a delta is acknowledged once merged into the job's film
 //! in memory, and becomes durable with the next checkpoint (the film written atomically, then
@@ -22,7 +25,8 @@
 //! - Bundles and film deltas are decoded with `luxfarm-wire`, which the client and the workers
 //!   share.
 //! - `scene`: what the master asks of the render core; `output`: outputs on demand.
-//! - `rest`, `grpc`, `views`, `metrics`, `error`; `dashboard`: the web page.
+//! - `rest`, `grpc`, `views`, `metrics`, `error`; `dashboard`: the web page; `events`: the
+//!   Server-Sent Events stream the dashboard listens to.
 //!
 //! The public surface is what the `luxfarm` command needs to run or embed a master
 //! ([`Config`], [`run`], [`start`], [`Running`]) and what the capacity benchmark reads through
@@ -30,6 +34,7 @@
 
 pub(crate) mod admission;
 pub(crate) mod auth;
+pub(crate) mod blocks;
 pub(crate) mod budget;
 pub(crate) mod config;
 pub(crate) mod conn;
@@ -37,6 +42,7 @@ pub(crate) mod dashboard;
 pub(crate) mod datadir;
 pub(crate) mod db;
 pub(crate) mod error;
+pub(crate) mod events;
 pub(crate) mod farm;
 pub(crate) mod grpc;
 pub(crate) mod halt;
@@ -51,6 +57,8 @@ pub(crate) mod output;
 pub(crate) mod registry;
 pub(crate) mod rest;
 pub(crate) mod scene;
+pub(crate) mod schedule;
+pub(crate) mod sequence;
 pub(crate) mod serve;
 pub(crate) mod views;
 

@@ -7,8 +7,13 @@
 //!   old id + its credential     -> same id, same credential (after a master restart)
 //!   otherwise                   -> a new id and a new credential (stored hashed)
 //! ```
+//!
+//! The worker also declares what it offers: tags (cleaned by `admission::clean_tags`: lowercase
+//! letters, digits, `-`, `_`, `.`; at most `admission::MAX_TAGS`), its memory and its build; the
+//! scheduler matches them against what jobs ask for (`lease`).
 
 use crate::auth::{hash_token, WORKER_PREFIX};
+use crate::db::WorkerRow;
 use crate::error::{Result, ServerError};
 use crate::farm::{lock, new_id, now_ms, secret, Farm, WorkerRt};
 use luxfarm_proto as pb;
@@ -57,7 +62,23 @@ impl Farm {
             None => (new_id("w"), secret(WORKER_PREFIX)?),
         };
         let now = now_ms();
-        lock(&self.db).upsert_worker(&id, &name, r.threads, &hash_token(&token), now)?;
+        let tags = crate::admission::clean_tags(&r.tags)?;
+        let build: String = r
+            .build
+            .chars()
+            .map(|c| if c.is_control() { ' ' } else { c })
+            .take(MAX_NAME)
+            .collect();
+        lock(&self.db).upsert_worker(&WorkerRow {
+            id: id.clone(),
+            name: name.clone(),
+            threads: r.threads,
+            last_seen_ms: now,
+            token_hash: hash_token(&token),
+            tags: tags.clone(),
+            memory_mb: r.memory_mb,
+            build: build.clone(),
+        })?;
         let mut workers = lock(&self.workers);
         let lease = workers.get(&id).and_then(|w| w.lease.clone());
         workers.insert(
@@ -71,6 +92,9 @@ impl Farm {
                 lease,
                 lost: false,
                 samples: 0.0,
+                tags,
+                memory_mb: r.memory_mb,
+                build,
             },
         );
         drop(workers);
@@ -112,6 +136,9 @@ impl Farm {
                 lease: None,
                 lost: false,
                 samples: 0.0,
+                tags: row.tags,
+                memory_mb: row.memory_mb,
+                build: row.build,
             },
         );
         true

@@ -14,7 +14,7 @@ use axum::extract::rejection::QueryRejection;
 use axum::extract::{Extension, FromRequest, Multipart, Path, Query, Request, State};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
-use axum::routing::get;
+use axum::routing::{get, post};
 use axum::{Json, Router};
 use std::sync::Arc;
 use utoipa::OpenApi;
@@ -39,6 +39,11 @@ type AppState = Arc<Farm>;
         image_exr,
         image_png,
         list_workers,
+        forgive_worker,
+        list_sequences,
+        create_sequence,
+        get_sequence,
+        events,
         healthz,
         metrics,
         openapi_json
@@ -48,6 +53,10 @@ type AppState = Arc<Farm>;
         WorkerView,
         ErrorBody,
         views::JobWorkerView,
+        crate::sequence::SequenceView,
+        crate::sequence::FrameView,
+        crate::blocks::FailureView,
+        NewSequence,
         TonemapView,
         TonemapSettings,
         crate::db::JobState
@@ -68,6 +77,14 @@ pub fn router(farm: AppState) -> Router {
         .route("/api/v1/jobs/{id}/image.exr", get(image_exr))
         .route("/api/v1/jobs/{id}/image.png", get(image_png))
         .route("/api/v1/workers", get(list_workers))
+        .route("/api/v1/workers/{id}/forgive", post(forgive_worker))
+        .route(
+            "/api/v1/sequences",
+            get(list_sequences).post(create_sequence),
+        )
+        .route("/api/v1/sequences/{id}", get(get_sequence))
+        .route("/api/v1/events", get(events))
+        .route("/api/events", get(events))
         .route("/api/v1/healthz", get(healthz))
         .route("/healthz", get(healthz))
         .route("/api/v1/metrics", get(metrics))
@@ -138,6 +155,19 @@ pub struct SubmitQuery {
     /// The animation frame to render (animated scene formats such as LightWave).
     #[param(value_type = Option<i64>)]
     pub frame: Option<String>,
+    /// The sequence (id from POST /api/v1/sequences) the job is a frame of.
+    pub sequence: Option<String>,
+    /// The frame's number in its sequence (outputs are named NAME_0001.png after it).
+    #[param(value_type = Option<i64>)]
+    pub sequence_frame: Option<String>,
+    /// Tags a worker must all have to take the job (comma-separated).
+    pub tags: Option<String>,
+    /// Memory (MiB) a worker must have to take the job.
+    #[param(value_type = Option<u64>)]
+    pub min_memory_mb: Option<String>,
+    /// The most workers on the job at once.
+    #[param(value_type = Option<u32>)]
+    pub max_workers: Option<String>,
 }
 
 impl SubmitQuery {
@@ -155,6 +185,11 @@ impl SubmitQuery {
             ("priority", &self.priority),
             ("scene", &self.scene),
             ("frame", &self.frame),
+            ("sequence", &self.sequence),
+            ("sequence_frame", &self.sequence_frame),
+            ("tags", &self.tags),
+            ("min_memory_mb", &self.min_memory_mb),
+            ("max_workers", &self.max_workers),
         ];
         for (name, value) in fields {
             if let Some(v) = value {
@@ -184,6 +219,13 @@ pub fn set_option(o: &mut SubmitOptions, name: &str, text: &str) -> Result<()> {
         "seed" => o.seed = Some(parse(name, text, "an integer from 0 to 2^64-1")?),
         "priority" => o.priority = Some(parse(name, text, "an integer from -2^31 to 2^31-1")?),
         "frame" => o.frame = Some(parse(name, text, "an integer")?),
+        "sequence_frame" => o.sequence_frame = Some(parse(name, text, "an integer")?),
+        "sequence" => o.sequence = Some(text.to_string()),
+        "tags" => o.tags.push(text.to_string()),
+        "min_memory_mb" => {
+            o.min_memory_mb = Some(parse(name, text, "a whole number of MiB")?);
+        }
+        "max_workers" => o.max_workers = Some(parse(name, text, "a whole number")?),
         "name" => o.name = Some(text.to_string()),
         "scene" => o.scene = Some(text.to_string()),
         _ => {}
@@ -199,7 +241,8 @@ fn query<T>(q: std::result::Result<Query<T>, QueryRejection>) -> Result<T> {
 
 /// Submit a job: a raw .lxs, a .zip or .tar bundle, or multipart/form-data with a `file` part
 /// (and optional `haltspp`, `halttime`, `haltthreshold`, `seed`, `priority`, `name`, `scene`,
-/// `frame` fields). Query parameters give the same options.
+/// `frame`, `sequence`, `sequence_frame`, `tags`, `min_memory_mb`, `max_workers` fields).
+/// Query parameters give the same options. Priorities run from 0 to 100.
 #[utoipa::path(post, path = "/api/v1/jobs", params(SubmitQuery),
     request_body(content = Vec<u8>, description = "scene (.lxs), .zip or .tar; or multipart/form-data",
                  content_type = "application/octet-stream"),
@@ -488,7 +531,8 @@ async fn image_exr(
     headers: HeaderMap,
 ) -> Result<Response> {
     let tm = TonemapOverride::default();
-    output(farm, id, "exr", None, tm, &headers, Some("image.exr")).await
+    let name = output_file(&farm, &id, "exr").await?;
+    output(farm, id, "exr", None, tm, &headers, Some(&name)).await
 }
 
 /// The merged film tonemapped to PNG, at full resolution unless `max_size` is given; the
@@ -505,13 +549,101 @@ async fn image_png(
 ) -> Result<Response> {
     let q = query(q)?;
     let (tm, size) = (q.tonemap()?, q.max_size()?);
-    output(farm, id, "png", size, tm, &headers, Some("image.png")).await
+    let name = output_file(&farm, &id, "png").await?;
+    output(farm, id, "png", size, tm, &headers, Some(&name)).await
+}
+
+/// The download name of a job's output: `NAME_0001.png` for a frame of a sequence.
+async fn output_file(farm: &AppState, id: &str, ext: &'static str) -> Result<String> {
+    let (f, i) = (farm.clone(), id.to_string());
+    blocking(move || Ok(f.job_row(&i)?.output_name(ext))).await
 }
 
 /// Known workers.
 #[utoipa::path(get, path = "/api/v1/workers", responses((status = 200, body = Vec<WorkerView>)))]
 async fn list_workers(State(farm): State<AppState>) -> Result<Json<Vec<WorkerView>>> {
     Ok(Json(blocking(move || views::worker_views(&farm)).await?))
+}
+
+/// Forgive a quarantined worker now (admin): it takes leases again (its blocks on single
+/// jobs stay).
+#[utoipa::path(post, path = "/api/v1/workers/{id}/forgive", params(("id" = String, Path)),
+    responses((status = 200, body = WorkerView), (status = 404, body = ErrorBody),
+              (status = 403, body = ErrorBody)))]
+async fn forgive_worker(
+    State(farm): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Json<WorkerView>> {
+    Ok(Json(
+        blocking(move || {
+            farm.forgive(&id)?;
+            views::worker_views(&farm)?
+                .into_iter()
+                .find(|w| w.id == id)
+                .ok_or_else(|| ServerError::NotFound(format!("no worker {id:?}")))
+        })
+        .await?,
+    ))
+}
+
+/// A new frame sequence: its name (frames are named `NAME_0001`) and policy.
+#[derive(Debug, Default, serde::Deserialize, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NewSequence {
+    #[serde(default)]
+    pub name: String,
+    /// `spread` (default: workers spread over the unfinished frames) or `earliest` (workers
+    /// piled on the earliest unfinished frame).
+    #[serde(default)]
+    pub policy: String,
+}
+
+/// Frame sequences with per-frame state.
+#[utoipa::path(get, path = "/api/v1/sequences",
+    responses((status = 200, body = Vec<crate::sequence::SequenceView>)))]
+async fn list_sequences(
+    State(farm): State<AppState>,
+) -> Result<Json<Vec<crate::sequence::SequenceView>>> {
+    Ok(Json(blocking(move || farm.sequence_views()).await?))
+}
+
+/// Create an empty frame sequence; submit its frames to POST /api/v1/jobs with `sequence`
+/// and `sequence_frame`.
+#[utoipa::path(post, path = "/api/v1/sequences", request_body = NewSequence,
+    responses((status = 201, body = crate::sequence::SequenceView),
+              (status = 400, body = ErrorBody)))]
+async fn create_sequence(
+    State(farm): State<AppState>,
+    Extension(who): Extension<Identity>,
+    body: std::result::Result<Json<NewSequence>, axum::extract::rejection::JsonRejection>,
+) -> Result<Response> {
+    let Json(n) = body.map_err(|e| ServerError::BadRequest(e.body_text()))?;
+    let view = blocking(move || {
+        let row = farm.create_sequence(&n.name, &n.policy, &who.owner())?;
+        farm.sequence_view(&row.id)
+    })
+    .await?;
+    Ok((StatusCode::CREATED, Json(view)).into_response())
+}
+
+/// One frame sequence with per-frame state, spp and output names.
+#[utoipa::path(get, path = "/api/v1/sequences/{id}", params(("id" = String, Path)),
+    responses((status = 200, body = crate::sequence::SequenceView),
+              (status = 404, body = ErrorBody)))]
+async fn get_sequence(
+    State(farm): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Json<crate::sequence::SequenceView>> {
+    Ok(Json(blocking(move || farm.sequence_view(&id)).await?))
+}
+
+/// Server-Sent Events: a `jobs` event (every job's view, as GET /api/v1/jobs), a `workers`
+/// event and a `sequences` event whenever something changed (at most every 250 ms), and a
+/// comment every 15 s to keep proxies from closing the stream. Also at `/api/events`.
+#[utoipa::path(get, path = "/api/v1/events",
+    responses((status = 200, content_type = "text/event-stream", body = String)))]
+async fn events(State(farm): State<AppState>) -> Response {
+    crate::events::stream(farm).into_response()
 }
 
 /// Liveness.
@@ -534,7 +666,17 @@ async fn metrics(State(farm): State<AppState>) -> Result<Response> {
         let w = crate::farm::lock(&farm.workers);
         (w.len(), w.values().filter(|w| w.lost).count())
     };
-    let text = farm.metrics.render(&by_state, n, lost);
+    let mut text = farm.metrics.render(&by_state, n, lost);
+    let wanted = crate::schedule::leases_wanted(&jobs, farm.cfg.workers_per_job, |id| {
+        crate::farm::lock(&farm.jobs)
+            .get(id)
+            .is_some_and(|rt| crate::farm::lock(&rt.state).halting.is_some())
+    });
+    text.push_str(&format!(
+        "# HELP luxfarm_leases_wanted Worker leases the unfinished jobs could use now (each job's \
+         max_workers, else --workers-per-job); what an autoscaler scales workers on.\n\
+         # TYPE luxfarm_leases_wanted gauge\nluxfarm_leases_wanted {wanted}\n"
+    ));
     Ok(([(header::CONTENT_TYPE, "text/plain; version=0.0.4")], text).into_response())
 }
 

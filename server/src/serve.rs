@@ -141,14 +141,16 @@ fn need(method: &Method, path: &str) -> Need {
             "Worker/Register" => Need::Register,
             r if r.starts_with("Worker/") => Need::Worker,
             r if r.starts_with("Admin/") => Need::Admin,
-            "Jobs/Submit" | "Jobs/CancelJob" => Need::Submit,
+            "Jobs/Submit" | "Jobs/CancelJob" | "Jobs/CreateSequence" => Need::Submit,
             _ => Need::Read,
         };
     }
     if !(path.starts_with("/api/") || path == "/metrics") {
         return Need::Nothing; // the dashboard's static page and assets
     }
-    if path.starts_with("/api/v1/tokens") {
+    if path.starts_with("/api/v1/tokens")
+        || (path.starts_with("/api/v1/workers/") && path.ends_with("/forgive"))
+    {
         return Need::Admin;
     }
     match *method {
@@ -157,13 +159,15 @@ fn need(method: &Method, path: &str) -> Need {
     }
 }
 
-/// True for the downloads a link may carry a `?token=` for (GET of images and films).
+/// True for the downloads a link may carry a `?token=` for (GET of images and films), and the
+/// event stream (a browser's EventSource cannot send headers).
 fn link_download(method: &Method, path: &str) -> bool {
-    *method == Method::GET
-        && path.starts_with("/api/v1/jobs/")
+    let download = path.starts_with("/api/v1/jobs/")
         && ["/preview.png", "/image.png", "/image.exr", "/film.flm"]
             .iter()
-            .any(|s| path.ends_with(s))
+            .any(|s| path.ends_with(s));
+    let events = path == "/api/events" || path == "/api/v1/events";
+    *method == Method::GET && (download || events)
 }
 
 /// The bearer token of a request.

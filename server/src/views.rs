@@ -51,6 +51,18 @@ pub struct JobView {
     pub owner: String,
     /// The master's notes about the job (e.g. the default halt rule it was given).
     pub notes: Vec<String>,
+    /// The frame sequence the job is a frame of, and its frame number there.
+    pub sequence: Option<String>,
+    pub sequence_frame: Option<i64>,
+    /// The file name of the job's image: `NAME_0001.png` for a frame of a sequence.
+    pub output_name: String,
+    /// Tags a worker must all have to take the job.
+    pub tags: Vec<String>,
+    /// Memory (MiB) a worker must have (0: any); most workers at once (0: no limit).
+    pub min_memory_mb: u64,
+    pub max_workers: u32,
+    /// Workers whose leases of this job failed, and whether they are blocked from it.
+    pub failures: Vec<crate::blocks::FailureView>,
 }
 
 /// A worker's contribution to a job.
@@ -76,6 +88,14 @@ pub struct WorkerView {
     /// Seconds since the last heartbeat.
     pub last_seen_secs: f64,
     pub samples: f64,
+    /// What the worker declared: tags, memory (MiB, 0: unknown) and build.
+    pub tags: Vec<String>,
+    pub memory_mb: u64,
+    pub build: String,
+    /// Why the worker gets no leases at all (quarantined), if it does not.
+    pub quarantined: Option<String>,
+    /// Jobs the worker is blocked from (too many failed leases).
+    pub blocked_jobs: Vec<String>,
     /// Samples per second of the worker's acknowledged uploads over the last minute (three
     /// upload intervals if that is longer); 0 when it is not rendering.
     pub samples_per_sec: f64,
@@ -130,6 +150,13 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
         film_version: format!("{}-{}", row.ckpt_gen, 0),
         owner: row.owner.clone(),
         notes: row.notes.clone(),
+        sequence: row.sequence_id.clone(),
+        sequence_frame: row.sequence_frame,
+        output_name: row.output_name("png"),
+        tags: row.tags.clone(),
+        min_memory_mb: row.min_memory_mb,
+        max_workers: row.max_workers,
+        failures: farm.job_failures(&row.id)?,
     };
     if let Some(rt) = rt {
         let samples = lock(&rt.film).total_samples();
@@ -182,34 +209,40 @@ pub fn job_views(farm: &Farm) -> Result<Vec<JobView>> {
 /// Views of every known worker.
 pub fn worker_views(farm: &Farm) -> Result<Vec<WorkerView>> {
     let rates = worker_rates(farm, now_ms())?;
-    let mut v: Vec<WorkerView> = lock(&farm.workers)
-        .values()
-        .map(|w| {
-            let rendering = !w.lost && w.lease.is_some();
-            WorkerView {
-                id: w.id.clone(),
-                name: w.name.clone(),
-                threads: w.threads,
-                state: if w.lost {
-                    "lost".into()
-                } else if rendering {
-                    "rendering".into()
-                } else {
-                    "idle".into()
-                },
-                job_id: w.lease.as_ref().map(|(j, _)| j.clone()),
-                lease_id: w.lease.as_ref().map(|(_, l)| l.clone()),
-                last_seen_ms: w.last_seen_ms,
-                last_seen_secs: w.last_seen.elapsed().as_secs_f64(),
-                samples: w.samples,
-                samples_per_sec: if rendering {
-                    rates.get(&w.id).copied().unwrap_or(0.0)
-                } else {
-                    0.0
-                },
-            }
-        })
-        .collect();
+    let workers: Vec<crate::farm::WorkerRt> = lock(&farm.workers).values().cloned().collect();
+    let mut v = Vec::with_capacity(workers.len());
+    for w in workers {
+        let rendering = !w.lost && w.lease.is_some();
+        let mut blocked_jobs: Vec<String> = farm.blocked_jobs(&w.id)?.into_iter().collect();
+        blocked_jobs.sort();
+        v.push(WorkerView {
+            quarantined: farm.quarantine(&w.id)?,
+            blocked_jobs,
+            name: w.name,
+            threads: w.threads,
+            state: if w.lost {
+                "lost".into()
+            } else if rendering {
+                "rendering".into()
+            } else {
+                "idle".into()
+            },
+            job_id: w.lease.as_ref().map(|(j, _)| j.clone()),
+            lease_id: w.lease.as_ref().map(|(_, l)| l.clone()),
+            last_seen_ms: w.last_seen_ms,
+            last_seen_secs: w.last_seen.elapsed().as_secs_f64(),
+            samples: w.samples,
+            tags: w.tags,
+            memory_mb: w.memory_mb,
+            build: w.build,
+            samples_per_sec: if rendering {
+                rates.get(&w.id).copied().unwrap_or(0.0)
+            } else {
+                0.0
+            },
+            id: w.id,
+        });
+    }
     v.sort_by(|a, b| a.name.cmp(&b.name).then(a.id.cmp(&b.id)));
     Ok(v)
 }
@@ -293,6 +326,9 @@ impl From<JobView> for pb::JobInfo {
             frame: v.frame,
             owner: v.owner,
             notes: v.notes,
+            sequence: v.sequence.unwrap_or_default(),
+            sequence_frame: v.sequence_frame,
+            tags: v.tags,
         }
     }
 }
@@ -309,6 +345,9 @@ impl From<WorkerView> for pb::WorkerInfo {
             last_seen_ms: w.last_seen_ms,
             samples: w.samples,
             samples_per_sec: w.samples_per_sec,
+            tags: w.tags,
+            memory_mb: w.memory_mb,
+            build: w.build,
         }
     }
 }
@@ -340,9 +379,7 @@ mod tests {
                 width: 8,
                 height: 6,
                 submitted_ms: 0,
-                frame: None,
-                owner: "",
-                notes: &[],
+                ..Default::default()
             })
             .unwrap();
             // Rows come in merge order. w3: uploads long ago only.

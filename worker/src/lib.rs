@@ -49,9 +49,27 @@ pub struct Config {
     /// Exit after this many leases (0: run forever).
     #[arg(long, default_value_t = 0)]
     pub max_leases: u64,
+    /// A tag this worker offers (repeat, or comma-separated): jobs asking for tags go only to
+    /// workers having them all.
+    #[arg(long = "tag")]
+    pub tags: Vec<String>,
+    /// Memory this worker offers in MiB (default: the machine's, from /proc/meminfo).
+    #[arg(long)]
+    pub memory_mb: Option<u64>,
 }
 
 impl Config {
+    /// The memory declared to the master: `--memory-mb`, else the machine's total (0 when it
+    /// cannot be read).
+    fn memory_mb(&self) -> u64 {
+        self.memory_mb.unwrap_or_else(|| {
+            std::fs::read_to_string("/proc/meminfo")
+                .ok()
+                .and_then(|t| mem_total_mb(&t))
+                .unwrap_or(0)
+        })
+    }
+
     fn threads(&self) -> usize {
         self.threads
             .filter(|&n| n > 0)
@@ -104,6 +122,13 @@ pub async fn run(cfg: Config) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// MemTotal of a /proc/meminfo text, in MiB.
+fn mem_total_mb(meminfo: &str) -> Option<u64> {
+    let line = meminfo.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024)
+}
+
 fn spawn_signal_watch(flag: Arc<AtomicBool>) -> anyhow::Result<()> {
     use tokio::signal::unix::{signal, SignalKind};
     let mut term = signal(SignalKind::terminate())?;
@@ -117,4 +142,14 @@ fn spawn_signal_watch(flag: Arc<AtomicBool>) -> anyhow::Result<()> {
         flag.store(true, Ordering::Relaxed);
     });
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn memory_comes_from_meminfo() {
+        let text = "MemTotal:       16303580 kB\nMemFree:  1 kB\n";
+        assert_eq!(super::mem_total_mb(text), Some(15921));
+        assert_eq!(super::mem_total_mb("MemFree: 1 kB"), None);
+    }
 }

@@ -32,6 +32,9 @@ pub struct Link {
     credential: Auth,
     name: String,
     threads: u32,
+    /// What the worker offers: its tags and memory (MiB).
+    tags: Vec<String>,
+    memory_mb: u64,
     state: Arc<Mutex<Registration>>,
     pub shutdown: Arc<AtomicBool>,
 }
@@ -75,6 +78,8 @@ impl Link {
             credential,
             name: cfg.name(),
             threads: threads as u32,
+            tags: cfg.tags.clone(),
+            memory_mb: cfg.memory_mb(),
             state: Arc::new(Mutex::new(Registration {
                 heartbeat: Duration::from_secs(1),
                 ..Registration::default()
@@ -129,6 +134,8 @@ impl Link {
                 protocol: pb::PROTOCOL_VERSION,
                 build: format!("luxfarm {}", pb::BUILD),
                 worker_token,
+                tags: self.tags.clone(),
+                memory_mb: self.memory_mb,
             };
             let client = connect::worker_client(self.register_channel.clone());
             match client.clone().register(req).await {

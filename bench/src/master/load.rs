@@ -138,6 +138,7 @@ impl SimWorker {
                 protocol: pb::PROTOCOL_VERSION,
                 build: pb::BUILD.into(),
                 worker_token: String::new(),
+                ..Default::default()
             })
             .await?
             .into_inner();

@@ -83,11 +83,6 @@ impl FromStr for FrameRange {
     }
 }
 
-/// A job name for one frame of a range: `base_0012` (at least four digits).
-pub fn frame_name(base: &str, frame: i64) -> String {
-    format!("{base}_{frame:04}")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -111,11 +106,5 @@ mod tests {
         for bad in ["", "a-b", "5-1", "1-5:0", "1-5:-1", "1-5:x", "0-1000000"] {
             assert!(bad.parse::<FrameRange>().is_err(), "{bad}");
         }
-    }
-
-    #[test]
-    fn names_carry_the_frame() {
-        assert_eq!(frame_name("shot", 12), "shot_0012");
-        assert_eq!(frame_name("shot", 12345), "shot_12345");
     }
 }

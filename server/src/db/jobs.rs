@@ -9,9 +9,10 @@ impl Db {
     pub fn insert_job(&self, j: &NewJob<'_>) -> Result<()> {
         self.conn.execute(
             "INSERT INTO jobs (id, ord, name, state, priority, bundle_hash, scene_path, seed, \
-             haltspp, halttime, haltthreshold, width, height, submitted_ms, frame, owner, notes) \
+             haltspp, halttime, haltthreshold, width, height, submitted_ms, frame, owner, notes, \
+             sequence_id, sequence_frame, tags, min_memory_mb, max_workers) \
              VALUES (?1, (SELECT COALESCE(MAX(ord), 0) + 1 FROM jobs), ?2, 'queued', ?3, ?4, ?5, \
-             ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15)",
+             ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20)",
             params![
                 j.id,
                 j.name,
@@ -28,6 +29,11 @@ impl Db {
                 j.frame,
                 j.owner,
                 j.notes.join("\n"),
+                j.sequence_id,
+                j.sequence_frame,
+                j.tags.join(","),
+                j.min_memory_mb.min(i64::MAX as u64) as i64,
+                j.max_workers,
             ],
         )?;
         Ok(())

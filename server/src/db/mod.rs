@@ -8,12 +8,20 @@
 //! delta twice. Commits are synchronous (`synchronous = FULL`): a checkpoint's commit survives a
 //! power loss as its file does.
 //!
-//! Queries live by subject: [`jobs`] (jobs), [`work`] (workers, leases, ledger, checkpoints),
-//! [`tokens`] (user tokens); this file holds the types, the schema and opening.
+//! Queries live by subject: [`jobs`] (jobs), [`sequences`] (frame sequences), [`work`]
+//! (workers, leases, ledger, checkpoints), [`tokens`] (user tokens); [`migrate`] upgrades a
+//! store of an older master (schema versions); this file holds the types, the base schema and
+//! opening.
 
+mod blocks;
 mod jobs;
+pub mod migrate;
+mod sequences;
 mod tokens;
 mod work;
+
+pub use blocks::FailureRow;
+pub use sequences::SequenceRow;
 
 use crate::error::Result;
 use rusqlite::{Connection, OptionalExtension, Row};
@@ -89,9 +97,30 @@ pub struct JobRow {
     pub owner: String,
     /// The master's notes about the job (one per line), e.g. a default halt rule.
     pub notes: Vec<String>,
+    /// The frame sequence the job belongs to, and its frame number there.
+    pub sequence_id: Option<String>,
+    pub sequence_frame: Option<i64>,
+    /// Tags a worker must all have to take the job.
+    pub tags: Vec<String>,
+    /// The memory (MiB) a worker must have to take the job (0: any).
+    pub min_memory_mb: u64,
+    /// The most workers holding leases of the job at once (0: no limit).
+    pub max_workers: u32,
+}
+
+impl JobRow {
+    /// The file name of the job's output: `NAME_0001.EXT` for a frame of a sequence (its job
+    /// name, which the master gives it), `image.EXT` otherwise.
+    pub fn output_name(&self, ext: &str) -> String {
+        match self.sequence_frame {
+            Some(_) if self.sequence_id.is_some() => format!("{}.{ext}", self.name),
+            _ => format!("image.{ext}"),
+        }
+    }
 }
 
 /// A new job to insert.
+#[derive(Default)]
 pub struct NewJob<'a> {
     pub id: &'a str,
     pub name: &'a str,
@@ -108,6 +137,11 @@ pub struct NewJob<'a> {
     pub frame: Option<i64>,
     pub owner: &'a str,
     pub notes: &'a [String],
+    pub sequence_id: Option<&'a str>,
+    pub sequence_frame: Option<i64>,
+    pub tags: &'a [String],
+    pub min_memory_mb: u64,
+    pub max_workers: u32,
 }
 
 /// One lease as stored.
@@ -129,6 +163,10 @@ pub struct WorkerRow {
     pub last_seen_ms: i64,
     /// sha256 (hex) of the worker's credential.
     pub token_hash: String,
+    /// What the worker declared: its tags, memory (MiB, 0: unknown) and build.
+    pub tags: Vec<String>,
+    pub memory_mb: u64,
+    pub build: String,
 }
 
 /// One user token as stored (its hash, never the token).
@@ -213,7 +251,7 @@ CREATE TABLE IF NOT EXISTS tokens (
 
 const JOB_COLS: &str = "id, name, state, reason, priority, bundle_hash, scene_path, seed, \
     haltspp, halttime, haltthreshold, width, height, submitted_ms, first_lease_ms, finished_ms, \
-    ckpt_gen, frame, owner, notes";
+    ckpt_gen, frame, owner, notes, sequence_id, sequence_frame, tags, min_memory_mb, max_workers";
 
 fn job_from_row(r: &Row<'_>) -> rusqlite::Result<JobRow> {
     let state: String = r.get(2)?;
@@ -242,20 +280,21 @@ fn job_from_row(r: &Row<'_>) -> rusqlite::Result<JobRow> {
             .lines()
             .map(str::to_string)
             .collect(),
+        sequence_id: r.get(20)?,
+        sequence_frame: r.get(21)?,
+        tags: split_tags(&r.get::<_, String>(22)?),
+        min_memory_mb: r.get::<_, i64>(23)?.max(0) as u64,
+        max_workers: r.get::<_, i64>(24)?.clamp(0, u32::MAX as i64) as u32,
     })
 }
 
-/// Adds a column that a store written by an older master lacks.
-fn add_column_if_missing(conn: &Connection, table: &str, column: &str, ty: &str) -> Result<()> {
-    let mut st = conn.prepare(&format!("PRAGMA table_info({table})"))?;
-    let names = st.query_map([], |r| r.get::<_, String>(1))?;
-    for n in names {
-        if n? == column {
-            return Ok(());
-        }
-    }
-    conn.execute_batch(&format!("ALTER TABLE {table} ADD COLUMN {column} {ty}"))?;
-    Ok(())
+/// Tags as stored: one text, comma-separated.
+pub fn split_tags(text: &str) -> Vec<String> {
+    text.split(',')
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+        .map(str::to_string)
+        .collect()
 }
 
 /// The columns [`lease_from_row`] reads, in its order.
@@ -270,25 +309,16 @@ fn lease_from_row(r: &Row<'_>) -> rusqlite::Result<LeaseRow> {
     })
 }
 
-/// Columns a store written by an older master lacks: (table, column, type).
-const ADDED_COLUMNS: &[(&str, &str, &str)] = &[
-    ("jobs", "frame", "INTEGER"),
-    ("jobs", "owner", "TEXT NOT NULL DEFAULT ''"),
-    ("jobs", "notes", "TEXT NOT NULL DEFAULT ''"),
-    ("workers", "token_hash", "TEXT NOT NULL DEFAULT ''"),
-    ("leases", "budget", "REAL"),
-];
-
 impl Db {
-    /// Opens (creating) the store at `path`.
+    /// Opens (creating) the store at `path`, upgrading an older master's schema.
     pub fn open(path: &Path) -> Result<Db> {
-        let conn = Connection::open(path)?;
+        let mut conn = Connection::open(path)?;
         conn.pragma_update(None, "journal_mode", "WAL")?;
         conn.pragma_update(None, "synchronous", "FULL")?;
-        conn.execute_batch(SCHEMA)?;
-        for (table, column, ty) in ADDED_COLUMNS {
-            add_column_if_missing(&conn, table, column, ty)?;
+        if migrate::version(&conn)? <= migrate::CURRENT {
+            conn.execute_batch(SCHEMA)?;
         }
+        migrate::upgrade(&mut conn)?;
         Ok(Db { conn })
     }
 
@@ -333,7 +363,62 @@ mod tests {
             frame: None,
             owner: "",
             notes: &[],
+            sequence_id: None,
+            sequence_frame: None,
+            tags: &[],
+            min_memory_mb: 0,
+            max_workers: 0,
         }
+    }
+
+    #[test]
+    fn a_store_before_schema_versions_is_upgraded_in_place_keeping_its_jobs() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("farm.sqlite");
+        {
+            let conn = Connection::open(&path).unwrap();
+            conn.execute_batch(SCHEMA).unwrap();
+            conn.execute(
+                "INSERT INTO jobs (id, ord, name, state, priority, bundle_hash, scene_path, seed, \
+                 width, height, submitted_ms) VALUES ('old', 1, 'old', 'queued', 3, 'h', \
+                 's.lxs', 1, 8, 6, 1)",
+                [],
+            )
+            .unwrap();
+            assert_eq!(migrate::version(&conn).unwrap(), 0);
+        }
+        let db = Db::open(&path).unwrap();
+        assert_eq!(migrate::version(&db.conn).unwrap(), migrate::CURRENT);
+        let old = db.job("old").unwrap().unwrap();
+        assert_eq!(
+            (old.priority, old.sequence_id, old.max_workers),
+            (3, None, 0)
+        );
+        db.insert_sequence("q1", "shot", "spread", "", 5).unwrap();
+        let mut j = new_job("f1", 0);
+        j.sequence_id = Some("q1");
+        j.sequence_frame = Some(7);
+        db.insert_job(&j).unwrap();
+        drop(db);
+        // A second open finds the current version and changes nothing.
+        let db = Db::open(&path).unwrap();
+        let f1 = db.job("f1").unwrap().unwrap();
+        assert_eq!(f1.sequence_id.as_deref(), Some("q1"));
+        assert_eq!(f1.sequence_frame, Some(7));
+        assert_eq!(db.sequence_jobs("q1").unwrap().len(), 1);
+    }
+
+    #[test]
+    fn a_store_of_a_newer_master_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("farm.sqlite");
+        {
+            let conn = Connection::open(&path).unwrap();
+            conn.pragma_update(None, "user_version", migrate::CURRENT + 1)
+                .unwrap();
+        }
+        let e = Db::open(&path).err().expect("refused");
+        assert!(e.to_string().contains("newer master"), "{e}");
     }
 
     #[test]

@@ -2,11 +2,11 @@
 //! leases with their stream ids and sample budgets, the (lease, sequence) ledger and the
 //! checkpoints that make its rows durable.
 
-use super::{lease_from_row, Db, LeaseRow, WorkerRow, LEASE_COLS};
+use super::{lease_from_row, split_tags, Db, LeaseRow, WorkerRow, LEASE_COLS};
 use crate::error::Result;
 use rusqlite::{params, OptionalExtension, Row};
 
-const WORKER_COLS: &str = "id, name, threads, last_seen_ms, token_hash";
+const WORKER_COLS: &str = "id, name, threads, last_seen_ms, token_hash, tags, memory_mb, build";
 
 fn worker_from_row(r: &Row<'_>) -> rusqlite::Result<WorkerRow> {
     Ok(WorkerRow {
@@ -15,24 +15,30 @@ fn worker_from_row(r: &Row<'_>) -> rusqlite::Result<WorkerRow> {
         threads: r.get(2)?,
         last_seen_ms: r.get(3)?,
         token_hash: r.get(4)?,
+        tags: split_tags(&r.get::<_, String>(5)?),
+        memory_mb: r.get::<_, i64>(6)?.max(0) as u64,
+        build: r.get(7)?,
     })
 }
 
 impl Db {
-    /// Registers or refreshes a worker with the hash of its credential.
-    pub fn upsert_worker(
-        &self,
-        id: &str,
-        name: &str,
-        threads: u32,
-        token_hash: &str,
-        now_ms: i64,
-    ) -> Result<()> {
+    /// Registers or refreshes a worker (what it declared, the hash of its credential).
+    pub fn upsert_worker(&self, w: &WorkerRow) -> Result<()> {
         self.conn.execute(
-            "INSERT INTO workers (id, name, threads, registered_ms, last_seen_ms, token_hash) \
-             VALUES (?1, ?2, ?3, ?4, ?4, ?5) ON CONFLICT(id) DO UPDATE SET name = ?2, \
-             threads = ?3, last_seen_ms = ?4, token_hash = ?5",
-            params![id, name, threads, now_ms, token_hash],
+            "INSERT INTO workers (id, name, threads, registered_ms, last_seen_ms, token_hash, \
+             tags, memory_mb, build) VALUES (?1, ?2, ?3, ?4, ?4, ?5, ?6, ?7, ?8) \
+             ON CONFLICT(id) DO UPDATE SET name = ?2, threads = ?3, last_seen_ms = ?4, \
+             token_hash = ?5, tags = ?6, memory_mb = ?7, build = ?8",
+            params![
+                w.id,
+                w.name,
+                w.threads,
+                w.last_seen_ms,
+                w.token_hash,
+                w.tags.join(","),
+                w.memory_mb.min(i64::MAX as u64) as i64,
+                w.build
+            ],
         )?;
         Ok(())
     }
@@ -196,6 +202,15 @@ impl Db {
             "SELECT {LEASE_COLS} FROM leases WHERE job_id = ?1 AND ended_ms IS NULL"
         ))?;
         let rows = st.query_map([job], lease_from_row)?;
+        Ok(rows.collect::<rusqlite::Result<_>>()?)
+    }
+
+    /// Open leases per job (jobs without one are absent).
+    pub fn open_lease_counts(&self) -> Result<std::collections::HashMap<String, u32>> {
+        let mut st = self.conn.prepare(
+            "SELECT job_id, COUNT(*) FROM leases WHERE ended_ms IS NULL GROUP BY job_id",
+        )?;
+        let rows = st.query_map([], |r| Ok((r.get(0)?, r.get::<_, i64>(1)? as u32)))?;
         Ok(rows.collect::<rusqlite::Result<_>>()?)
     }
 
