@@ -78,7 +78,8 @@ fn err(e: impl std::fmt::Display) -> String {
     e.to_string()
 }
 
-/// Bounds of positive values for a log axis, widened a little.
+/// Bounds of positive values for a log axis, widened to whole decades (so that the axis
+/// always has labelled ticks).
 fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (lo, hi) = values
         .filter(|v| v.is_finite() && *v > 0.0)
@@ -86,12 +87,9 @@ fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     if lo > hi {
         return 0.1..10.0;
     }
-    let (lo, hi) = if lo == hi {
-        (lo * 0.5, hi * 2.0)
-    } else {
-        (lo, hi)
-    };
-    lo / 1.3..hi * 1.3
+    let lo = 10f64.powf(lo.log10().floor());
+    let hi = 10f64.powf(hi.log10().ceil()).max(lo * 10.0);
+    lo..hi
 }
 
 fn color(i: usize) -> RGBAColor {
@@ -354,10 +352,16 @@ mod tests {
 
     #[test]
     fn log_ranges_hold_every_positive_value() {
-        let r = log_range([0.5, 2.0, 0.0, f64::NAN, -1.0].into_iter());
-        assert!(r.start < 0.5 && r.end > 2.0 && r.start > 0.0);
-        let single = log_range([3.0].into_iter());
-        assert!(single.start < 3.0 && single.end > 3.0);
+        let near = |r: std::ops::Range<f64>, lo: f64, hi: f64| {
+            assert!((r.start / lo - 1.0).abs() < 1e-12 && (r.end / hi - 1.0).abs() < 1e-12);
+        };
+        near(
+            log_range([0.5, 2.0, 0.0, f64::NAN, -1.0].into_iter()),
+            0.1,
+            10.0,
+        );
+        near(log_range([3.0].into_iter()), 1.0, 10.0);
+        near(log_range([10.0].into_iter()), 10.0, 100.0);
         assert_eq!(log_range(std::iter::empty()), 0.1..10.0);
     }
 }
