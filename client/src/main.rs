@@ -34,6 +34,9 @@ enum Command {
     /// Run TestSuite-style regression tests (.cfg files): render, compare with the reference
     /// films as luxcomp does, print a pass/fail table.
     Regress(cmd::regress::Args),
+    /// Speed against accuracy: render under several configurations, measure the error
+    /// against a reference over time, write a CSV, an HTML report and figures.
+    Study(cmd::study::Args),
     /// Submit a scene (bundled with what it references) to a master.
     Submit(cmd::submit::Args),
     /// List the master's jobs.
@@ -68,6 +71,7 @@ fn main() -> ExitCode {
         Command::CompareImage(a) => cmd::compare_image::run(a),
         Command::Flm(a) => cmd::flm::run(a),
         Command::Regress(a) => cmd::regress::run(a),
+        Command::Study(a) => cmd::study::run(a),
         Command::Submit(a) => cmd::submit::run(a),
         Command::Jobs(a) => cmd::jobs::run(a),
         Command::Status(a) => cmd::status::run(a),

@@ -71,9 +71,24 @@ fn spawn_workers(url: &str, n: usize, threads: usize) -> anyhow::Result<Workers>
     Ok(Workers(children))
 }
 
+/// What a local farm render did: the files written and the job's last figures.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    pub written: Vec<PathBuf>,
+    pub spp: f64,
+    pub samples: f64,
+    /// Seconds the job rendered (as the master counts them).
+    pub elapsed: f64,
+}
+
 /// Renders a scene on a local farm and returns the files written beside the scene (or at
 /// `-o`).
 pub fn render(o: Options) -> anyhow::Result<Vec<PathBuf>> {
+    Ok(render_job(o)?.written)
+}
+
+/// [`render`], with the job's figures (`luxfarm study` measures farms with them).
+pub fn render_job(o: Options) -> anyhow::Result<Outcome> {
     let upload = luxfarm_wire::bundle::prepare(&o.scene)?;
     let data = tempfile::Builder::new()
         .prefix("luxfarm-render-")
@@ -121,7 +136,12 @@ pub fn render(o: Options) -> anyhow::Result<Vec<PathBuf>> {
         }
     );
     running.stop();
-    Ok(written)
+    Ok(Outcome {
+        written,
+        spp: last.spp,
+        samples: last.samples,
+        elapsed: last.elapsed,
+    })
 }
 
 /// The base name of the outputs on this machine: `-o`, else as a local render names them

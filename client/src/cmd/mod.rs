@@ -14,6 +14,7 @@ pub mod regress;
 pub mod render;
 pub mod server;
 pub mod status;
+pub mod study;
 pub mod submit;
 pub mod token;
 pub mod watch;
