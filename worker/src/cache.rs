@@ -70,7 +70,9 @@ impl Cache {
         // Several workers may share one cache (`luxfarm render --workers N` runs them in one
         // process): each unpacks into its own temporary directory, and a bundle already in
         // place (another worker's, still in use) is never removed while it is intact.
-        let tmp = self.dir.join(format!(".tmp-{hash}-{}-{}", std::process::id(), unique()));
+        let tmp = self
+            .dir
+            .join(format!(".tmp-{hash}-{}-{}", std::process::id(), unique()));
         if tmp.exists() {
             std::fs::remove_dir_all(&tmp)?;
         }
