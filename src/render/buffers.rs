@@ -36,11 +36,15 @@ pub fn buffers(per_screen_eye: bool, light: bool) -> Vec<BufferType> {
 }
 
 /// The film buffers a scene renders into, from its SurfaceIntegrator statement (no
-/// statement: path). The eye buffer is per pixel: the Metropolis and ERPT samplers, whose
-/// eye buffer would be per screen, are not built yet and render as `random`.
+/// statement: path) and Sampler statement: the eye buffer is per screen with the
+/// `metropolis` sampler (ERPT is not built yet and renders as `random`, per pixel).
 pub fn film_buffers(desc: &SceneDescription) -> Vec<BufferType> {
     let integrator = desc.surface_integrator.as_ref().map(|e| e.kind.as_str());
-    buffers(false, integrator == Some("bidirectional"))
+    let sampler = desc.sampler.as_ref().map(|e| e.kind.as_str());
+    buffers(
+        sampler == Some("metropolis"),
+        integrator == Some("bidirectional"),
+    )
 }
 
 /// Adds splats to `buffer` of `film` (whose pixel (0, 0) is raster pixel `origin`) through
@@ -94,9 +98,12 @@ mod tests {
             layout("SurfaceIntegrator \"bidirectional\""),
             vec![PerPixel, PerScreen]
         );
-        // metropolis and erpt are not implemented yet: they render as random samplers, per
-        // pixel (a per-screen eye buffer comes with them).
-        assert_eq!(layout("Sampler \"metropolis\""), vec![PerPixel]);
+        assert_eq!(layout("Sampler \"metropolis\""), vec![PerScreen]);
+        assert_eq!(
+            layout("Sampler \"metropolis\"\nSurfaceIntegrator \"bidirectional\""),
+            vec![PerScreen, PerScreen]
+        );
+        // erpt is not implemented yet: it renders as a random sampler, per pixel.
         assert_eq!(
             layout("Sampler \"erpt\"\nSurfaceIntegrator \"bidirectional\""),
             vec![PerPixel, PerScreen]

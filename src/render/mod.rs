@@ -10,8 +10,12 @@
 //! subpaths reaching the camera) render their tiles in fixed batches: each batch's tile films
 //! and splats are added to the pass film in tile order, so the film still depends only on
 //! (seed, stream, pass) and the splats of a whole pass are never held at once.
+//!
+//! The `metropolis` sampler does not visit pixels: its passes run the session's Markov
+//! chains ([`mlt`]) into the film's per-screen buffers.
 
 pub mod buffers;
+pub mod mlt;
 pub mod setup;
 mod tile;
 
@@ -85,6 +89,8 @@ pub struct Session {
     cancel: Arc<AtomicBool>,
     rejected: u64,
     outliers: u64,
+    /// The Markov chains of a metropolis sampler.
+    mlt: Option<mlt::MltState>,
 }
 
 impl Session {
@@ -105,6 +111,11 @@ impl Session {
     ) -> Result<Session, RenderError> {
         let buffers = scene.setup.buffers();
         let film = new_film(&scene, &buffers)?;
+        let mlt = scene
+            .setup
+            .sampler
+            .mlt()
+            .map(|_| mlt::MltState::new(opts.seed, opts.stream));
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(opts.threads)
             .build()
@@ -124,6 +135,7 @@ impl Session {
             cancel: Arc::new(AtomicBool::new(false)),
             rejected: 0,
             outliers: 0,
+            mlt,
         })
     }
 
@@ -199,6 +211,9 @@ impl Session {
 
     /// Renders one more pass of `pixelsamples` samples over every pixel into the film.
     pub fn render_pass(&mut self) -> PassStats {
+        if self.mlt.is_some() {
+            return self.render_pass_mlt();
+        }
         if self.scene.setup.integrator.splats() {
             return self.render_pass_splatting();
         }
@@ -311,6 +326,37 @@ impl Session {
             tracing::error!("pass merge failed: {e}");
         }
         self.finish_pass(start, rejected, outliers)
+    }
+
+    /// Acceptance statistics of the metropolis chains (`None` for other samplers).
+    pub fn chain_stats(&self) -> Option<mlt::ChainStats> {
+        self.mlt.as_ref().map(mlt::MltState::stats)
+    }
+
+    /// A pass of the metropolis sampler: `pixels × pixelsamples` chain steps into a pass
+    /// film, merged into the session film once complete.
+    fn render_pass_mlt(&mut self) -> PassStats {
+        let start = Instant::now();
+        let fp = &self.scene.setup.film_params;
+        let spp = self.scene.setup.sampler.pixel_samples().max(1);
+        let steps = u64::from(fp.x_pixel_count) * u64::from(fp.y_pixel_count) * u64::from(spp);
+        let mut pass_film = self.film.clone();
+        pass_film.clear();
+        let Some(state) = self.mlt.as_mut() else {
+            return PassStats::default();
+        };
+        let Some(invalid) =
+            state.run_pass(&self.scene, &self.pool, &self.cancel, steps, &mut pass_film)
+        else {
+            return PassStats {
+                seconds: start.elapsed().as_secs_f64(),
+                ..Default::default()
+            };
+        };
+        if let Err(e) = self.film.merge(&pass_film) {
+            tracing::error!("pass merge failed: {e}");
+        }
+        self.finish_pass(start, invalid, 0)
     }
 
     /// Counts a completed pass: its samples in the film, its discarded samples.

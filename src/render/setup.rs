@@ -41,7 +41,7 @@ pub struct RenderSetup {
 impl RenderSetup {
     /// The film buffers this setup renders into (see [`super::buffers`]).
     pub fn buffers(&self) -> Vec<crate::film::BufferType> {
-        super::buffers::buffers(false, self.integrator.splats())
+        super::buffers::buffers(self.sampler.per_screen(), self.integrator.splats())
     }
 }
 

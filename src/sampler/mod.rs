@@ -1,11 +1,17 @@
-//! Samplers: random, lowdiscrepancy, sobol; every value derived from (seed, stream, pixel,
-//! sample index, dimension).
+//! Samplers: random, lowdiscrepancy, sobol, metropolis; every value derived from (seed,
+//! stream, pixel, sample index, dimension), or for metropolis from a chain's primary sample
+//! vector ([`metropolis`]).
 //!
 //! [`Sampler::build`] dispatches a `Sampler` statement to the sampler's file, which reads its
 //! parameters with LuxRender's names and defaults (random with 4 samples per pixel when the
 //! scene has none, as LuxRender). LuxRender's other
 //! samplers fall back with a warning: `bestcandidate`, `stratified` and `halton` to
-//! lowdiscrepancy, `metropolis` and `erpt` to random.
+//! lowdiscrepancy, `erpt` to random.
+//!
+//! A metropolis sampler does not visit pixels: the render session runs its chains
+//! ([`metropolis::Chain`]) and traces each proposal through [`Sampler::start_primary`], a
+//! stream over the proposed values whose dimensions 0 and 1 span the whole sampled film
+//! area.
 //!
 //! [`Sampler::start`] opens the [`SampleStream`] of one sample: a pure function of
 //! `(seed, stream, px, py, index)` and of how many dimensions have been drawn, never of
@@ -26,6 +32,7 @@
 
 mod hash;
 mod lowdiscrepancy;
+pub mod metropolis;
 mod random;
 mod sobol;
 
@@ -42,15 +49,20 @@ pub enum SamplerKind {
     Random,
     LowDiscrepancy,
     Sobol,
+    /// Kelemen-style Metropolis over the primary sample space (a stream over a chain's
+    /// values).
+    Metropolis,
 }
 
 /// A sampler: its sequence and samples per pixel per pass.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Sampler {
     kind: SamplerKind,
     pixel_samples: u32,
     /// log2 of `pixel_samples` for lowdiscrepancy (a power of two there).
     log2_n: u32,
+    /// The metropolis parameters (metropolis only).
+    mlt: Option<metropolis::MltParams>,
 }
 
 /// `pixelsamples` of a sampler statement: at least 1.
@@ -102,7 +114,13 @@ impl Sampler {
             "lowdiscrepancy" => lowdiscrepancy::build(&s)?,
             "sobol" => sobol::build(&s)?,
             "stratified" | "bestcandidate" | "halton" => lowdiscrepancy::build_legacy(&mut s)?,
-            "metropolis" | "erpt" => {
+            "metropolis" => {
+                let (kind, n, mlt) = metropolis::build(&mut s)?;
+                let mut smp = Sampler::new(kind, n).map_err(|x| BuildError::new(&e.loc, x.message))?;
+                smp.mlt = Some(mlt);
+                return Ok(smp);
+            }
+            "erpt" => {
                 s.warn(format!(
                     "sampler \"{}\" is not implemented; using \"random\" (unbiased, same samples per pixel)",
                     e.kind
@@ -133,11 +151,47 @@ impl Sampler {
             kind,
             pixel_samples: n,
             log2_n: n.trailing_zeros(),
+            mlt: (kind == SamplerKind::Metropolis).then(metropolis::MltParams::default),
         })
     }
 
     pub fn kind(&self) -> SamplerKind {
         self.kind
+    }
+
+    /// The metropolis parameters, when this is a metropolis sampler.
+    pub fn mlt(&self) -> Option<&metropolis::MltParams> {
+        self.mlt.as_ref()
+    }
+
+    /// Whether the film's eye buffer is normalised per screen (the sample density follows
+    /// the image, not the pixels).
+    pub fn per_screen(&self) -> bool {
+        self.kind == SamplerKind::Metropolis
+    }
+
+    /// A stream over a chain's proposed `values` (see [`metropolis`]): dimension `d` is
+    /// `values[d]`; dimensions beyond them are drawn from `fresh_key` and appended (take the
+    /// vector back with [`SampleStream::into_values`]). Dimensions 0 and 1 place the sample
+    /// on the film area starting at raster `origin` of size `span`.
+    pub fn start_primary(
+        values: Vec<f32>,
+        fresh_key: u64,
+        origin: Vec2,
+        span: Vec2,
+    ) -> SampleStream {
+        SampleStream {
+            kind: SamplerKind::Metropolis,
+            key: fresh_key,
+            index: 0,
+            log2_n: 0,
+            dim: 0,
+            px: 0,
+            py: 0,
+            values,
+            origin,
+            span,
+        }
     }
 
     /// Samples per pixel in one pass.
@@ -161,6 +215,8 @@ impl Sampler {
             SamplerKind::Random => random::sample_key(pk, index),
             SamplerKind::LowDiscrepancy => lowdiscrepancy::block_key(pk, index, self.log2_n),
             SamplerKind::Sobol => sobol::run_key(pk, index),
+            // Outside a chain a metropolis stream draws independent values (as random).
+            SamplerKind::Metropolis => random::sample_key(pk, index),
         };
         SampleStream {
             kind: self.kind,
@@ -170,6 +226,9 @@ impl Sampler {
             dim: 0,
             px,
             py,
+            values: Vec::new(),
+            origin: Vec2::new(px as f32, py as f32),
+            span: Vec2::ONE,
         }
     }
 }
@@ -185,14 +244,43 @@ pub struct SampleStream {
     dim: u32,
     px: i32,
     py: i32,
+    /// A chain's primary sample values (metropolis), grown as dimensions are drawn.
+    values: Vec<f32>,
+    /// Raster position and size of the film area dimensions 0 and 1 span.
+    origin: Vec2,
+    span: Vec2,
 }
 
+/// Most dimensions a primary sample vector grows to (beyond it values are drawn afresh and
+/// not kept, which is still a valid, if less correlated, proposal).
+const MAX_PRIMARY_DIMS: u32 = 4096;
+
 impl SampleStream {
+    /// Dimension `d` of a metropolis stream: the chain's value, or a fresh one appended.
+    fn primary(&mut self, d: u32) -> f32 {
+        if let Some(v) = self.values.get(d as usize) {
+            return *v;
+        }
+        if d >= MAX_PRIMARY_DIMS {
+            return random::value(self.key, d);
+        }
+        for i in self.values.len() as u32..=d {
+            self.values.push(random::value(self.key, i));
+        }
+        self.values.get(d as usize).copied().unwrap_or(0.0)
+    }
+
+    /// The primary sample values this stream drew (metropolis).
+    pub fn into_values(self) -> Vec<f32> {
+        self.values
+    }
+
     /// The next dimension, in [0, 1).
     pub fn next_1d(&mut self) -> f32 {
         let d = self.dim;
         self.dim = self.dim.saturating_add(1);
         match self.kind {
+            SamplerKind::Metropolis => self.primary(d),
             SamplerKind::Random => random::value(self.key, d),
             SamplerKind::LowDiscrepancy => {
                 lowdiscrepancy::value_1d(self.key, self.index, self.log2_n, d)
@@ -206,6 +294,7 @@ impl SampleStream {
         let d = self.dim;
         self.dim = self.dim.saturating_add(2);
         match self.kind {
+            SamplerKind::Metropolis => Vec2::new(self.primary(d), self.primary(d + 1)),
             SamplerKind::Random => {
                 Vec2::new(random::value(self.key, d), random::value(self.key, d + 1))
             }
@@ -239,7 +328,7 @@ impl SampleStream {
         let p_lens = self.next_2d();
         let time = self.next_1d();
         CameraSample {
-            p_film: Vec2::new(self.px as f32 + u.x, self.py as f32 + u.y),
+            p_film: self.origin + u * self.span,
             p_lens,
             time,
         }

@@ -64,7 +64,18 @@ fn defaults_and_fallbacks() {
         (st.kind(), st.pixel_samples()),
         (SamplerKind::LowDiscrepancy, 8)
     );
-    assert_eq!(sampler("metropolis", &[]).kind(), SamplerKind::Random);
+    let m = sampler(
+        "metropolis",
+        &[
+            ("largemutationprob", ParamValue::Float(vec![0.25])),
+            ("maxconsecrejects", ParamValue::Integer(vec![64])),
+        ],
+    );
+    assert_eq!(m.kind(), SamplerKind::Metropolis);
+    assert!(m.per_screen());
+    let p = m.mlt().copied().unwrap_or_default();
+    assert_eq!((p.large_prob, p.max_rejects, p.range), (0.25, 64, None));
+    assert_eq!(sampler("erpt", &[]).kind(), SamplerKind::Random);
     assert_eq!(
         sampler("bestcandidate", &[]).kind(),
         SamplerKind::LowDiscrepancy

@@ -221,7 +221,7 @@ pub fn direct(
         let Some(ls) = light.sample_li(&v.si.it, u, u_shape, ctx.world) else {
             continue;
         };
-        let f = bsdf.f(v.si.wo, ls.wi) * ls.wi.dot(v.si.shading.n).abs();
+        let f = bsdf.f(v.si.wo, ls.wi) * ls.wi.dot(bsdf.frame.n).abs();
         if f.is_black() {
             continue;
         }
@@ -289,7 +289,7 @@ pub fn connect(
         return;
     }
     let w_el = d / d2.sqrt();
-    let fe = be.f(e.si.wo, w_el) * w_el.dot(e.si.shading.n).abs();
+    let fe = be.f(e.si.wo, w_el) * w_el.dot(be.frame.n).abs();
     if fe.is_black() {
         return;
     }
@@ -310,9 +310,13 @@ pub fn connect(
 }
 
 /// At light vertex `l` scattering toward `w` (unit): the adjoint's shading-normal factor
-/// |wo·ns| |w·ng| / |wo·ng|, which also holds the |cos| of the connection at `l`.
+/// |wo·ns| |w·ng| / |wo·ng|, which also holds the |cos| of the connection at `l`; ns is
+/// the normal of the BSDF's shading frame (bump mapping included), as the walks use.
 fn shading_correction(l: &Vertex, w: glam::Vec3A) -> f32 {
-    let (ns, ng, wo) = (l.si.shading.n, l.si.it.n, l.si.wo);
+    let Some(ns) = l.bsdf.as_ref().map(|b| b.frame.n) else {
+        return 0.0;
+    };
+    let (ng, wo) = (l.si.it.n, l.si.wo);
     let c = wo.dot(ng).abs();
     if c == 0.0 {
         return 0.0;

@@ -178,7 +178,7 @@ pub fn eye_walk(
         if bs.pdf <= 0.0 || bs.f.is_black() {
             break;
         }
-        let weight = bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
+        let weight = bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
         let mut pdf_rev = bsdf.pdf(bs.wi, si.wo);
         pdf_dir = bs.pdf;
         if bs.specular {
@@ -305,7 +305,7 @@ pub fn light_walk(
         // |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|) times the |wi·ns| of the sample.
         let weight = bs.f
             * (bsdf.adjoint_scale(wo, bs.wi)
-                * wo.dot(si.shading.n).abs()
+                * wo.dot(bsdf.frame.n).abs()
                 * bs.wi.dot(si.it.n).abs()
                 / (cos_o_g * bs.pdf));
         let mut pdf_rev = bsdf.pdf(bs.wi, wo);

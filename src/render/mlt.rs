@@ -1,0 +1,407 @@
+//! Passes of the `metropolis` sampler: a fixed set of Markov chains per session, each over
+//! the primary sample space (see [`crate::sampler::metropolis`]), rendering into the film's
+//! per-screen buffers.
+//!
+//! ```text
+//! Chain::propose --values--> Sampler::start_primary --stream--> camera + integrator
+//!   --contributions (eye at the sample's film position, light splats elsewhere)-->
+//! Chain::judge --weights--> deposits --(chain order, after each batch)--> pass film
+//! ```
+//!
+//! A pass takes `pixels × pixelsamples` steps, shared among [`CHAINS`] chains. Chains run in
+//! parallel in fixed batches of [`BATCH`] steps; each batch's deposits are added to the
+//! pass film in chain order and the large steps' luminance (the normaliser) is updated in
+//! chain order too, so the film depends only on (seed, stream, pass), never on threads.
+//! Within a batch the normaliser is fixed (from the earlier batches and [`BOOTSTRAP`]
+//! uniform samples drawn before the first one).
+//! At the end of a pass every chain's pending weight is deposited, so a pass film is a
+//! complete estimate and films of passes, sessions and farm workers add up exactly.
+//!
+//! Film positions are drawn over the filter's sample extent (beyond the buffer by the
+//! filter radius, as LuxRender samples); contributions are scaled by that area over the
+//! buffer's pixel count, the per-screen buffer's own normalisation.
+
+use super::buffers::LIGHT_BUFFER;
+use super::setup::Renderable;
+use crate::film::Film;
+use crate::integrator::SampleOut;
+use crate::sampler::metropolis::{Chain, MltParams};
+use crate::sampler::Sampler;
+use crate::spectrum::rgb_to_xyz;
+use glam::Vec2;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Chains per session (fixed, so that the film does not depend on the thread count).
+pub const CHAINS: usize = 16;
+/// Steps each chain takes between two merges of deposits into the pass film.
+pub const BATCH: u64 = 256;
+/// Uniform samples drawn before a session's first step to estimate the normaliser (the mean
+/// luminance), so that no chain's weights depend on its own large steps of the same batch
+/// (a chain that found a bright region would otherwise weigh it up: a bias toward bright
+/// regions). They add nothing to the film.
+pub const BOOTSTRAP: u64 = 8192;
+
+/// One contribution of a sample to the film.
+#[derive(Clone, Copy, Debug)]
+struct Contribution {
+    p_film: Vec2,
+    buffer: usize,
+    group: usize,
+    xyz: [f32; 3],
+    alpha: f32,
+}
+
+/// A chain with the contributions of its current sample and reusable buffers.
+#[derive(Clone, Debug)]
+struct Slot {
+    chain: Chain,
+    current: Vec<Contribution>,
+    proposal: Vec<Contribution>,
+    values: Vec<f32>,
+}
+
+/// The chains of a session and the large steps' luminance so far.
+#[derive(Clone, Debug)]
+pub struct MltState {
+    slots: Vec<Slot>,
+    large_sum: f64,
+    large_count: f64,
+}
+
+/// What a chain's batch produced.
+#[derive(Default)]
+struct BatchOut {
+    deposits: Vec<(Contribution, f32)>,
+    large_sum: f64,
+    large_count: f64,
+    invalid: u64,
+}
+
+/// Acceptance statistics of a session's chains.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ChainStats {
+    pub proposed: u64,
+    pub accepted: u64,
+}
+
+/// Where film positions are drawn and how contributions are scaled.
+struct Frame {
+    origin: Vec2,
+    span: Vec2,
+    /// Raster position of the film's pixel (0, 0).
+    film0: [i64; 2],
+    scale: f32,
+    range_xy: [f32; 2],
+}
+
+impl MltState {
+    pub fn new(seed: u64, stream: u64) -> MltState {
+        MltState {
+            slots: (0..CHAINS as u64)
+                .map(|i| Slot {
+                    chain: Chain::new(seed, stream, i),
+                    current: Vec::new(),
+                    proposal: Vec::new(),
+                    values: Vec::new(),
+                })
+                .collect(),
+            large_sum: 0.0,
+            large_count: 0.0,
+        }
+    }
+
+    pub fn stats(&self) -> ChainStats {
+        self.slots
+            .iter()
+            .fold(ChainStats::default(), |s, c| ChainStats {
+                proposed: s.proposed + c.chain.proposed,
+                accepted: s.accepted + c.chain.accepted,
+            })
+    }
+
+    /// Estimates the mean luminance from [`BOOTSTRAP`] uniform samples (keys of their own).
+    fn bootstrap(
+        &mut self,
+        scene: &Renderable,
+        pool: &rayon::ThreadPool,
+        frame: &Frame,
+        params: &MltParams,
+    ) {
+        use rayon::prelude::*;
+        let per = BOOTSTRAP / CHAINS as u64;
+        let sums: Vec<(f64, u64)> = pool.install(|| {
+            self.slots
+                .par_iter()
+                .map(|slot| {
+                    let mut so = SampleOut::new(scene.world.groups().len());
+                    let (mut sum, mut invalid) = (0.0, 0);
+                    let mut rec = Vec::new();
+                    for i in 0..per {
+                        rec.clear();
+                        let key = slot.chain.bootstrap_key(i);
+                        let lum = trace(
+                            scene,
+                            params,
+                            frame,
+                            Vec::new(),
+                            key,
+                            &mut so,
+                            &mut rec,
+                            &mut invalid,
+                        )
+                        .0;
+                        sum += f64::from(lum);
+                    }
+                    (sum, per)
+                })
+                .collect()
+        });
+        for (s, n) in sums {
+            self.large_sum += s;
+            self.large_count += n as f64;
+        }
+    }
+
+    fn mean(&self) -> f64 {
+        if self.large_count > 0.0 {
+            self.large_sum / self.large_count
+        } else {
+            0.0
+        }
+    }
+
+    /// Runs one pass of `steps` steps into `film` (cleared by the caller, the session's
+    /// layout). Returns the invalid contributions, or `None` when cancelled (the chains
+    /// have then moved on; the partial film is to be discarded).
+    pub fn run_pass(
+        &mut self,
+        scene: &Renderable,
+        pool: &rayon::ThreadPool,
+        cancel: &AtomicBool,
+        steps: u64,
+        film: &mut Film,
+    ) -> Option<u64> {
+        use rayon::prelude::*;
+        let Some(params) = scene.setup.sampler.mlt().copied() else {
+            return Some(0);
+        };
+        let frame = frame(scene, &params);
+        let n = self.slots.len() as u64;
+        let share = |i: u64| steps / n + u64::from(i < steps % n);
+        let mut done = vec![0u64; self.slots.len()];
+        let mut invalid = 0;
+        let pixels = f64::from(film.width()) * f64::from(film.height());
+        if self.large_count == 0.0 {
+            self.bootstrap(scene, pool, &frame, &params);
+        }
+        loop {
+            if cancel.load(Ordering::Relaxed) {
+                return None;
+            }
+            let todo: Vec<u64> = (0..n)
+                .map(|i| share(i).saturating_sub(done[i as usize]).min(BATCH))
+                .collect();
+            if todo.iter().all(|&t| t == 0) {
+                break;
+            }
+            let (sum0, count0) = (self.large_sum, self.large_count);
+            let p_large = if params.cooldown && count0 < pixels {
+                0.5
+            } else {
+                params.large_prob
+            };
+            let outs: Vec<BatchOut> = pool.install(|| {
+                self.slots
+                    .par_iter_mut()
+                    .zip(todo.par_iter())
+                    .map(|(slot, &k)| {
+                        let mut out = BatchOut::default();
+                        let mut so = SampleOut::new(scene.world.groups().len());
+                        let mean = if count0 > 0.0 { sum0 / count0 } else { 0.0 };
+                        for _ in 0..k {
+                            step(
+                                scene, &params, &frame, p_large, mean, slot, &mut so, &mut out,
+                            );
+                        }
+                        out
+                    })
+                    .collect()
+            });
+            for (i, o) in outs.into_iter().enumerate() {
+                deposit(scene, &frame, film, &o.deposits);
+                self.large_sum += o.large_sum;
+                self.large_count += o.large_count;
+                invalid += o.invalid;
+                done[i] += todo[i];
+            }
+        }
+        let mean = self.mean();
+        let p_large = params.large_prob;
+        for slot in &mut self.slots {
+            let w = slot.chain.flush(mean, p_large);
+            let d: Vec<_> = slot.current.iter().map(|c| (*c, w)).collect();
+            deposit(scene, &frame, film, &d);
+        }
+        Some(invalid)
+    }
+}
+
+fn frame(scene: &Renderable, params: &MltParams) -> Frame {
+    let fp = &scene.setup.film_params;
+    let [x0, x1, y0, y1] = scene.setup.filter.sample_extent(
+        fp.x_pixel_start,
+        fp.x_pixel_count,
+        fp.y_pixel_start,
+        fp.y_pixel_count,
+    );
+    let span = Vec2::new((x1 - x0).max(1) as f32, (y1 - y0).max(1) as f32);
+    let pixels = (fp.x_pixel_count.max(1) as f32) * (fp.y_pixel_count.max(1) as f32);
+    let range = params.range_pixels(fp.x_pixel_count as f32, fp.y_pixel_count as f32);
+    Frame {
+        origin: Vec2::new(x0 as f32, y0 as f32),
+        span,
+        film0: [i64::from(fp.x_pixel_start), i64::from(fp.y_pixel_start)],
+        scale: span.x * span.y / pixels,
+        range_xy: [(range / span.x).min(1.0), (range / span.y).min(1.0)],
+    }
+}
+
+/// Traces the sample whose primary values are `values` (grown from `key` as needed):
+/// records its contributions in `rec` and returns its target luminance and its values.
+#[allow(clippy::too_many_arguments)]
+fn trace(
+    scene: &Renderable,
+    params: &MltParams,
+    frame: &Frame,
+    values: Vec<f32>,
+    key: u64,
+    so: &mut SampleOut,
+    rec: &mut Vec<Contribution>,
+    invalid: &mut u64,
+) -> (f32, Vec<f32>) {
+    let (setup, world) = (&scene.setup, &scene.world);
+    let mut st = Sampler::start_primary(values, key, frame.origin, frame.span);
+    let cs = st.camera_sample();
+    let mut lum = 0.0f32;
+    if let Some((ray, w)) = setup.camera.generate_ray(&cs).filter(|(_, w)| *w > 0.0) {
+        setup
+            .integrator
+            .sample(world, &setup.camera, ray, &mut st, so);
+        let k = w * frame.scale;
+        let eye = so.l.iter().zip(&so.weight_lum).enumerate();
+        for (g, (c, wl)) in eye {
+            let xyz = rgb_to_xyz(*c * k);
+            let hint = (params.use_variance && *wl > 0.0).then_some(*wl * k);
+            lum += record(rec, cs.p_film, 0, g, xyz, so.alpha, hint, invalid);
+        }
+        for sp in &so.splats {
+            let xyz = rgb_to_xyz(sp.l * k);
+            let hint = (params.use_variance && sp.weight > 0.0).then(|| sp.weight * xyz[1]);
+            let g = sp.group as usize;
+            lum += record(rec, sp.p_film, LIGHT_BUFFER, g, xyz, 1.0, hint, invalid);
+        }
+    }
+    (lum, st.into_values())
+}
+
+/// One Metropolis step of a chain: propose, trace, judge, record the deposits; `mean` is
+/// the normaliser in force for this batch.
+#[allow(clippy::too_many_arguments)]
+fn step(
+    scene: &Renderable,
+    params: &MltParams,
+    frame: &Frame,
+    p_large: f32,
+    mean: f64,
+    slot: &mut Slot,
+    so: &mut SampleOut,
+    out: &mut BatchOut,
+) {
+    let mut values = std::mem::take(&mut slot.values);
+    slot.chain.propose(frame.range_xy, &mut values);
+    let mut rec = std::mem::take(&mut slot.proposal);
+    rec.clear();
+    let key = slot.chain.step_key();
+    let (lum, mut values) = trace(
+        scene,
+        params,
+        frame,
+        values,
+        key,
+        so,
+        &mut rec,
+        &mut out.invalid,
+    );
+    if slot.chain.is_large() {
+        out.large_sum += f64::from(lum);
+        out.large_count += 1.0;
+    }
+    let d = slot
+        .chain
+        .judge(&mut values, lum, mean, p_large, params.max_rejects);
+    if d.accepted {
+        if d.current_weight > 0.0 {
+            out.deposits
+                .extend(slot.current.iter().map(|c| (*c, d.current_weight)));
+        }
+        std::mem::swap(&mut slot.current, &mut rec);
+    } else if d.proposal_weight > 0.0 {
+        out.deposits
+            .extend(rec.iter().map(|c| (*c, d.proposal_weight)));
+    }
+    slot.values = values;
+    slot.proposal = rec;
+}
+
+/// Records a contribution when it is usable; returns its part of the chain's target
+/// (its luminance, or the variance `hint` when given).
+#[allow(clippy::too_many_arguments)]
+fn record(
+    rec: &mut Vec<Contribution>,
+    p_film: Vec2,
+    buffer: usize,
+    group: usize,
+    xyz: [f32; 3],
+    alpha: f32,
+    hint: Option<f32>,
+    invalid: &mut u64,
+) -> f32 {
+    if !xyz.iter().all(|v| v.is_finite()) || xyz[1] < 0.0 || !p_film.is_finite() {
+        *invalid += 1;
+        return 0.0;
+    }
+    if xyz[1] == 0.0 && xyz[0] == 0.0 && xyz[2] == 0.0 {
+        return 0.0;
+    }
+    rec.push(Contribution {
+        p_film,
+        buffer,
+        group,
+        xyz,
+        alpha,
+    });
+    hint.filter(|h| h.is_finite() && *h > 0.0).unwrap_or(xyz[1])
+}
+
+/// Adds weighted contributions to the film through the pixel filter.
+fn deposit(scene: &Renderable, frame: &Frame, film: &mut Film, deposits: &[(Contribution, f32)]) {
+    let filter = &scene.setup.filter;
+    let nbuf = film.buffer_types().len();
+    for (c, w) in deposits {
+        let buffer = if c.buffer < nbuf { c.buffer } else { 0 };
+        filter.splat(c.p_film, |x, y, fw| {
+            let (lx, ly) = (i64::from(x) - frame.film0[0], i64::from(y) - frame.film0[1]);
+            if (0..=i64::from(u32::MAX)).contains(&lx) && (0..=i64::from(u32::MAX)).contains(&ly) {
+                film.add_buffer_splat(
+                    c.group,
+                    buffer,
+                    lx as u32,
+                    ly as u32,
+                    c.xyz,
+                    c.alpha,
+                    fw * w,
+                );
+            }
+        });
+    }
+}
