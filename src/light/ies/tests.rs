@@ -83,9 +83,7 @@ fn type_b_profile_about_the_beam() {
     assert!(close(p.candela([0.0, v45.sin(), v45.cos()]), 100.0));
     assert_eq!(p.candela([0.0, 0.0, -1.0]), 0.0);
     // Type A: H is left/right (x), V up/down about the lateral axis.
-    let a = b
-        .replace("1 1 100\n", "1 1 100\n")
-        .replacen(" 2 2 2 ", " 2 3 2 ", 1);
+    let a = b.replacen(" 2 2 2 ", " 2 3 2 ", 1);
     let p = parse(&a).unwrap();
     assert_eq!(p.kind, PhotometricType::A);
     assert!(close(p.candela([h15.sin(), 0.0, h15.cos()]), 375.0));
@@ -109,8 +107,6 @@ fn malformed_files_are_refused_with_their_line() {
     assert!(parse(&word).unwrap_err().contains("line 9"));
     let negative = QUADRANT.replace("1000 800 0", "1000 -800 0");
     assert!(parse(&negative).is_err());
-    let bad_type = QUADRANT
-        .replace("0.1 0.1 0", "0.1 0.1 0")
-        .replacen(" 2 1 2 ", " 2 7 2 ", 1);
+    let bad_type = QUADRANT.replacen(" 2 1 2 ", " 2 7 2 ", 1);
     assert!(parse(&bad_type).unwrap_err().contains("photometric type"));
 }
