@@ -37,11 +37,11 @@ fn unused_parameters_are_reported_with_location() {
 
 #[test]
 fn unsupported_light_is_a_located_error() {
-    let text = SCENE.replace("LightSource \"point\"", "LightSource \"sunsky2\"");
+    let text = SCENE.replace("LightSource \"point\"", "LightSource \"sunsky9\"");
     let desc = parse_text(&text, Path::new("/tmp/luxfarm-render-scene-test.lxs"));
     let err = match Renderable::build(&desc, Path::new("/tmp")) {
         Err(e) => e.to_string(),
-        Ok(_) => panic!("sunsky2 must be refused"),
+        Ok(_) => panic!("sunsky9 must be refused"),
     };
-    assert!(err.contains("sunsky2") && err.contains(":10:"), "{err}");
+    assert!(err.contains("sunsky9") && err.contains(":10:"), "{err}");
 }
