@@ -341,10 +341,32 @@ fn server_sent_events_push_job_changes() {
     };
     next_event(&mut lines, "jobs", has("queued"));
     let _w = worker(&s.url(), 1, &["--name", "sse"]);
-    let workers = next_event(&mut lines, "workers", |v| {
-        v.as_array()
-            .is_some_and(|ws| ws.iter().any(|w| w["name"] == "sse"))
-    });
-    assert_eq!(workers.as_array().map(Vec::len), Some(1));
-    next_event(&mut lines, "jobs", has("done"));
+    // The worker's arrival and the job's end may come in one update (the stream sends at most
+    // one snapshot every 250 ms): read until both have been seen, in whatever order.
+    let done = has("done");
+    let (mut saw_worker, mut saw_done) = (false, false);
+    let mut event = String::new();
+    for line in lines {
+        let line = line.expect("the event stream stays open");
+        if let Some(e) = line.strip_prefix("event: ") {
+            event = e.to_string();
+        } else if let Some(d) = line.strip_prefix("data: ") {
+            let v: serde_json::Value = serde_json::from_str(d).expect("JSON data");
+            match event.as_str() {
+                "workers"
+                    if v.as_array()
+                        .is_some_and(|ws| ws.iter().any(|w| w["name"] == "sse")) =>
+                {
+                    assert_eq!(v.as_array().map(Vec::len), Some(1), "{v}");
+                    saw_worker = true;
+                }
+                "jobs" if done(&v) => saw_done = true,
+                _ => {}
+            }
+            if saw_worker && saw_done {
+                return;
+            }
+        }
+    }
+    panic!("the event stream ended before the worker and the job's end were seen");
 }

@@ -133,8 +133,8 @@ impl Reference {
             ..YeeParams::default()
         };
         let verdicts = yee_compare(&display, &self.display, &params);
-        let failing =
-            verdicts.iter().filter(|(_, f)| *f).count() as f64 / verdicts.len().max(1) as f64;
+        let failing = verdicts.iter().filter(|(_, passes)| !*passes).count() as f64
+            / verdicts.len().max(1) as f64;
         Error {
             rmse: m.rmse,
             rel_mse: m.rel_mse,
