@@ -141,7 +141,9 @@ fn cache_key(scene: &Path) -> anyhow::Result<serde_json::Value> {
         .modified()
         .ok()
         .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
-        .map_or(0.0, |d| d.as_secs_f64());
+        // Whole nanoseconds: an integer survives the JSON round trip exactly (a float read
+        // back by serde_json may differ in its last bit, and the cache would never match).
+        .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX));
     let path = std::fs::canonicalize(scene).unwrap_or_else(|_| scene.to_path_buf());
     Ok(json!({
         "scene": path.to_string_lossy(),
