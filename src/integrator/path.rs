@@ -30,6 +30,15 @@ const RR_START: u32 = 3;
 /// Null (pass-through) surfaces crossed by one path segment before giving up.
 const MAX_PASS_THROUGH: u32 = 64;
 
+/// Whether a path goes on from its last vertex (the one at depth `maxdepth - 1`) after
+/// sampling its BSDF there. LuxRender 1.x samples lights at path vertices 0..maxdepth-1 and
+/// adds emission at vertex `maxdepth` only for what light sampling cannot reach: a specular
+/// bounce, or every bounce when light sampling is off. So a path has at most `maxdepth + 1`
+/// segments (LuxCore's `pathdepth.total` and Mitsuba's `max_depth` of `maxdepth + 1`).
+fn continues_past_last(direct_light_sampling: bool, specular_bounce: bool) -> bool {
+    !direct_light_sampling || specular_bounce
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Roulette {
     None,
@@ -142,7 +151,9 @@ impl PathIntegrator {
                     };
                     sample_lights(scene, &self.direct, &at, medium, s, beta, last, depth, l);
                 }
-                if last {
+                // A phase function has no specular lobe: the last vertex ends the path once
+                // its light was sampled.
+                if last && !continues_past_last(dls, false) {
                     break;
                 }
                 // The phase function is sampled exactly: the throughput is unchanged.
@@ -232,14 +243,15 @@ impl PathIntegrator {
                 let at = Scatterer::Surface { si, bsdf: &bsdf };
                 sample_lights(scene, &self.direct, &at, medium, s, beta, last, depth, l);
             }
-            if last {
+            if last && !continues_past_last(dls, bsdf.may_be_specular()) {
                 break;
             }
             let (u, u2) = (s.next_1d(), s.next_2d());
             let Some(bs) = bsdf.sample_f(si.wo, u, u2) else {
                 break;
             };
-            if bs.pdf <= 0.0 || bs.f.is_black() {
+            if bs.pdf <= 0.0 || bs.f.is_black() || (last && !continues_past_last(dls, bs.specular))
+            {
                 break;
             }
             beta *= bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);

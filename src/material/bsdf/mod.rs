@@ -158,6 +158,19 @@ impl Bsdf {
         }
     }
 
+    /// Whether sampling may pick a delta lobe (a mirror, a smooth dielectric, a pass-through),
+    /// which light sampling cannot reach. Conservative: a composite answers true.
+    pub fn may_be_specular(&self) -> bool {
+        matches!(
+            &self.lobes,
+            Lobes::GlossyMirror { .. }
+                | Lobes::Mirror(_)
+                | Lobes::Dielectric(_)
+                | Lobes::Composite(_)
+                | Lobes::Null
+        )
+    }
+
     /// True when local and geometric sides agree on reflection vs transmission.
     fn consistent(&self, wo_w: Vec3A, wi_w: Vec3A, wo: Vec3A, wi: Vec3A) -> bool {
         let geo_reflect = wo_w.dot(self.ng) * wi_w.dot(self.ng) > 0.0;

@@ -1,0 +1,81 @@
+//! luxfarm's side of the Cornell benchmark: `cornell-mesh.lxs` with its Sampler line set to
+//! the sampler under test and its path depth set to the benchmark's, rendered in this process
+//! pass by pass until the film holds the spp asked for. Scene building is left out of the
+//! timing, as the other renderers' samples/s statistics leave it out.
+
+use super::{cpu_seconds, Run};
+use crate::image_metrics::film_rgb;
+use anyhow::{bail, Context};
+use luxfarm::lxs::{parse_str, ParseOptions};
+use luxfarm::render::{Session, SessionOptions};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The benchmark scene's text and where it lives.
+pub struct Ours {
+    text: String,
+    path: PathBuf,
+    threads: usize,
+}
+
+/// The scene's one Sampler and SurfaceIntegrator statements, as `cornell_scene.py` writes them.
+const SAMPLER: &str = r#"Sampler "random" "integer pixelsamples" [1]"#;
+const DEPTH: &str = r#""integer maxdepth" [8]"#;
+
+impl Ours {
+    /// Reads the scene; `maxdepth` is LuxRender's (vertices with light sampling).
+    pub fn new(scene: &Path, maxdepth: u32, threads: usize) -> anyhow::Result<Ours> {
+        let text = std::fs::read_to_string(scene)
+            .with_context(|| format!("reading {}", scene.display()))?;
+        if !text.contains(SAMPLER) || !text.contains(DEPTH) {
+            bail!(
+                "{}: expected the lines cornell_scene.py writes ({SAMPLER}; {DEPTH})",
+                scene.display()
+            );
+        }
+        Ok(Ours {
+            text: text.replace(DEPTH, &format!(r#""integer maxdepth" [{maxdepth}]"#)),
+            path: scene.to_path_buf(),
+            threads,
+        })
+    }
+
+    /// Renders `spp` samples per pixel with `sampler`, on stream `seed`.
+    pub fn run(&self, sampler: &str, spp: u32, seed: u64) -> anyhow::Result<Run> {
+        let text = self.text.replace(
+            SAMPLER,
+            &format!(r#"Sampler "{sampler}" "integer pixelsamples" [1]"#),
+        );
+        let desc = parse_str(
+            &text,
+            &self.path.to_string_lossy(),
+            &ParseOptions::default(),
+        )?;
+        let base = self.path.parent().unwrap_or(Path::new("."));
+        let opts = SessionOptions {
+            threads: self.threads,
+            seed,
+            stream: 0,
+        };
+        let mut s = Session::new(&desc, base, opts)?;
+        let start = Instant::now();
+        let cpu0 = cpu_seconds(libc::RUSAGE_SELF);
+        let mut samples = 0u64;
+        while s.film().spp() < f64::from(spp) {
+            let st = s.render_pass();
+            if !st.complete || st.samples == 0 {
+                bail!("render pass did not complete");
+            }
+            samples += st.samples;
+        }
+        let secs = start.elapsed().as_secs_f64();
+        let cpu = cpu_seconds(libc::RUSAGE_SELF) - cpu0;
+        Ok(Run {
+            samples_per_sec: samples as f64 / secs.max(1e-9),
+            samples_per_cpu_sec: samples as f64 / cpu.max(1e-9),
+            seconds: secs,
+            spp: s.film().spp(),
+            rgb: film_rgb(s.film()).iter().map(|c| c.to_array()).collect(),
+        })
+    }
+}
