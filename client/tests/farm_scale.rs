@@ -13,7 +13,7 @@ use luxfarm_proto::connect;
 use std::collections::BTreeSet;
 use std::path::Path;
 use std::process::Command;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 fn rt() -> tokio::runtime::Runtime {
     tokio::runtime::Builder::new_multi_thread()
@@ -57,14 +57,7 @@ fn wait_sequence(
     secs: u64,
     pred: impl Fn(&serde_json::Value) -> bool,
 ) -> serde_json::Value {
-    let end = Instant::now() + Duration::from_secs(secs);
-    loop {
-        let v = get_json(&s.api(&format!("/sequences/{id}")));
-        if pred(&v) || Instant::now() > end {
-            return v;
-        }
-        std::thread::sleep(Duration::from_millis(300));
-    }
+    wait_view(s, &format!("/sequences/{id}"), secs, pred)
 }
 
 #[test]
@@ -285,22 +278,31 @@ fn tagged_workers_take_only_their_jobs_and_failing_workers_are_blocked() {
     assert_eq!(fw["blocked_jobs"], serde_json::json!([job]), "{fw}");
 }
 
-/// Reads SSE lines until an event `name` whose data satisfies `pred`; returns the data.
-fn next_event(
+/// The next (event name, JSON data) pair of an SSE stream; None when the stream ends.
+fn next_sse(
     lines: &mut impl Iterator<Item = std::io::Result<String>>,
-    name: &str,
-    pred: impl Fn(&serde_json::Value) -> bool,
-) -> serde_json::Value {
+) -> Option<(String, serde_json::Value)> {
     let mut event = String::new();
     for line in lines {
         let line = line.expect("the event stream stays open");
         if let Some(e) = line.strip_prefix("event: ") {
             event = e.to_string();
         } else if let Some(d) = line.strip_prefix("data: ") {
-            let v: serde_json::Value = serde_json::from_str(d).expect("JSON data");
-            if event == name && pred(&v) {
-                return v;
-            }
+            return Some((event, serde_json::from_str(d).expect("JSON data")));
+        }
+    }
+    None
+}
+
+/// Reads SSE events until one named `name` whose data satisfies `pred`; returns the data.
+fn next_event(
+    lines: &mut impl Iterator<Item = std::io::Result<String>>,
+    name: &str,
+    pred: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
+    while let Some((event, v)) = next_sse(lines) {
+        if event == name && pred(&v) {
+            return v;
         }
     }
     panic!("the event stream ended before a matching {name} event");
@@ -345,27 +347,20 @@ fn server_sent_events_push_job_changes() {
     // one snapshot every 250 ms): read until both have been seen, in whatever order.
     let done = has("done");
     let (mut saw_worker, mut saw_done) = (false, false);
-    let mut event = String::new();
-    for line in lines {
-        let line = line.expect("the event stream stays open");
-        if let Some(e) = line.strip_prefix("event: ") {
-            event = e.to_string();
-        } else if let Some(d) = line.strip_prefix("data: ") {
-            let v: serde_json::Value = serde_json::from_str(d).expect("JSON data");
-            match event.as_str() {
-                "workers"
-                    if v.as_array()
-                        .is_some_and(|ws| ws.iter().any(|w| w["name"] == "sse")) =>
-                {
-                    assert_eq!(v.as_array().map(Vec::len), Some(1), "{v}");
-                    saw_worker = true;
-                }
-                "jobs" if done(&v) => saw_done = true,
-                _ => {}
+    while let Some((event, v)) = next_sse(&mut lines) {
+        match event.as_str() {
+            "workers"
+                if v.as_array()
+                    .is_some_and(|ws| ws.iter().any(|w| w["name"] == "sse")) =>
+            {
+                assert_eq!(v.as_array().map(Vec::len), Some(1), "{v}");
+                saw_worker = true;
             }
-            if saw_worker && saw_done {
-                return;
-            }
+            "jobs" if done(&v) => saw_done = true,
+            _ => {}
+        }
+        if saw_worker && saw_done {
+            return;
         }
     }
     panic!("the event stream ended before the worker and the job's end were seen");

@@ -3,39 +3,15 @@
 //! threshold of zero that noise must exceed, and one without its reference film — gives a
 //! PASS, a FAIL and a SKIP row, exits 1 because of the FAIL, and writes nothing into DIR.
 
+mod cli_common;
+
+use cli_common::{luxfarm, tiny_scene};
 use std::collections::BTreeSet;
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
-
-const SCENE: &str = r#"LookAt 0 -4 2  0 0 0.5  0 0 1
-Camera "perspective" "float fov" [40]
-Film "fleximage" "integer xresolution" [32] "integer yresolution" [32]
-  "string filename" ["default"] "bool write_png" ["false"] "bool write_exr" ["false"]
-  "bool write_resume_flm" ["true"] "integer haltspp" [64]
-PixelFilter "box"
-Sampler "random" "integer pixelsamples" [1]
-SurfaceIntegrator "path" "integer maxdepth" [2]
-WorldBegin
-AttributeBegin
-AreaLightSource "area" "color L" [20 20 20]
-Shape "trianglemesh" "integer indices" [0 2 1 0 3 2] "point P" [-1 -1 3 1 -1 3 1 1 3 -1 1 3]
-AttributeEnd
-Material "matte" "color Kd" [0.5 0.5 0.5]
-Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-5 -5 0 5 -5 0 5 5 0 -5 5 0]
-WorldEnd
-"#;
-
-fn luxfarm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_luxfarm"))
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("run luxfarm")
-}
 
 fn test_dir(dir: &Path, threshold: &str, reference: &str) {
     std::fs::create_dir_all(dir).unwrap();
-    std::fs::write(dir.join("default.lxs"), SCENE).unwrap();
+    std::fs::write(dir.join("default.lxs"), tiny_scene("default", 64)).unwrap();
     std::fs::write(
         dir.join("simple.cfg"),
         format!(

@@ -5,35 +5,11 @@
 //! first checkpoint to its last, the recommendation names a configuration of the CSV, and the
 //! HTML inlines the figures. A second study in the same folder reuses the cached reference.
 
+mod cli_common;
+
+use cli_common::{luxfarm, tiny_scene};
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
-
-const SCENE: &str = r#"LookAt 0 -4 2  0 0 0.5  0 0 1
-Camera "perspective" "float fov" [40]
-Film "fleximage" "integer xresolution" [32] "integer yresolution" [32]
-  "string filename" ["tiny"] "bool write_png" ["false"] "bool write_exr" ["false"]
-  "bool write_resume_flm" ["true"] "integer haltspp" [4]
-PixelFilter "box"
-Sampler "random" "integer pixelsamples" [1]
-SurfaceIntegrator "path" "integer maxdepth" [2]
-WorldBegin
-AttributeBegin
-AreaLightSource "area" "color L" [20 20 20]
-Shape "trianglemesh" "integer indices" [0 2 1 0 3 2] "point P" [-1 -1 3 1 -1 3 1 1 3 -1 1 3]
-AttributeEnd
-Material "matte" "color Kd" [0.5 0.5 0.5]
-Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-5 -5 0 5 -5 0 5 5 0 -5 5 0]
-WorldEnd
-"#;
-
-fn luxfarm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_luxfarm"))
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("run luxfarm")
-}
 
 /// CSV rows per configuration: (seconds, samples, rmse) of each checkpoint.
 fn read_csv(path: &Path) -> BTreeMap<String, Vec<(f64, f64, Option<f64>)>> {
@@ -67,7 +43,7 @@ fn read_csv(path: &Path) -> BTreeMap<String, Vec<(f64, f64, Option<f64>)>> {
 fn a_tiny_study_writes_consistent_csv_html_and_figures() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = tmp.path().join("tiny.lxs");
-    std::fs::write(&scene, SCENE).unwrap();
+    std::fs::write(&scene, tiny_scene("tiny", 4)).unwrap();
     let out = tmp.path().join("study");
     let (scene_s, out_s) = (scene.to_str().unwrap(), out.to_str().unwrap());
     let o = luxfarm(&[
@@ -174,7 +150,7 @@ fn a_tiny_study_writes_consistent_csv_html_and_figures() {
 fn bad_study_arguments_are_refused_with_status_2() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = tmp.path().join("tiny.lxs");
-    std::fs::write(&scene, SCENE).unwrap();
+    std::fs::write(&scene, tiny_scene("tiny", 4)).unwrap();
     let s = scene.to_str().unwrap();
     for args in [
         vec!["study", s, "--configs", "photon/random"],

@@ -180,9 +180,20 @@ pub fn wait_job(
     secs: u64,
     pred: impl Fn(&serde_json::Value) -> bool,
 ) -> serde_json::Value {
+    wait_view(s, &format!("/jobs/{id}"), secs, pred)
+}
+
+/// Polls the API resource at `path` (e.g. `/jobs/ID`) until `pred` holds or `secs` pass;
+/// returns the last view.
+pub fn wait_view(
+    s: &Server,
+    path: &str,
+    secs: u64,
+    pred: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
     let end = Instant::now() + Duration::from_secs(secs);
     loop {
-        let v = get_json(&s.api(&format!("/jobs/{id}")));
+        let v = get_json(&s.api(path));
         if pred(&v) || Instant::now() > end {
             return v;
         }

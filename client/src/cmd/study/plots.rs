@@ -100,10 +100,60 @@ fn error_figure<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     f: &Figures,
 ) -> Result<(), String> {
+    let axes = LogLog {
+        caption: "RMSE against render time (log-log)",
+        x: "render seconds",
+        y: "RMSE, linear RGB",
+    };
+    loglog_figure(root, f, &axes, |l| &l.rmse)
+}
+
+fn target_figure<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    f: &Figures,
+) -> Result<(), String> {
+    let axes = LogLog {
+        caption: "Time to reach each RMSE target",
+        x: "target RMSE",
+        y: "render seconds to reach it",
+    };
+    loglog_figure(root, f, &axes, |l| &l.to_target)
+}
+
+/// The caption and axis names of a log–log figure.
+struct LogLog {
+    caption: &'static str,
+    x: &'static str,
+    y: &'static str,
+}
+
+/// One line with dots per configuration, of the points `series` picks (those with both
+/// coordinates positive: the axes are logarithmic); a configuration without any is left out
+/// but keeps its colour, so colours agree between figures.
+fn loglog_figure<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    f: &Figures,
+    axes: &LogLog,
+    series: impl Fn(&Line) -> &[(f64, f64)],
+) -> Result<(), String> {
     root.fill(&WHITE).map_err(err)?;
-    let pts = || f.lines.iter().flat_map(|l| l.rmse.iter());
+    let positive = |l: &Line| -> Vec<(f64, f64)> {
+        series(l)
+            .iter()
+            .copied()
+            .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+            .collect()
+    };
+    let lines: Vec<(usize, &Line, Vec<(f64, f64)>)> = f
+        .lines
+        .iter()
+        .enumerate()
+        .map(|(i, l)| (i, l, positive(l)))
+        .filter(|(_, _, pts)| !pts.is_empty())
+        .collect();
+    let pts = || lines.iter().flat_map(|(_, _, p)| p.iter());
     let mut chart = ChartBuilder::on(root)
-        .caption("RMSE against render time (log-log)", (FONT, 22))
+        .caption(axes.caption, (FONT, 22))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(70)
@@ -114,21 +164,20 @@ fn error_figure<DB: DrawingBackend>(
         .map_err(err)?;
     chart
         .configure_mesh()
-        .x_desc("render seconds")
-        .y_desc("RMSE, linear RGB")
+        .x_desc(axes.x)
+        .y_desc(axes.y)
         .label_style((FONT, 14))
         .draw()
         .map_err(err)?;
-    for (i, l) in f.lines.iter().enumerate() {
-        let c = color(i);
-        let pts: Vec<(f64, f64)> = l.rmse.iter().copied().filter(|p| p.1 > 0.0).collect();
+    for (i, l, pts) in lines.iter() {
+        let c = color(*i);
         chart
             .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
             .map_err(err)?
             .label(l.label.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
         chart
-            .draw_series(pts.into_iter().map(|p| Circle::new(p, 3, c.filled())))
+            .draw_series(pts.iter().map(|&p| Circle::new(p, 3, c.filled())))
             .map_err(err)?;
     }
     legend(&mut chart)
@@ -144,48 +193,6 @@ fn legend<'a, DB: DrawingBackend + 'a, X: Ranged, Y: Ranged>(
         .border_style(BLACK)
         .draw()
         .map_err(err)
-}
-
-fn target_figure<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    f: &Figures,
-) -> Result<(), String> {
-    root.fill(&WHITE).map_err(err)?;
-    let pts = || f.lines.iter().flat_map(|l| l.to_target.iter());
-    let mut chart = ChartBuilder::on(root)
-        .caption("Time to reach each RMSE target", (FONT, 22))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(
-            log_range(pts().map(|p| p.0)).log_scale(),
-            log_range(pts().map(|p| p.1)).log_scale(),
-        )
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc("target RMSE")
-        .y_desc("render seconds to reach it")
-        .label_style((FONT, 14))
-        .draw()
-        .map_err(err)?;
-    for (i, l) in f
-        .lines
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| !l.to_target.is_empty())
-    {
-        let c = color(i);
-        chart
-            .draw_series(LineSeries::new(l.to_target.clone(), c.stroke_width(2)))
-            .map_err(err)?
-            .label(l.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
-        chart
-            .draw_series(l.to_target.iter().map(|&p| Circle::new(p, 4, c.filled())))
-            .map_err(err)?;
-    }
-    legend(&mut chart)
 }
 
 fn rate_figure<DB: DrawingBackend>(
