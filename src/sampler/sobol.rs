@@ -17,7 +17,7 @@ use crate::plugin::{BuildError, Stmt};
 
 use super::hash::{combine, mix64};
 use glam::Vec2;
-use sobol_burley::parts::{owen_scramble_rev, sobol_rev, u32_to_f32_norm};
+use sobol_burley::parts::{owen_scramble_rev, u32_to_f32_norm};
 
 const SEQ_BITS: u32 = 16;
 
@@ -41,6 +41,28 @@ fn request(run_key: u64, index: u64, dim: u32) -> (u64, u32) {
 #[inline]
 fn shuffled_rev(key: u64, i: u32) -> u32 {
     owen_scramble_rev(i.reverse_bits(), key as u32)
+}
+
+/// Sobol dimension `d` (0 or 1) of the point at bit-reversed index `rev` (its top 16 bits),
+/// bit-reversed: the same bits as `sobol_burley::parts::sobol_rev`, without its loop over
+/// index bits and table look-ups.
+///
+/// In the reversed value, bit m is the (m + 1)-th binary digit after the point. Dimension 0
+/// is the van der Corput sequence: digit m + 1 is index bit m, so the reversed value is the
+/// index itself. Dimension 1's generator matrix is Pascal's triangle mod 2: digit m + 1 is
+/// the XOR of the index bits k with C(k, m) odd, that is (Lucas) with m's bits a subset of
+/// k's: a superset-XOR transform over the five bits of a bit position, one shift per bit.
+#[inline]
+fn sobol_rev(rev: u32, d: u32) -> u32 {
+    let mut v = (rev & 0xffff_0000).reverse_bits();
+    if d != 0 {
+        v ^= (v >> 1) & 0x5555_5555;
+        v ^= (v >> 2) & 0x3333_3333;
+        v ^= (v >> 4) & 0x0f0f_0f0f;
+        v ^= (v >> 8) & 0x00ff_00ff;
+        v ^= (v >> 16) & 0x0000_ffff;
+    }
+    v
 }
 
 /// Owen-scrambled dimension `d` (0 or 1) of the point at bit-reversed index `rev`.
@@ -70,4 +92,22 @@ pub(super) fn value_2d(run_key: u64, index: u64, dim: u32) -> Vec2 {
 /// Reads a `sobol` statement.
 pub(super) fn build(s: &Stmt) -> Result<(SamplerKind, u32), BuildError> {
     Ok((SamplerKind::Sobol, pixel_samples(s)?))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn both_dimensions_match_sobol_burley_for_every_index() {
+        for top in 0..=u16::MAX as u32 {
+            // The low bits are ignored, as sobol_burley ignores them.
+            let rev = (top << 16) | (top.wrapping_mul(0x9e37) & 0xffff);
+            for d in 0..2 {
+                assert_eq!(
+                    super::sobol_rev(rev, d),
+                    sobol_burley::parts::sobol_rev(rev, d),
+                    "index {top:#x}, dimension {d}"
+                );
+            }
+        }
+    }
 }
