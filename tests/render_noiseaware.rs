@@ -109,7 +109,10 @@ fn sampling_follows_the_map_once_it_is_built() {
             ratios.push(l / r);
         } else {
             uniform_passes += 1;
-            assert!(counts.iter().all(|c| (c - 4.0).abs() < 1e-9), "{counts:?}");
+            // (a film position that rounds onto the next pixel's edge may move one count)
+            assert!(counts.iter().all(|c| (c - 4.0).abs() <= 1.0), "{counts:?}");
+            let (l, r) = halves(&counts);
+            assert!((l / r - 1.0).abs() < 0.02, "{counts:?}");
         }
         before = now;
     }
