@@ -87,7 +87,7 @@ mod tests {
         let mut f = Film::new(w, h, vec![]);
         for y in 0..h {
             for x in 0..w {
-                let v = if x < w / 2 && (x + y + round) % 2 == 0 {
+                let v = if x < w / 2 && (x + y + round).is_multiple_of(2) {
                     0.9
                 } else {
                     0.3

@@ -275,25 +275,6 @@ impl SamplingMap {
         Ok(SamplingMap::normalised(w, h, density))
     }
 
-    /// This map times another of the same size (a user's sampling map), normalised again.
-    pub fn multiplied(&self, other: &SamplingMap) -> Result<SamplingMap, MapError> {
-        if (other.width, other.height) != (self.width, self.height) {
-            return Err(MapError::Mismatch {
-                got_w: other.width,
-                got_h: other.height,
-                want_w: self.width,
-                want_h: self.height,
-            });
-        }
-        let d = self
-            .density
-            .iter()
-            .zip(&other.density)
-            .map(|(a, b)| a * b)
-            .collect();
-        Ok(SamplingMap::normalised(self.width, self.height, d))
-    }
-
     /// Checks that the map covers a `w` × `h` buffer.
     pub fn check_film(&self, w: u32, h: u32) -> Result<(), MapError> {
         if (self.width, self.height) != (w, h) {
@@ -432,15 +413,6 @@ mod tests {
         // all zero: uniform
         let z = SamplingMap::from_cells(2, 1, 1, 2, 1, &[0.0, 0.0]).unwrap();
         assert_eq!(z.densities(), &[1.0, 1.0]);
-    }
-
-    #[test]
-    fn a_user_map_multiplies_in() {
-        let a = SamplingMap::from_cells(2, 1, 1, 2, 1, &[1.0, 1.0]).unwrap();
-        let u = SamplingMap::from_cells(2, 1, 1, 2, 1, &[3.0, 1.0]).unwrap();
-        assert_eq!(a.multiplied(&u).unwrap().densities(), &[1.5, 0.5]);
-        let other = SamplingMap::uniform(3, 1).unwrap();
-        assert!(a.multiplied(&other).is_err());
     }
 
     #[test]
