@@ -37,6 +37,7 @@ async fn upload(
                 last: false,
                 size: bytes.len() as u64,
                 master_instance: String::new(),
+                sampling_map_version: None,
             })),
         },
         pb::UploadChunk {
@@ -154,6 +155,7 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
             last: true,
             size: codec::encode(&empty).len() as u64,
             master_instance: String::new(),
+            sampling_map_version: None,
         };
         let chunks = vec![
             pb::UploadChunk {

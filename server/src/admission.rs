@@ -267,6 +267,7 @@ mod tests {
             halttime: None,
             haltthreshold: None,
             convergence_step: 32.0,
+            noise_aware: false,
             basename: "s".into(),
             name: "s".into(),
             scene: "s.lxs".into(),

@@ -117,6 +117,8 @@ pub struct RunState {
     pub history: VecDeque<(Instant, f64)>,
     /// Spp at the last convergence test, the test's state and its last result.
     pub convergence: crate::scene::Convergence,
+    /// The noise-aware sampling map built from the merged film (noise-aware jobs).
+    pub noise_map: crate::noisemap::NoiseMapState,
     /// First lease time (job clock for halttime).
     pub first_lease_ms: Option<i64>,
 }

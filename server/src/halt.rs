@@ -3,7 +3,8 @@
 //! The halt rules themselves are the core's (`luxfarm::halt`, shared with `luxfarm render`);
 //! this module asks them at the master's moments, on the merged film: haltspp and haltthreshold
 //! (the convergence test every convergencestep spp) after each merge, halttime (seconds since
-//! the first lease) on every tick. When one holds the job enters its halting phase: every lease
+//! the first lease) on every tick. A noise-aware job's sampling map is rebuilt after merges
+//! too (`crate::noisemap`). When one holds the job enters its halting phase: every lease
 //! is told to stop and the master waits for the last deltas (at most two upload intervals plus
 //! a margin), then writes the outputs the Film asks for (`luxfarm::output`) and marks the job
 //! done.
@@ -74,7 +75,22 @@ pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
             begin_halt(farm, rt, reason.to_string());
         }
     }
+    rebuild_noise_map(rt, spp);
     Ok(())
+}
+
+/// For a noise-aware job, rebuilds the sampling map from a copy of the merged film when
+/// `convergencestep` spp were merged since the last one (`crate::noisemap`).
+fn rebuild_noise_map(rt: &JobRt, spp: f64) {
+    if !rt.info.noise_aware || !lock(&rt.state).noise_map.due(spp) {
+        return;
+    }
+    let film = lock(&rt.film).clone();
+    let mut st = lock(&rt.state);
+    let step = rt.info.convergence_step;
+    if st.noise_map.update(&film, step, &rt.info.params.tonemap) {
+        tracing::debug!(job = %rt.id, spp = film.spp(), "noise-aware sampling map rebuilt");
+    }
 }
 
 /// Starts the halting phase (idempotent): every lease is told to stop.

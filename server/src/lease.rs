@@ -123,6 +123,7 @@ impl Farm {
                 checkpoint_error: None,
                 history: VecDeque::from([(Instant::now(), samples)]),
                 convergence: Default::default(),
+                noise_map: Default::default(),
                 first_lease_ms: row.first_lease_ms,
             }),
         }))
@@ -327,7 +328,9 @@ impl Farm {
         self.metrics
             .record_merge(data.len() as u64, samples, timing);
         self.touch();
-        self.ack(UploadStatus::Merged, &row, &rt, &h.lease_id)
+        let mut ack = self.ack(UploadStatus::Merged, &row, &rt, &h.lease_id)?;
+        ack.sampling_map = lock(&rt.state).noise_map.for_worker(h.sampling_map_version);
+        Ok(ack)
     }
 
     /// Merges a decoded delta under the film lock together with its ledger row (never one
@@ -417,6 +420,7 @@ impl Farm {
             durable_seq,
             master_instance: self.instance.clone(),
             budget,
+            sampling_map: None,
         })
     }
 

@@ -11,7 +11,8 @@
 //!   `halt`: halt rules, checkpoints, job end, cancel; `db`: the SQLite store (schema versions
 //!   and upgrades in `db::migrate`); `schedule`: which job a worker gets (priority, tags,
 //!   memory, sequence policies); `sequence`: frame sequences; `blocks`: failing workers
-//!   blocked from jobs and quarantined.
+//!   blocked from jobs and quarantined; `noisemap`: noise-aware sampling maps built from the
+//!   merged film, sent to workers with their acknowledgements.
 //!
 //! Durability of acknowledged deltas: a delta is acknowledged once merged into the job's film
 //! in memory, and becomes durable with the next checkpoint (the film written atomically, then
@@ -48,6 +49,7 @@ pub(crate) mod grpc;
 pub(crate) mod halt;
 pub(crate) mod lease;
 pub(crate) mod metrics;
+pub(crate) mod noisemap;
 #[expect(
     dead_code,
     reason = "`render` and `Output::version` are unused since the module became private; the \

@@ -33,6 +33,9 @@ pub struct SceneInfo {
     pub halttime: Option<f64>,
     pub haltthreshold: Option<f64>,
     pub convergence_step: f64,
+    /// The sampler draws pixels by a noise-aware sampling map (`"bool noiseaware"`): the
+    /// master builds it from the merged film and sends it to the workers.
+    pub noise_aware: bool,
     /// Base name of the outputs in the job's output directory (`output::farm_basename`: the
     /// last component of the film's `filename`, else the scene's stem).
     pub basename: String,
@@ -105,6 +108,7 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
         halttime: params.halttime.map(f64::from),
         haltthreshold: params.haltthreshold.map(f64::from),
         convergence_step: params.convergence_step.max(1.0),
+        noise_aware: noise_aware(&desc),
         basename,
         name,
         scene: scene.to_string_lossy().replace('\\', "/"),
@@ -113,6 +117,14 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
         lights: desc.lights.len(),
         params,
     })
+}
+
+/// Whether the scene's sampler is noise-aware, as the render core reads it (a sampler that
+/// does not build is refused by the workers anyway: no map then).
+fn noise_aware(desc: &luxfarm::lxs::SceneDescription) -> bool {
+    let mut warnings = Vec::new();
+    luxfarm::sampler::Sampler::build(desc.sampler.as_ref(), &mut warnings)
+        .is_ok_and(|s| s.noise_aware())
 }
 
 /// Error messages name files inside the bundle relative to it, not the master's disk.

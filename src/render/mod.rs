@@ -13,14 +13,22 @@
 //!
 //! The `metropolis` sampler does not visit pixels: its passes run the session's Markov
 //! chains ([`mlt`]) into the film's per-screen buffers.
+//!
+//! A `noiseaware` sampler draws each pixel's samples of a pass by the session's sampling map
+//! (`crate::sampler::map`). A local session rebuilds the map from its own film every
+//! `convergencestep` spp ([`noise`], which documents the pass count); a farm worker's session
+//! instead takes the maps its master sends ([`Session::follow_external_maps`],
+//! [`Session::set_sampling_map`]). Passes count the samples they actually took.
 
 pub mod buffers;
 pub mod mlt;
+pub mod noise;
 pub mod setup;
 mod tile;
 
 use crate::film::{BufferType, Film, FilmParams, ZBuffer};
 use crate::lxs::SceneDescription;
+use crate::sampler::map::{MapError, SamplingMap};
 use setup::{Renderable, SetupError};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -91,6 +99,10 @@ pub struct Session {
     outliers: u64,
     /// The Markov chains of a metropolis sampler.
     mlt: Option<mlt::MltState>,
+    /// The sampling map of a noise-aware sampler (none yet: uniform).
+    map: Option<Arc<SamplingMap>>,
+    /// Rebuilds the map from this session's film (local renders of a noise-aware sampler).
+    map_builder: Option<noise::MapBuilder>,
 }
 
 impl Session {
@@ -124,6 +136,11 @@ impl Session {
         let depth = fp
             .wants_zbuf()
             .then(|| ZBuffer::new(fp.x_pixel_count, fp.y_pixel_count));
+        let map_builder = scene
+            .setup
+            .sampler
+            .noise_aware()
+            .then(|| noise::MapBuilder::new(fp.convergence_step));
         Ok(Session {
             scene: Arc::new(scene),
             buffers,
@@ -136,7 +153,50 @@ impl Session {
             rejected: 0,
             outliers: 0,
             mlt,
+            map: None,
+            map_builder,
         })
+    }
+
+    /// Whether this session's sampler draws pixels by a sampling map.
+    pub fn noise_aware(&self) -> bool {
+        self.scene.setup.sampler.noise_aware()
+    }
+
+    /// The sampling map the next pass follows (`None`: uniform).
+    pub fn sampling_map(&self) -> Option<&SamplingMap> {
+        self.map.as_deref()
+    }
+
+    /// Stops rebuilding the map from this session's film: maps come from elsewhere (a
+    /// farm worker, whose film is only a delta, takes its master's).
+    pub fn follow_external_maps(&mut self) {
+        self.map_builder = None;
+    }
+
+    /// Sets the sampling map of the next passes. Refused when its size is not the film
+    /// buffer's; ignored (false) when the sampler is not noise-aware.
+    pub fn set_sampling_map(&mut self, map: Arc<SamplingMap>) -> Result<bool, MapError> {
+        let fp = &self.scene.setup.film_params;
+        map.check_film(fp.x_pixel_count, fp.y_pixel_count)?;
+        if !self.noise_aware() {
+            return Ok(false);
+        }
+        self.map = Some(map);
+        Ok(true)
+    }
+
+    /// After a pass: rebuilds the map from the film when due (local noise-aware renders).
+    fn update_map(&mut self) {
+        let Some(b) = self.map_builder.as_mut() else {
+            return;
+        };
+        if !b.due(self.film.spp()) {
+            return;
+        }
+        if let Some(m) = b.update(&self.film, &self.scene.setup.film_params.tonemap) {
+            self.map = Some(Arc::new(m));
+        }
     }
 
     /// The world and render setup this session renders.
@@ -222,9 +282,8 @@ impl Session {
         let scene = &*self.scene;
         let fp = &scene.setup.film_params;
         let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
-        let spp = scene.setup.sampler.pixel_samples().max(1);
-        let pass = self.pass;
-        let (seed, stream) = (self.opts.seed, self.opts.stream);
+        let (buffers, map) = (self.buffers.clone(), self.map.clone());
+        let ctx = self.pass_ctx(&buffers, map.as_deref());
         let cancel = &self.cancel;
         let results: Vec<Option<tile::TileOut>> = self.pool.install(|| {
             list.par_iter()
@@ -232,15 +291,7 @@ impl Session {
                     if cancel.load(Ordering::Relaxed) {
                         return None;
                     }
-                    Some(tile::render_tile(
-                        scene,
-                        t,
-                        pass,
-                        spp,
-                        seed,
-                        stream,
-                        &self.buffers,
-                    ))
+                    Some(tile::render_tile(scene, t, &ctx))
                 })
                 .collect()
         });
@@ -250,9 +301,10 @@ impl Session {
                 ..Default::default()
             };
         }
-        let (mut rejected, mut outliers) = (0, 0);
+        let (mut rejected, mut outliers, mut samples) = (0, 0, 0);
         for r in results.into_iter().flatten() {
             let (t, d) = (r.tile, r.discarded);
+            samples += r.samples;
             // Layouts match by construction; an error here would be a bug, not input.
             if let Err(e) = self.film.merge_at(&r.film, t.fx0, t.fy0) {
                 tracing::error!("tile merge failed: {e}");
@@ -263,7 +315,24 @@ impl Session {
             rejected += d.invalid;
             outliers += d.outliers;
         }
-        self.finish_pass(start, rejected, outliers)
+        self.finish_pass(start, samples, rejected, outliers)
+    }
+
+    /// What the tiles of the next pass share (borrowing only the buffer layout and the map,
+    /// so the pass can still write the depth buffer).
+    fn pass_ctx<'a>(
+        &self,
+        buffers: &'a [BufferType],
+        map: Option<&'a SamplingMap>,
+    ) -> tile::PassCtx<'a> {
+        tile::PassCtx {
+            pass: self.pass,
+            spp: self.scene.setup.sampler.pixel_samples().max(1),
+            seed: self.opts.seed,
+            stream: self.opts.stream,
+            buffers,
+            map,
+        }
     }
 
     /// A pass of an integrator with splats: tiles in fixed batches, each batch's tile films
@@ -275,14 +344,13 @@ impl Session {
         let scene = &*self.scene;
         let fp = &scene.setup.film_params;
         let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
-        let spp = scene.setup.sampler.pixel_samples().max(1);
-        let (pass, seed, stream) = (self.pass, self.opts.seed, self.opts.stream);
+        let (buffers, map) = (self.buffers.clone(), self.map.clone());
+        let ctx = self.pass_ctx(&buffers, map.as_deref());
         let cancel = &self.cancel;
-        let buffers = &self.buffers;
         let mut pass_film = self.film.clone();
         pass_film.clear();
         let origin = [fp.x_pixel_start, fp.y_pixel_start];
-        let (mut rejected, mut outliers) = (0, 0);
+        let (mut rejected, mut outliers, mut samples) = (0, 0, 0);
         for batch in list.chunks(SPLAT_BATCH) {
             let results: Vec<Option<tile::TileOut>> = self.pool.install(|| {
                 batch
@@ -291,9 +359,7 @@ impl Session {
                         if cancel.load(Ordering::Relaxed) {
                             return None;
                         }
-                        Some(tile::render_tile(
-                            scene, t, pass, spp, seed, stream, buffers,
-                        ))
+                        Some(tile::render_tile(scene, t, &ctx))
                     })
                     .collect()
             });
@@ -304,6 +370,7 @@ impl Session {
                 };
             }
             for r in results.into_iter().flatten() {
+                samples += r.samples;
                 if let Err(e) = pass_film.merge_at(&r.film, r.tile.fx0, r.tile.fy0) {
                     tracing::error!("tile merge failed: {e}");
                 }
@@ -325,7 +392,7 @@ impl Session {
         if let Err(e) = self.film.merge(&pass_film) {
             tracing::error!("pass merge failed: {e}");
         }
-        self.finish_pass(start, rejected, outliers)
+        self.finish_pass(start, samples, rejected, outliers)
     }
 
     /// Acceptance statistics of the metropolis chains (`None` for other samplers).
@@ -356,20 +423,25 @@ impl Session {
         if let Err(e) = self.film.merge(&pass_film) {
             tracing::error!("pass merge failed: {e}");
         }
-        self.finish_pass(start, invalid, 0)
+        self.finish_pass(start, steps, invalid, 0)
     }
 
-    /// Counts a completed pass: its samples in the film, its discarded samples.
-    fn finish_pass(&mut self, start: Instant, rejected: u64, outliers: u64) -> PassStats {
-        let fp = &self.scene.setup.film_params;
-        let spp = self.scene.setup.sampler.pixel_samples().max(1);
-        let samples = u64::from(fp.x_pixel_count) * u64::from(fp.y_pixel_count) * u64::from(spp);
+    /// Counts a completed pass: its samples in the film, its discarded samples; then the
+    /// sampling map is rebuilt when due.
+    fn finish_pass(
+        &mut self,
+        start: Instant,
+        samples: u64,
+        rejected: u64,
+        outliers: u64,
+    ) -> PassStats {
         self.film.add_sample_count(samples as f64);
         // The film's count (kept in FLM deltas) covers both kinds, as LuxRender's does.
         self.film.add_rejected(rejected + outliers);
         self.rejected += rejected;
         self.outliers += outliers;
         self.pass += 1;
+        self.update_map();
         PassStats {
             samples,
             rejected,

@@ -2,10 +2,15 @@
 //! plus the filter's reach, clipped to the buffer), and into a depth buffer of the same
 //! region when the Film asks for a Z output (each camera ray's first hit, found by one more
 //! intersection of the primary ray; nothing is traced for depth otherwise).
+//!
+//! Under a sampling map (noise-aware sampling) each pixel takes the map's count of samples
+//! for the pass instead of `pixelsamples` (`crate::sampler::map`), with sample indices of
+//! their own; the tile reports the samples it took.
 
 use super::setup::{RenderSetup, Renderable};
 use crate::film::{BufferType, Film, OutlierRejector, ZBuffer};
 use crate::integrator::{SampleOut, Splat};
+use crate::sampler::map::{map_sample_index, PassKey, SamplingMap};
 use crate::spectrum::rgb_to_xyz;
 
 pub const TILE_SIZE: u32 = 32;
@@ -63,23 +68,60 @@ pub struct Discarded {
 /// film region when the Film asks for a Z buffer.
 pub struct TileOut {
     pub film: Film,
+    /// Camera samples taken.
+    pub samples: u64,
     pub tile: Tile,
     pub discarded: Discarded,
     pub splats: Vec<Splat>,
     pub depth: Option<ZBuffer>,
 }
 
-/// Renders `spp` samples per pixel of tile `t` for pass `pass` into a film of the session's
-/// buffer layout (`buffers`; the samples' own contributions go to buffer 0).
-pub fn render_tile(
-    scene: &Renderable,
-    t: &Tile,
-    pass: u64,
-    spp: u32,
-    seed: u64,
-    stream: u64,
-    buffers: &[BufferType],
-) -> TileOut {
+/// What every tile of one pass shares: the pass, samples per pixel, job seed and stream, the
+/// film's buffer layout and the sampling map (noise-aware sampling), if any.
+#[derive(Clone, Copy)]
+pub struct PassCtx<'a> {
+    pub pass: u64,
+    pub spp: u32,
+    pub seed: u64,
+    pub stream: u64,
+    pub buffers: &'a [BufferType],
+    pub map: Option<&'a SamplingMap>,
+}
+
+impl PassCtx<'_> {
+    /// Samples of buffer pixel (`bx`, `by`), image pixel (`px`, `py`), in this pass.
+    fn pixel_plan(&self, bx: u32, by: u32, px: u32, py: u32) -> u32 {
+        match self.map {
+            None => self.spp,
+            Some(m) => m.pixel_samples(
+                self.spp,
+                bx,
+                by,
+                PassKey {
+                    seed: self.seed,
+                    stream: self.stream,
+                    px,
+                    py,
+                    pass: self.pass,
+                },
+            ),
+        }
+    }
+
+    /// The sample index of a pixel's `k`-th sample in this pass.
+    fn sample_index(&self, k: u32) -> u64 {
+        match self.map {
+            None => self.pass * u64::from(self.spp) + u64::from(k),
+            Some(_) => map_sample_index(self.pass, self.spp, k),
+        }
+    }
+}
+
+/// Renders tile `t` for the pass `ctx` into a film of the session's buffer layout (the
+/// samples' own contributions go to buffer 0): `spp` samples per pixel, or the map's count.
+pub fn render_tile(scene: &Renderable, t: &Tile, ctx: &PassCtx) -> TileOut {
+    let (seed, stream, buffers) = (ctx.seed, ctx.stream, ctx.buffers);
+    let mut samples = 0u64;
     let (setup, world) = (&scene.setup, &scene.world);
     let fp = &setup.film_params;
     let (bw, bh) = (fp.x_pixel_count, fp.y_pixel_count);
@@ -110,8 +152,10 @@ pub fn render_tile(
     for by in t.y0..t.y1 {
         for bx in t.x0..t.x1 {
             let (px, py) = (bx + fp.x_pixel_start, by + fp.y_pixel_start);
-            for k in 0..spp {
-                let index = pass * u64::from(spp) + u64::from(k);
+            let n = ctx.pixel_plan(bx, by, px, py);
+            samples += u64::from(n);
+            for k in 0..n {
+                let index = ctx.sample_index(k);
                 let mut st = setup.sampler.start(seed, stream, px, py, index);
                 let cs = st.camera_sample();
                 let Some((ray, w)) = setup.camera.generate_ray(&cs) else {
@@ -167,6 +211,7 @@ pub fn render_tile(
     }
     TileOut {
         film,
+        samples,
         tile: t,
         discarded,
         splats,

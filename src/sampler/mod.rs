@@ -8,6 +8,12 @@
 //! samplers fall back with a warning: `bestcandidate`, `stratified` and `halton` to
 //! lowdiscrepancy, `erpt` to random.
 //!
+//! `"bool noiseaware"` (random, lowdiscrepancy, sobol and the fallbacks to them) makes a pass
+//! give each pixel a number of samples in proportion to a sampling map built from the film's
+//! convergence test ([`map`]; the render session keeps the map). Metropolis accepts the
+//! parameter but refuses it with a located warning (its per-screen buffer would be biased),
+//! erpt ignores it with a warning, as LuxRender's.
+//!
 //! A metropolis sampler does not visit pixels: the render session runs its chains
 //! ([`metropolis::Chain`]) and traces each proposal through [`Sampler::start_primary`], a
 //! stream over the proposed values whose dimensions 0 and 1 span the whole sampled film
@@ -32,6 +38,7 @@
 
 mod hash;
 mod lowdiscrepancy;
+pub mod map;
 pub mod metropolis;
 mod random;
 mod sobol;
@@ -63,6 +70,8 @@ pub struct Sampler {
     log2_n: u32,
     /// The metropolis parameters (metropolis only).
     mlt: Option<metropolis::MltParams>,
+    /// `noiseaware`: pixels are sampled in proportion to a sampling map ([`map`]).
+    noise_aware: bool,
 }
 
 /// `pixelsamples` of a sampler statement: at least 1.
@@ -106,9 +115,7 @@ impl Sampler {
         let p = s.params();
         // LuxRender's pixel visiting order: irrelevant to a deterministic per-pixel sampler.
         let _ = p.string("pixelsampler");
-        if p.bool("noiseaware") == Some(true) {
-            s.warn("noise-aware sampling is not supported; sampling uniformly");
-        }
+        let noise_aware = p.bool("noiseaware") == Some(true);
         let (kind, n) = match e.kind.as_str() {
             "random" => random::build(&mut s)?,
             "lowdiscrepancy" => lowdiscrepancy::build(&s)?,
@@ -116,11 +123,21 @@ impl Sampler {
             "stratified" | "bestcandidate" | "halton" => lowdiscrepancy::build_legacy(&mut s)?,
             "metropolis" => {
                 let (kind, n, mlt) = metropolis::build(&mut s)?;
+                if noise_aware {
+                    s.warn(
+                        "noiseaware is not applied with metropolis: its samples go to a \
+                         per-screen buffer normalised by the total sample count, where drawing \
+                         pixels by a map would bias the image; sampling follows the chains",
+                    );
+                }
                 let mut smp = Sampler::new(kind, n).map_err(|x| BuildError::new(&e.loc, x.message))?;
                 smp.mlt = Some(mlt);
                 return Ok(smp);
             }
             "erpt" => {
+                if noise_aware {
+                    s.warn("noiseaware is not supported by erpt (nor by LuxRender's); ignored");
+                }
                 s.warn(format!(
                     "sampler \"{}\" is not implemented; using \"random\" (unbiased, same samples per pixel)",
                     e.kind
@@ -133,7 +150,9 @@ impl Sampler {
                 )))
             }
         };
-        Sampler::new(kind, n).map_err(|x| BuildError::new(&e.loc, x.message))
+        let mut smp = Sampler::new(kind, n).map_err(|x| BuildError::new(&e.loc, x.message))?;
+        smp.noise_aware = noise_aware && e.kind != "erpt";
+        Ok(smp)
     }
 
     /// A sampler of this kind; lowdiscrepancy rounds `pixel_samples` up to a power of two
@@ -152,7 +171,20 @@ impl Sampler {
             pixel_samples: n,
             log2_n: n.trailing_zeros(),
             mlt: (kind == SamplerKind::Metropolis).then(metropolis::MltParams::default),
+            noise_aware: false,
         })
+    }
+
+    /// Whether pixels are drawn by a sampling map (`noiseaware`; never for metropolis,
+    /// whose per-screen buffer the map would bias).
+    pub fn noise_aware(&self) -> bool {
+        self.noise_aware && !self.per_screen()
+    }
+
+    /// This sampler with noise-aware sampling on or off (metropolis stays off).
+    pub fn with_noise_aware(mut self, on: bool) -> Sampler {
+        self.noise_aware = on;
+        self
     }
 
     pub fn kind(&self) -> SamplerKind {

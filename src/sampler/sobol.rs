@@ -10,7 +10,7 @@
 //!
 //! LuxRender's sobol sampler renders progressively over the whole image and has no
 //! `pixelsamples`; ours samples pixel by pixel, so `pixelsamples` (default 4) sets the
-//! samples per pixel and pass. `noiseaware` is accepted (not supported: uniform sampling).
+//! samples per pixel and pass; `noiseaware` draws pixels by a sampling map ([`super::map`]).
 
 use super::{pixel_samples, SamplerKind};
 use crate::plugin::{BuildError, Stmt};

@@ -11,7 +11,13 @@
 //!   master restarted (another instance) --> retained go back in front of pending
 //! heartbeat loop: every interval, and at once when the render thread needs more budget:
 //!   stop, budget, durable_seq, master instance
+//! ack.sampling_map --crate::map::MapSlot--> render thread, before its next pass:
+//!   checked against the film, Session::set_sampling_map (noise-aware jobs)
 //! ```
+//!
+//! A worker's session never builds a sampling map from its own film (it only holds the
+//! samples since the last delta): a noise-aware job samples uniformly until the master's
+//! first map arrives.
 //!
 //! Retries resend the same bytes under the same sequence number; the master's (lease,
 //! sequence) ledger merges each once, so a delta is never lost and never counted twice. The
@@ -19,6 +25,7 @@
 
 use crate::cache::Cache;
 use crate::link::{backoff, Link};
+use crate::map::MapSlot;
 use crate::Config;
 use anyhow::Context;
 use luxfarm::fileio::SceneFiles;
@@ -62,6 +69,8 @@ struct Flags {
     ask: tokio::sync::Notify,
     /// The session's cancel flag: set on stop so a long pass ends between tiles.
     cancel: std::sync::Mutex<Option<Arc<AtomicBool>>>,
+    /// The newest sampling map from the master, until the render thread takes it.
+    map: MapSlot,
 }
 
 fn load_f64(a: &AtomicU64) -> f64 {
@@ -83,6 +92,7 @@ impl Flags {
             durable: AtomicU64::new(0),
             ask: tokio::sync::Notify::new(),
             cancel: std::sync::Mutex::new(None),
+            map: MapSlot::default(),
         }
     }
 
@@ -199,6 +209,7 @@ fn render_thread(
     // Every file the scene names is opened inside the bundle (luxfarm::fileio).
     let files = SceneFiles::confined(root, base).map_err(|e| shown(&e))?;
     let mut session = Session::new(&desc, files, opts).map_err(|e| shown(&e))?;
+    session.follow_external_maps();
     let fp = session.film_params();
     let pass = f64::from(fp.x_pixel_count)
         * f64::from(fp.y_pixel_count)
@@ -241,6 +252,7 @@ fn render_thread(
             continue;
         }
         asked = false;
+        apply_map(&mut session, &flags.map);
         let stats = session.render_pass();
         if stats.complete {
             store_f64(
@@ -249,6 +261,27 @@ fn render_thread(
             );
             unsent = true;
         }
+    }
+}
+
+/// Hands the newest sampling map from the master, if any, to the session; a map that does
+/// not fit the film is logged and dropped.
+fn apply_map(session: &mut Session, slot: &MapSlot) {
+    let Some(m) = slot.take() else {
+        return;
+    };
+    let fp = session.film_params();
+    let map = crate::map::decode(&m, fp.x_pixel_count, fp.y_pixel_count)
+        .map_err(|e| e.to_string())
+        .and_then(|map| {
+            session
+                .set_sampling_map(Arc::new(map))
+                .map_err(|e| e.to_string())
+        });
+    match map {
+        Ok(true) => tracing::info!(version = m.version, "noise-aware sampling map applied"),
+        Ok(false) => tracing::debug!("sampling map ignored: the sampler is not noise-aware"),
+        Err(e) => tracing::warn!(version = m.version, error = %e, "sampling map refused"),
     }
 }
 
@@ -404,8 +437,14 @@ async fn upload_loop(
             continue;
         }
         let seq = *seq;
-        match link.upload(lease, seq, delta.last, &delta.bytes).await {
-            Ok(ack) => {
+        match link
+            .upload(lease, seq, delta.last, &delta.bytes, flags.map.version())
+            .await
+        {
+            Ok(mut ack) => {
+                if let Some(m) = ack.sampling_map.take() {
+                    flags.map.offer(m);
+                }
                 tracing::debug!(seq, status = %ack.status, bytes = delta.bytes.len(), "delta acknowledged");
                 if let Some(dir) = &cfg.keep_deltas {
                     keep(dir, lease, seq, &delta.bytes, &ack.status);

@@ -12,10 +12,12 @@
 //! - [`link`]: the connection to the master (register, heartbeats, uploads with retry).
 //! - [`cache`]: scene bundles cached by content hash, checked again before each use.
 //! - [`job`]: rendering one lease.
+//! - [`map`]: noise-aware sampling maps the master sends with its acknowledgements.
 
 pub mod cache;
 pub mod job;
 pub mod link;
+pub mod map;
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -226,6 +226,7 @@ impl Link {
         seq: u64,
         last: bool,
         data: &[u8],
+        map_version: u64,
     ) -> Result<pb::UploadAck, tonic::Status> {
         let header = pb::UploadHeader {
             worker_id: self.worker_id(),
@@ -235,6 +236,8 @@ impl Link {
             last,
             size: data.len() as u64,
             master_instance: self.instance(),
+            // This worker takes noise-aware sampling maps (crate::map).
+            sampling_map_version: Some(map_version),
         };
         let mut chunks = vec![pb::UploadChunk {
             part: Some(pb::upload_chunk::Part::Header(header)),

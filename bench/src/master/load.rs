@@ -261,6 +261,7 @@ impl SimWorker {
                 last: false,
                 size: payloads[which].bytes as u64,
                 master_instance: self.instance.clone(),
+                sampling_map_version: None,
             })),
         };
         let p = payloads.clone();

@@ -13,8 +13,8 @@
 //! PNG, and a one-line recommendation printed last: the configuration that reaches the
 //! tightest RMSE target first.
 //!
-//! The scene's noise-aware sampling is not a dimension of the study: the render core's
-//! samplers accept `noiseaware` but sample uniformly.
+//! Noise-aware sampling is not a dimension of the study: a configuration samples noise-aware
+//! when it keeps the scene's Sampler kind and with it the scene's `noiseaware` ([`config`]).
 
 pub mod config;
 pub mod measure;
