@@ -22,7 +22,7 @@ use crate::lxs::{Diagnostic, VolumeDesc};
 use crate::plugin::{BuildError, Stmt};
 use crate::spectrum::Rgb;
 use crate::texture::TextureSet;
-use glam::{Affine3A, DVec3, Mat4, Vec3A};
+use glam::{Affine3A, DVec3, Vec3A};
 
 /// A medium confined to a box.
 #[derive(Debug)]
@@ -58,7 +58,7 @@ impl Region {
         if !(m.is_finite() && inv.is_finite() && m.determinant() != 0.0) {
             return Err(s.err("the region volume's transform is singular or not finite"));
         }
-        let to_volume = Affine3A::from_mat4(Mat4::from(inv.as_mat4()));
+        let to_volume = Affine3A::from_mat4(inv.as_mat4());
         let p0 = Vec3A::from(s.params().point("p0").unwrap_or([0.0; 3]));
         let p1 = Vec3A::from(s.params().point("p1").unwrap_or([1.0; 3]));
         let (lo, hi) = (p0.min(p1), p0.max(p1));

@@ -389,9 +389,10 @@ fn constant_displacement_moves_every_vertex_along_its_normal() {
     let mut moved = base.clone();
     let bad = moved.displace(&topo, &normals, &|_, _, _| 0.5, 0.2, 0.03);
     assert_eq!(bad, 0);
-    for v in 0..base.pos.len() {
-        let want = base.pos[v] + normals[v] * (0.5 * 0.2 + 0.03);
-        assert!(moved.pos[v].distance(want) < 1e-12);
+    assert_eq!(normals.len(), base.pos.len());
+    for ((p, n), q) in base.pos.iter().zip(&normals).zip(&moved.pos) {
+        let want = *p + *n * (0.5 * 0.2 + 0.03);
+        assert!(q.distance(want) < 1e-12);
     }
     // A map that varies with uv is averaged over the corners around a vertex.
     let (seamed, topo) = run(&cube_with_seams(), 1, false);

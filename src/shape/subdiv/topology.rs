@@ -82,12 +82,12 @@ impl Topology {
             fan: Vec::with_capacity(3 * m.faces.len()),
             boundary: vec![false; nv],
         };
-        for v in 0..nv {
+        for (v, &c0) in first.iter().enumerate() {
             let want = (t.fan_start[v + 1] - t.fan_start[v]) as usize;
             if want == 0 {
                 continue;
             }
-            let got = t.walk_fan(first[v]);
+            let got = t.walk_fan(c0);
             if got != want {
                 return Err(TopologyError::Vertex(v));
             }
