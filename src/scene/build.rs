@@ -37,8 +37,15 @@ impl World {
         } else {
             desc.light_groups.clone()
         };
+        let mut textures = TextureSet::new(
+            desc,
+            TextureCtx {
+                files: files.clone(),
+            },
+        );
         let ctx = ShapeCtx {
             files: files.clone(),
+            displacement: crate::shape::loopsubdiv::displacement_maps(desc, &mut textures)?,
         };
         let built = geometry::build(desc, &ctx, warnings)?;
         let (mut geometry, mut prims) = (built.geometry, built.prims);
@@ -60,12 +67,6 @@ impl World {
         warnings.append(&mut materials.warnings);
 
         // Lights, then the area lights on the built shapes.
-        let mut textures = TextureSet::new(
-            desc,
-            TextureCtx {
-                files: files.clone(),
-            },
-        );
         let media = if opts.media {
             MediaSet::build(desc, &built.media, &mut textures, warnings)?.map(Box::new)
         } else {

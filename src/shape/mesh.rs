@@ -2,8 +2,10 @@
 //! stlmesh, heightfield): vertices transformed into the target space at build time, optional
 //! per-vertex normals, uv, colours and alphas (what `hitpointcolor`/`hitpointalpha` read,
 //! interpolated like LuxRender's `GetShadingInformation`), quads split along their shorter
-//! diagonal as LuxRender does.
+//! diagonal as LuxRender does. A mesh that asks for subdivision is subdivided (and displaced)
+//! in the target space by [`super::loopsubdiv`] before its face normals are computed.
 
+use super::loopsubdiv::{apply as apply_subdivision, MeshArrays};
 use super::{Build, BuildError};
 use crate::geometry::frame::{coordinate_system, LocalGeometry};
 use crate::geometry::transform::{error_floor, gamma, to_f32, to_f64};
@@ -119,6 +121,25 @@ impl TriangleMesh {
         let cols = per_vertex(b, data.cols, nv, "colours (\"C\")");
         let alphas = per_vertex(b, data.alphas, nv, "alphas (\"A\")");
         let flip = b.reverse() ^ b.to_space.swaps_handedness();
+        let MeshArrays {
+            p,
+            n,
+            uv,
+            cols,
+            alphas,
+            tris,
+        } = apply_subdivision(
+            b,
+            flip,
+            MeshArrays {
+                p,
+                n,
+                uv,
+                cols,
+                alphas,
+                tris,
+            },
+        )?;
         let face_n = tris.iter().map(|t| face_normal(&p, *t, flip)).collect();
         Ok(TriangleMesh {
             p,

@@ -4,19 +4,22 @@
 //! (world space for world shapes, the object's definition space for shapes inside
 //! `ObjectBegin`). Triangle meshes are stored with their vertices already transformed (as
 //! LuxRender does); quadrics keep their own object space and are intersected analytically in
-//! f64. Parameter names and defaults follow LuxRender's `shapes/*.cpp`.
+//! f64. Parameter names and defaults follow LuxRender's `shapes/*.cpp`. Mesh shapes that ask
+//! for subdivision go through [`loopsubdiv`] (the Loop scheme itself is in [`subdiv`]).
 
 pub mod cone;
 pub mod cylinder;
 pub mod disk;
 pub mod heightfield;
 pub mod hyperboloid;
+pub mod loopsubdiv;
 pub mod mesh;
 pub mod paraboloid;
 pub mod plymesh;
 pub mod quadric;
 pub mod sphere;
 pub mod stlmesh;
+pub mod subdiv;
 pub mod triangle;
 pub mod trianglemesh;
 
@@ -24,6 +27,8 @@ use crate::fileio::SceneFiles;
 use crate::geometry::Transform;
 use crate::lxs::ShapeDesc;
 pub use crate::plugin::BuildError;
+use crate::texture::FloatTex;
+use std::collections::BTreeMap;
 
 pub use mesh::TriangleMesh;
 pub use quadric::Quadric;
@@ -34,6 +39,9 @@ pub struct ShapeCtx {
     /// Where the files shapes name (plymesh/stlmesh `filename`) are opened: relative to the
     /// scene's directory, confined to it on a farm.
     pub files: SceneFiles,
+    /// The float textures that subdivided shapes displace by (`displacementmap`), by name:
+    /// built by the scene before the geometry ([`loopsubdiv::displacement_maps`]).
+    pub displacement: BTreeMap<String, FloatTex>,
 }
 
 /// A built shape.

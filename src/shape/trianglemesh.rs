@@ -2,8 +2,9 @@
 //! read by LuxRender's mesh.cpp. Parameters: `point P`, `integer triindices` (or `indices`),
 //! `integer quadindices`, `normal N`, `float uv` (or `st`), `float C` (vertex colours, three
 //! per vertex) and `float A` (vertex alphas), `string tritype`/`quadtype`/
-//! `acceltype` (LuxRender-internal choices, read and ignored), `nsubdivlevels`/`nlevels` and
-//! `displacementmap` (subdivision and displacement are not implemented: an error).
+//! `acceltype` (LuxRender-internal choices, read and ignored); the subdivision and
+//! displacement parameters (`nsubdivlevels`/`nlevels`, `displacementmap`, `dm*`) are read by
+//! [`super::loopsubdiv`] when the mesh is built.
 
 use super::mesh::{MeshData, TriangleMesh};
 use super::{Build, BuildError};
@@ -75,18 +76,13 @@ pub(crate) fn build(b: &Build) -> Result<TriangleMesh, BuildError> {
     )
 }
 
-/// Reads the LuxRender-internal mesh options (accepted, no effect here) and rejects the
-/// features that are not implemented.
+/// Reads the LuxRender-internal mesh options (accepted, no effect here) and warns about the
+/// ones that are not implemented.
 pub(crate) fn check_unsupported(b: &Build) -> Result<(), BuildError> {
     let ps = b.params();
-    for name in ["tritype", "quadtype", "acceltype", "subdivscheme", "name"] {
+    for name in ["tritype", "quadtype", "acceltype", "name"] {
         let _ = ps.string(name);
     }
-    let _ = ps.bool("dmnormalsmooth");
-    let _ = ps.bool("dmsharpboundary");
-    let _ = ps.bool("dmnormalsplit");
-    let _ = ps.float("dmscale");
-    let _ = ps.float("dmoffset");
     let _ = ps.float("gamma");
     if ps.bool_or("generatetangents", false) {
         b.warn("\"generatetangents\" is ignored (tangent-space normal maps are not implemented)");
@@ -95,18 +91,6 @@ pub(crate) fn check_unsupported(b: &Build) -> Result<(), BuildError> {
         if ps.get(tangent).is_some() {
             b.warn(&format!("\"{tangent}\" (tangents) is ignored"));
         }
-    }
-    let levels = ps
-        .int("nsubdivlevels")
-        .or_else(|| ps.int("nlevels"))
-        .unwrap_or(0);
-    if levels > 0 {
-        return Err(b.err(format!(
-            "subdivision (nsubdivlevels {levels}) is not implemented"
-        )));
-    }
-    if ps.string("displacementmap").is_some() || ps.texture("displacementmap").is_some() {
-        return Err(b.err("displacement maps are not implemented"));
     }
     Ok(())
 }

@@ -5,8 +5,10 @@
 //! marched in steps of that length, the density taken at each step's middle.
 //!
 //! `exponential` ([`Density::Exponential`]) is the same marching over an analytic density
-//! a·e^(-b·h), h the height along `updir` ([`super::exponential`]).
+//! a·e^(-b·h), h the height along `updir` ([`super::exponential`]), and [`Density::Grid`] over
+//! the values of a `volumegrid` region ([`super::grid`]).
 
+use super::grid::Grid;
 use super::{channel_avg, MediumSample, VolumeError};
 use crate::geometry::{Interaction, Ray, SurfaceInteraction};
 use crate::plugin::Stmt;
@@ -36,6 +38,12 @@ pub enum Density {
         up: Vec3A,
         origin: Vec3A,
     },
+    /// sigma × the density of a `volumegrid` region's grid.
+    Grid {
+        sigma_a: Rgb,
+        sigma_s: Rgb,
+        grid: Box<Grid>,
+    },
 }
 
 impl Density {
@@ -64,6 +72,14 @@ impl Density {
                 let h = (p - *origin).dot(*up);
                 let d = a * (-b * h).exp();
                 let d = if d.is_finite() { d.max(0.0) } else { 0.0 };
+                (*sigma_a * d, *sigma_s * d)
+            }
+            Density::Grid {
+                sigma_a,
+                sigma_s,
+                grid,
+            } => {
+                let d = grid.density(p);
                 (*sigma_a * d, *sigma_s * d)
             }
         }

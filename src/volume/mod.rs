@@ -4,6 +4,7 @@
 //!
 //! ```text
 //! MakeNamedVolume (VolumeDesc) --Medium::build (one file per medium)--> Medium
+//! region Volume statements --Region::build (region.rs)--> the medium where none is named
 //! shapes' Interior/Exterior names, camera's Exterior --MediaSet::build--> MediaSet
 //!     (only the media something references; none at all when no referenced medium acts on
 //!      light: the world then holds no MediaSet and rays take no medium code path)
@@ -19,9 +20,11 @@
 
 pub mod clear;
 pub mod exponential;
+pub mod grid;
 pub mod heterogeneous;
 pub mod homogeneous;
 pub mod phase;
+pub mod region;
 
 use crate::geometry::Ray;
 use crate::lxs::{Diagnostic, SceneDescription};
@@ -35,6 +38,7 @@ pub use clear::Clear;
 pub use heterogeneous::Heterogeneous;
 pub use homogeneous::Homogeneous;
 pub use phase::HenyeyGreenstein;
+pub use region::Region;
 
 /// Why a medium could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -73,6 +77,8 @@ pub enum Medium {
     Homogeneous(Homogeneous),
     /// `heterogeneous` and `exponential`: ray marched.
     Marched(Heterogeneous),
+    /// A region `Volume`: a medium confined to a box.
+    Region(Box<Region>),
 }
 
 impl Medium {
@@ -106,6 +112,7 @@ impl Medium {
             Medium::Clear(c) => c.absorption.is_black(),
             Medium::Homogeneous(h) => h.sigma_a.is_black() && h.sigma_s.is_black(),
             Medium::Marched(_) => false,
+            Medium::Region(r) => r.inner.is_vacuum(),
         }
     }
 
@@ -115,6 +122,7 @@ impl Medium {
             Medium::Clear(_) => false,
             Medium::Homogeneous(h) => !h.sigma_s.is_black(),
             Medium::Marched(_) => true,
+            Medium::Region(r) => r.inner.scatters(),
         }
     }
 
@@ -124,6 +132,7 @@ impl Medium {
             Medium::Clear(c) => c.tr(ray, t_max),
             Medium::Homogeneous(h) => h.tr(ray, t_max),
             Medium::Marched(m) => m.tr(ray, t_max),
+            Medium::Region(r) => r.tr(ray, t_max),
         }
     }
 
@@ -133,6 +142,7 @@ impl Medium {
         match self {
             Medium::Homogeneous(h) => h.sample(ray, t_max, u, u_channel),
             Medium::Marched(m) => m.sample(ray, t_max, u, u_channel),
+            Medium::Region(r) => r.sample(ray, t_max, u, u_channel),
             Medium::Clear(c) => MediumSample {
                 scatter_t: None,
                 weight: c.tr(ray, t_max),
@@ -142,11 +152,12 @@ impl Medium {
 
     /// The phase function at scattering points.
     pub fn phase(&self) -> HenyeyGreenstein {
-        HenyeyGreenstein::new(match self {
-            Medium::Clear(_) => 0.0,
-            Medium::Homogeneous(h) => h.g,
-            Medium::Marched(m) => m.g,
-        })
+        match self {
+            Medium::Clear(_) => HenyeyGreenstein::new(0.0),
+            Medium::Homogeneous(h) => HenyeyGreenstein::new(h.g),
+            Medium::Marched(m) => HenyeyGreenstein::new(m.g),
+            Medium::Region(r) => r.inner.phase(),
+        }
     }
 }
 
@@ -266,6 +277,14 @@ impl MediaSet {
     ) -> Result<Option<MediaSet>, BuildError> {
         let mut ids: BTreeMap<String, Option<MediumId>> = BTreeMap::new();
         let mut media = Vec::new();
+        // The region volume, if any, fills every place no medium is named for.
+        let region = match build_region(desc, textures, warnings)? {
+            Some(m) if !m.is_vacuum() => {
+                media.push(m);
+                Some(media.len() as MediumId - 1)
+            }
+            _ => None,
+        };
         let mut resolve = |name: Option<&str>,
                            media: &mut Vec<Medium>,
                            warnings: &mut Vec<Diagnostic>|
@@ -295,6 +314,15 @@ impl MediaSet {
             ids.insert(name.to_string(), id);
             Ok(id)
         };
+        let mut side = |name: Option<&str>,
+                        media: &mut Vec<Medium>,
+                        warnings: &mut Vec<Diagnostic>|
+         -> Result<Option<MediumId>, BuildError> {
+            match name {
+                None => Ok(region),
+                Some(_) => resolve(name, media, warnings),
+            }
+        };
         let mut boundaries = Vec::with_capacity(prim_media.len());
         for &(interior, exterior) in prim_media {
             if interior.is_none() && exterior.is_none() {
@@ -302,8 +330,8 @@ impl MediaSet {
                 continue;
             }
             boundaries.push(Some(Boundary {
-                interior: resolve(interior, &mut media, warnings)?,
-                exterior: resolve(exterior, &mut media, warnings)?,
+                interior: side(interior, &mut media, warnings)?,
+                exterior: side(exterior, &mut media, warnings)?,
             }));
         }
         let camera_name = desc
@@ -311,7 +339,7 @@ impl MediaSet {
             .as_ref()
             .and_then(|c| c.exterior.as_deref())
             .or_else(|| desc.named_volumes.contains_key("world").then_some("world"));
-        let camera = resolve(camera_name, &mut media, warnings)?;
+        let camera = side(camera_name, &mut media, warnings)?;
         if media.is_empty() {
             return Ok(None);
         }
@@ -355,16 +383,55 @@ impl MediaSet {
     }
 }
 
-/// Warns (located) about the region `Volume` statements, which are not rendered, and reports
-/// unused parameters of named volumes nothing references.
+/// The region `Volume` statements (no name), in scene order.
+fn regions(desc: &SceneDescription) -> impl Iterator<Item = &crate::lxs::VolumeDesc> {
+    desc.volumes.iter().filter(|v| v.name.is_none())
+}
+
+/// The first region volume of a kind that is rendered, built; later ones are warned about
+/// (one region is rendered). The marching step defaults to the VolumeIntegrator's `stepsize`.
+fn build_region(
+    desc: &SceneDescription,
+    textures: &mut TextureSet,
+    warnings: &mut Vec<Diagnostic>,
+) -> Result<Option<Medium>, BuildError> {
+    let step = desc
+        .volume_integrator
+        .as_ref()
+        .and_then(|e| e.params.float("stepsize"))
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .unwrap_or(1.0);
+    let mut built: Option<Medium> = None;
+    for v in regions(desc).filter(|v| region::is_supported(&v.entity.kind)) {
+        if built.is_some() {
+            warn(
+                warnings,
+                &v.entity.loc,
+                format!(
+                    "Volume \"{}\": only the first region volume is rendered; this one is ignored",
+                    v.entity.kind
+                ),
+            );
+            continue;
+        }
+        if let Some(r) = Region::build(v, textures, warnings, step)? {
+            built = Some(Medium::Region(Box::new(r)));
+        }
+        report_unused("Volume", &v.entity, warnings);
+    }
+    Ok(built)
+}
+
+/// Warns (located) about the region `Volume` statements of kinds that are not rendered
+/// (homogeneous, exponential and volumegrid regions are: [`region`]).
 pub fn warn_unrendered(desc: &SceneDescription, warnings: &mut Vec<Diagnostic>) {
-    for v in desc.volumes.iter().filter(|v| v.name.is_none()) {
+    for v in regions(desc).filter(|v| !region::is_supported(&v.entity.kind)) {
         warn(
             warnings,
             &v.entity.loc,
             format!(
-                "Volume \"{}\" (a region volume) is ignored: region volumes are not rendered \
-                 yet; give a shape an Interior medium instead",
+                "Volume \"{}\" (a region volume) is ignored: only homogeneous, exponential and \
+                 volumegrid regions are rendered",
                 v.entity.kind
             ),
         );

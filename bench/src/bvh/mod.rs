@@ -73,6 +73,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             .with_context(|| format!("parsing {}", path.display()))?;
         let ctx = ShapeCtx {
             files: path.parent().map(PathBuf::from).unwrap_or_default().into(),
+            ..ShapeCtx::default()
         };
         header(&path.display().to_string(), &args);
         measure::bench(

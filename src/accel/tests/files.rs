@@ -96,6 +96,7 @@ fn plymesh_ascii_and_binary() {
             3,
             &ShapeCtx {
                 files: dir.clone().into(),
+                ..ShapeCtx::default()
             },
         )
         .unwrap_or_else(|e| panic!("{format}: {e}"));
@@ -129,6 +130,7 @@ fn plymesh_ascii_and_binary() {
             0,
             &ShapeCtx {
                 files: dir.clone().into(),
+                ..ShapeCtx::default()
             },
         )
         .unwrap_err();
@@ -165,6 +167,7 @@ fn stlmesh_ascii_and_binary() {
             0,
             &ShapeCtx {
                 files: dir.clone().into(),
+                ..ShapeCtx::default()
             },
         )
         .unwrap();

@@ -1,0 +1,537 @@
+//! Loop subdivision and displacement of the mesh shapes (`loopsubdiv`, `trianglemesh`, `mesh`,
+//! `plymesh`, `stlmesh`), with the parameters and defaults of LuxRender 1.x's mesh.cpp:
+//! `integer nsubdivlevels` (else `nlevels`; default 0, also for `loopsubdiv`, which LuxRender
+//! 1.x builds with the mesh plugin), `string subdivscheme` ("loop"; "microdisplacement" is not
+//! implemented), `texture displacementmap` (or the older `string displacementmap`: a float
+//! texture's name), `float dmscale` (0.1), `float dmoffset` (0), `bool dmnormalsmooth` (true:
+//! the result gets limit-surface normals, else it is flat shaded), `bool dmsharpboundary`
+//! (false) and `bool dmnormalsplit` (false: with normals given, vertices at one position but
+//! with different normals are not joined, so the mesh opens along normal breaks).
+//!
+//! ```text
+//! TriangleMesh::build (mesh.rs: vertices in the target space, quads split)
+//!   --apply: read parameters, check the triangle count against MAX_TRIANGLES
+//!   --subdiv::SubdivMesh (weld, refine x levels, push to limit)
+//!   --displace (the texture from ShapeCtx::displacement, evaluated at each vertex)
+//!   --limit normals--> MeshArrays back to mesh.rs
+//! ```
+//!
+//! As in LuxRender the subdivision runs after the shape's transform (in world space for world
+//! shapes), so displacement is measured in that space, along the counter-clockwise normal. A
+//! mesh whose topology cannot be subdivided (inconsistent winding, an edge with three faces)
+//! is kept as given with a warning, as LuxRender does.
+
+use super::subdiv::{Attr, Options, SubdivMesh};
+use super::{Build, BuildError};
+use crate::geometry::frame::coordinate_system;
+use crate::geometry::{Interaction, Shading, SurfaceInteraction};
+use crate::lxs::{ParamSet, SceneDescription, ShapeDesc, TextureType};
+use crate::texture::{param_loc, FloatTex, TextureError, TextureSet};
+use glam::{DVec2, DVec3, Vec2, Vec3A};
+use std::collections::BTreeMap;
+
+/// Most triangles one subdivided shape may have (checked before anything is allocated).
+pub const MAX_TRIANGLES: u64 = 1 << 24;
+
+/// The arrays of a mesh in its target space, as `mesh.rs` holds them.
+#[derive(Clone, Debug)]
+pub struct MeshArrays {
+    pub p: Vec<Vec3A>,
+    pub n: Option<Vec<Vec3A>>,
+    pub uv: Option<Vec<Vec2>>,
+    pub cols: Option<Vec<[f32; 3]>>,
+    pub alphas: Option<Vec<f32>>,
+    pub tris: Vec<[u32; 3]>,
+}
+
+/// The subdivision parameters of one shape.
+#[derive(Clone, Debug)]
+struct Params {
+    levels: u32,
+    map: Option<String>,
+    scale: f64,
+    offset: f64,
+    smooth: bool,
+    sharp: bool,
+    split: bool,
+}
+
+/// The number of levels asked for (`nsubdivlevels`, else `nlevels`; negative counts as 0).
+fn levels_of(ps: &ParamSet) -> u32 {
+    ps.int("nsubdivlevels")
+        .or_else(|| ps.int("nlevels"))
+        .unwrap_or(0)
+        .max(0) as u32
+}
+
+/// The displacement texture's name (`texture`, or the older `string` form).
+fn map_name(ps: &ParamSet) -> Option<&str> {
+    ps.texture("displacementmap")
+        .or_else(|| ps.string("displacementmap"))
+}
+
+fn read_params(b: &Build) -> Result<Params, BuildError> {
+    let ps = b.params();
+    let mut levels = levels_of(ps);
+    let map = map_name(ps).map(str::to_string);
+    match ps.string_or("subdivscheme", "loop") {
+        "loop" => {}
+        "microdisplacement" if levels > 0 => {
+            if map.is_some() {
+                return Err(
+                    b.err("subdivscheme \"microdisplacement\" is not implemented (\"loop\" is)")
+                );
+            }
+            b.warn("no displacement map for microdisplacement: not subdividing (as LuxRender)");
+            levels = 0;
+        }
+        "microdisplacement" => {}
+        other => b.warn(&format!(
+            "unknown subdivscheme \"{other}\": using \"loop\" (as LuxRender)"
+        )),
+    }
+    if map.is_some() && levels == 0 {
+        b.warn("\"displacementmap\" has no effect without nsubdivlevels > 0 (LuxRender displaces while subdividing)");
+    }
+    Ok(Params {
+        levels,
+        map,
+        scale: b.float("dmscale", 0.1)?,
+        offset: b.float("dmoffset", 0.0)?,
+        smooth: ps.bool_or("dmnormalsmooth", true),
+        sharp: ps.bool_or("dmsharpboundary", false),
+        split: ps.bool_or("dmnormalsplit", false),
+    })
+}
+
+/// The triangle count after `levels` levels of `tris` triangles, or `None` past `limit`.
+pub fn subdivided_count(tris: usize, levels: u32, limit: u64) -> Option<u64> {
+    let mut n = tris as u64;
+    for _ in 0..levels {
+        n = n.checked_mul(4).filter(|&n| n <= limit)?;
+    }
+    (n <= limit).then_some(n)
+}
+
+/// Subdivides (and displaces) `mesh` when the shape asks for it; `flip` is the mesh's
+/// geometric-normal flip, which the generated normals follow.
+pub(crate) fn apply(b: &Build, flip: bool, mesh: MeshArrays) -> Result<MeshArrays, BuildError> {
+    let prm = read_params(b)?;
+    if prm.levels == 0 {
+        return Ok(mesh);
+    }
+    let ps = b.params();
+    let Some(count) = subdivided_count(mesh.tris.len(), prm.levels, MAX_TRIANGLES) else {
+        let name = if ps.contains("nsubdivlevels") {
+            "nsubdivlevels"
+        } else {
+            "nlevels"
+        };
+        return Err(BuildError::new(
+            &param_loc(ps, name, &b.desc.entity.loc),
+            format!(
+                "shape \"{}\": {} levels of subdivision of {} triangles would give more than {} triangles",
+                b.desc.entity.kind,
+                prm.levels,
+                mesh.tris.len(),
+                MAX_TRIANGLES
+            ),
+        ));
+    };
+    let map = match &prm.map {
+        Some(name) => match b.ctx.displacement.get(name) {
+            Some(t) => Some(t.clone()),
+            None => {
+                b.warn(&format!(
+                    "unknown float texture \"{name}\": no displacement"
+                ));
+                None
+            }
+        },
+        None => None,
+    };
+    let sm = match subdivide(&mesh, &prm, map.as_ref()) {
+        Ok(sm) => sm,
+        Err(e) => {
+            b.warn(&format!(
+                "cannot subdivide: {e}; the mesh is kept as given (as LuxRender does)"
+            ));
+            return Ok(mesh);
+        }
+    };
+    tracing::info!(
+        "{}: shape \"{}\": {} levels of loop subdivision: {} -> {count} triangles",
+        b.desc.entity.loc,
+        b.desc.entity.kind,
+        prm.levels,
+        mesh.tris.len()
+    );
+    if sm.bad_displacements > 0 {
+        b.warn(&format!(
+            "the displacement map gave {} vertices a non-finite value: they were not moved",
+            sm.bad_displacements
+        ));
+    }
+    let out = to_arrays(&mesh, sm, flip);
+    if out.p.iter().any(|p| !p.is_finite()) {
+        return Err(b.err("subdivision or displacement moved a vertex out of range"));
+    }
+    Ok(out)
+}
+
+/// The subdivided mesh and its normals (`None` for a flat-shaded result).
+struct Subdivided {
+    mesh: SubdivMesh,
+    normals: Option<Vec<DVec3>>,
+    bad_displacements: usize,
+}
+
+fn subdivide(
+    mesh: &MeshArrays,
+    prm: &Params,
+    map: Option<&FloatTex>,
+) -> Result<Subdivided, super::subdiv::TopologyError> {
+    let p: Vec<DVec3> = mesh.p.iter().map(|v| v.as_dvec3()).collect();
+    let weld_n: Option<Vec<DVec3>> = match (&mesh.n, prm.split) {
+        (Some(n), true) => Some(n.iter().map(|v| v.as_dvec3()).collect()),
+        _ => None,
+    };
+    let attr = (0..p.len())
+        .map(|i| Attr {
+            uv: mesh
+                .uv
+                .as_ref()
+                .and_then(|uv| uv.get(i))
+                .map_or(DVec2::ZERO, |t| t.as_dvec2()),
+            col: mesh
+                .cols
+                .as_ref()
+                .and_then(|c| c.get(i))
+                .map_or(DVec3::ONE, |c| DVec3::from_array(c.map(f64::from))),
+            alpha: mesh
+                .alphas
+                .as_ref()
+                .and_then(|a| a.get(i))
+                .map_or(1.0, |&a| a as f64),
+        })
+        .collect();
+    let sm = SubdivMesh::new(&p, weld_n.as_deref(), attr, &mesh.tris)?;
+    let (mut sm, topo) = sm.subdivide(Options {
+        levels: prm.levels,
+        sharp_boundary: prm.sharp,
+    })?;
+    let mut bad_displacements = 0;
+    if let Some(map) = map {
+        let normals = sm.normals(&topo);
+        let eval = |p: DVec3, n: DVec3, uv: DVec2| evaluate(map, p, n, uv);
+        bad_displacements = sm.displace(&topo, &normals, &eval, prm.scale, prm.offset);
+    }
+    let normals = prm.smooth.then(|| sm.normals(&topo));
+    Ok(Subdivided {
+        mesh: sm,
+        normals,
+        bad_displacements,
+    })
+}
+
+/// The float texture at a vertex: its position, normal, a tangent frame around the normal
+/// and the corner's uv (LuxRender's differential geometry for displacement).
+fn evaluate(map: &FloatTex, p: DVec3, n: DVec3, uv: DVec2) -> f64 {
+    let n = n.as_vec3a();
+    let (dpdu, dpdv) = coordinate_system(n);
+    let si = SurfaceInteraction {
+        it: Interaction {
+            p: p.as_vec3a(),
+            n,
+            ..Interaction::default()
+        },
+        wo: n,
+        uv: uv.as_vec2(),
+        dpdu,
+        dpdv,
+        shading: Shading { n, dpdu, dpdv },
+        ..SurfaceInteraction::default()
+    };
+    map.eval(&si) as f64
+}
+
+/// Back to f32 arrays, one vertex per attribute vertex; the input's optional channels stay
+/// present or absent as they were.
+fn to_arrays(input: &MeshArrays, s: Subdivided, flip: bool) -> MeshArrays {
+    let m = &s.mesh;
+    let owner = |a: usize| m.owner[a] as usize;
+    let sign = if flip { -1.0 } else { 1.0 };
+    MeshArrays {
+        p: (0..m.attr.len())
+            .map(|a| m.pos[owner(a)].as_vec3a())
+            .collect(),
+        n: s.normals.as_ref().map(|n| {
+            (0..m.attr.len())
+                .map(|a| (sign * n[owner(a)]).as_vec3a())
+                .collect()
+        }),
+        uv: input
+            .uv
+            .as_ref()
+            .map(|_| m.attr.iter().map(|a| a.uv.as_vec2()).collect()),
+        cols: input
+            .cols
+            .as_ref()
+            .map(|_| m.attr.iter().map(|a| a.col.as_vec3().to_array()).collect()),
+        alphas: input
+            .alphas
+            .as_ref()
+            .map(|_| m.attr.iter().map(|a| a.alpha as f32).collect()),
+        tris: m.faces.clone(),
+    }
+}
+
+/// The float textures the scene's subdivided shapes displace by, built once by name. A name
+/// with no float texture is left out (the shape warns and is not displaced, as LuxRender).
+pub fn displacement_maps(
+    desc: &SceneDescription,
+    textures: &mut TextureSet,
+) -> Result<BTreeMap<String, FloatTex>, BuildError> {
+    let mut maps = BTreeMap::new();
+    let object_shapes = desc.objects.iter().flat_map(|o| o.shapes.iter());
+    let shapes: Vec<&ShapeDesc> = desc.shapes.iter().chain(object_shapes).collect();
+    for s in shapes.into_iter().filter(|s| !s.portal) {
+        let ps = &s.entity.params;
+        let Some(name) = map_name(ps).filter(|_| levels_of(ps) > 0) else {
+            continue;
+        };
+        if maps.contains_key(name) {
+            continue;
+        }
+        let loc = param_loc(ps, "displacementmap", &s.entity.loc);
+        match textures.named(TextureType::Float, name, &loc) {
+            Ok(node) => {
+                maps.insert(name.to_string(), FloatTex(node));
+            }
+            Err(TextureError::Missing { .. }) => {}
+            Err(e) => return Err(e.into()),
+        }
+    }
+    Ok(maps)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lxs::ParamValue;
+    use crate::shape::test_util::{floats, ints, points, shape};
+    use crate::shape::{Shape, ShapeCtx, TriangleMesh};
+    use glam::DMat4;
+
+    fn tetra(extra: Vec<(&str, ParamValue)>) -> crate::lxs::ShapeDesc {
+        let mut params = vec![
+            (
+                "P",
+                points(&[
+                    [1.0, 1.0, 1.0],
+                    [1.0, -1.0, -1.0],
+                    [-1.0, 1.0, -1.0],
+                    [-1.0, -1.0, 1.0],
+                ]),
+            ),
+            ("indices", ints(&[0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2])),
+        ];
+        params.extend(extra);
+        shape("loopsubdiv", params, DMat4::IDENTITY, false)
+    }
+
+    /// A 2×2 plane on [-1,1]² at z = 0 made of four quads.
+    fn plane(extra: Vec<(&str, ParamValue)>, m: DMat4, reverse: bool) -> crate::lxs::ShapeDesc {
+        let mut p = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                p.push([i as f32 - 1.0, j as f32 - 1.0, 0.0]);
+            }
+        }
+        let q = |i: i32, j: i32| {
+            [
+                j * 3 + i,
+                j * 3 + i + 1,
+                (j + 1) * 3 + i + 1,
+                (j + 1) * 3 + i,
+            ]
+        };
+        let quads: Vec<i32> = [(0, 0), (1, 0), (0, 1), (1, 1)]
+            .iter()
+            .flat_map(|&(i, j)| q(i, j))
+            .collect();
+        let mut params = vec![("P", points(&p)), ("quadindices", ints(&quads))];
+        params.extend(extra);
+        shape("trianglemesh", params, m, reverse)
+    }
+
+    fn build(desc: &crate::lxs::ShapeDesc, ctx: &ShapeCtx) -> Result<TriangleMesh, BuildError> {
+        match Shape::build(desc, &crate::geometry::Transform::IDENTITY, ctx)? {
+            Shape::Mesh(m) => Ok(m),
+            Shape::Quadric(_) => panic!("a mesh"),
+        }
+    }
+
+    fn ctx_with(name: &str, value: f32) -> ShapeCtx {
+        let mut ctx = ShapeCtx::default();
+        ctx.displacement
+            .insert(name.to_string(), FloatTex::constant(value));
+        ctx
+    }
+
+    #[test]
+    fn loopsubdiv_subdivides_by_nlevels_and_defaults_to_none() {
+        let m = build(&tetra(vec![("nlevels", ints(&[2]))]), &ShapeCtx::default()).unwrap();
+        assert_eq!(m.tris.len(), 64);
+        let n = m.n.as_ref().expect("smoothed normals by default");
+        for (p, n) in m.p.iter().zip(n) {
+            assert!(n.dot(p.normalize()) > 0.9, "outward normal {n} at {p}");
+        }
+        // LuxRender 1.x builds loopsubdiv with the mesh plugin: nlevels defaults to 0.
+        let m = build(&tetra(vec![]), &ShapeCtx::default()).unwrap();
+        assert_eq!(m.tris.len(), 4);
+        let flat = build(
+            &tetra(vec![
+                ("nsubdivlevels", ints(&[1])),
+                ("dmnormalsmooth", ParamValue::Bool(vec![false])),
+            ]),
+            &ShapeCtx::default(),
+        )
+        .unwrap();
+        assert_eq!(flat.tris.len(), 16);
+        assert!(flat.n.is_none());
+    }
+
+    #[test]
+    fn a_displaced_plane_moves_its_vertices_by_the_map_times_dmscale() {
+        let extra = || {
+            vec![
+                ("nsubdivlevels", ints(&[2])),
+                ("displacementmap", ParamValue::Texture("dm".into())),
+                ("dmscale", floats(&[0.2])),
+            ]
+        };
+        let m = build(
+            &plane(extra(), DMat4::IDENTITY, false),
+            &ctx_with("dm", 0.5),
+        )
+        .unwrap();
+        assert_eq!(m.tris.len(), 8 * 16);
+        for p in &m.p {
+            assert!((p.z - 0.1).abs() < 1e-6, "{p}");
+        }
+        for n in m.n.as_ref().unwrap() {
+            assert!((n.z - 1.0).abs() < 1e-6, "{n}");
+        }
+        // dmoffset adds; the displacement is measured after the shape's transform.
+        let mut e = extra();
+        e.push(("dmoffset", floats(&[0.05])));
+        let m2 = DMat4::from_scale(glam::DVec3::new(1.0, 1.0, 3.0));
+        let m = build(&plane(e, m2, false), &ctx_with("dm", 0.5)).unwrap();
+        for p in &m.p {
+            assert!((p.z - 0.15).abs() < 1e-6, "{p}");
+        }
+        // ReverseOrientation turns the normals, not the displacement.
+        let m = build(&plane(extra(), DMat4::IDENTITY, true), &ctx_with("dm", 0.5)).unwrap();
+        for (p, n) in m.p.iter().zip(m.n.as_ref().unwrap()) {
+            assert!(
+                (p.z - 0.1).abs() < 1e-6 && (n.z + 1.0).abs() < 1e-6,
+                "{p} {n}"
+            );
+        }
+        for f in &m.face_n {
+            assert!((f.z + 1.0).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn an_unknown_displacement_texture_only_warns() {
+        let d = plane(
+            vec![
+                ("nsubdivlevels", ints(&[1])),
+                ("displacementmap", ParamValue::String(vec!["nope".into()])),
+            ],
+            DMat4::IDENTITY,
+            false,
+        );
+        let m = build(&d, &ShapeCtx::default()).unwrap();
+        assert_eq!(m.tris.len(), 32);
+        assert!(m.p.iter().all(|p| p.z == 0.0));
+    }
+
+    #[test]
+    fn too_many_levels_is_a_located_error_before_allocating() {
+        let e = build(&tetra(vec![("nlevels", ints(&[30]))]), &ShapeCtx::default()).unwrap_err();
+        assert_eq!(e.loc.to_string(), "test.lxs:7:3");
+        assert!(e.message.contains("would give more than"), "{}", e.message);
+        assert_eq!(subdivided_count(4, 30, MAX_TRIANGLES), None);
+        assert_eq!(subdivided_count(4, 11, MAX_TRIANGLES), Some(4 << 22));
+        assert_eq!(subdivided_count(4, 12, MAX_TRIANGLES), None);
+        assert_eq!(subdivided_count(usize::MAX, 0, MAX_TRIANGLES), None);
+    }
+
+    #[test]
+    fn a_mesh_that_cannot_be_subdivided_is_kept() {
+        let d = shape(
+            "trianglemesh",
+            vec![
+                (
+                    "P",
+                    points(&[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]]),
+                ),
+                ("indices", ints(&[0, 1, 2, 1, 2, 3])),
+                ("nsubdivlevels", ints(&[2])),
+            ],
+            DMat4::IDENTITY,
+            false,
+        );
+        assert_eq!(build(&d, &ShapeCtx::default()).unwrap().tris.len(), 2);
+    }
+
+    #[test]
+    fn microdisplacement_with_a_map_is_refused_and_without_one_does_nothing() {
+        let scheme = (
+            "subdivscheme",
+            ParamValue::String(vec!["microdisplacement".into()]),
+        );
+        let d = tetra(vec![scheme.clone(), ("nsubdivlevels", ints(&[2]))]);
+        assert_eq!(build(&d, &ShapeCtx::default()).unwrap().tris.len(), 4);
+        let d = tetra(vec![
+            scheme,
+            ("nsubdivlevels", ints(&[2])),
+            ("displacementmap", ParamValue::Texture("dm".into())),
+        ]);
+        let e = build(&d, &ctx_with("dm", 1.0)).unwrap_err();
+        assert!(e.message.contains("microdisplacement"), "{}", e.message);
+    }
+
+    #[test]
+    fn uv_colours_and_alphas_are_carried_through() {
+        let d = plane(
+            vec![
+                ("nsubdivlevels", ints(&[1])),
+                (
+                    "uv",
+                    floats(
+                        &(0..9)
+                            .flat_map(|i| [(i % 3) as f32, (i / 3) as f32])
+                            .collect::<Vec<_>>(),
+                    ),
+                ),
+                ("C", floats(&[0.5; 27])),
+                ("A", floats(&[0.25; 9])),
+            ],
+            DMat4::IDENTITY,
+            false,
+        );
+        let m = build(&d, &ShapeCtx::default()).unwrap();
+        let uv = m.uv.as_ref().unwrap();
+        assert_eq!(uv.len(), m.p.len());
+        assert!(m.cols.as_ref().unwrap().iter().all(|c| *c == [0.5; 3]));
+        assert!(m.alphas.as_ref().unwrap().iter().all(|&a| a == 0.25));
+        // uv is affine in the position on this plane (u = x + 1, v = y + 1).
+        for (p, t) in m.p.iter().zip(uv) {
+            assert!((t.x - (p.x + 1.0)).abs() < 1e-5 && (t.y - (p.y + 1.0)).abs() < 1e-5);
+        }
+    }
+}
