@@ -144,7 +144,8 @@ fn loglog_figure<DB: DrawingBackend>(
             .filter(|p| p.0 > 0.0 && p.1 > 0.0)
             .collect()
     };
-    let lines: Vec<(usize, &Line, Vec<(f64, f64)>)> = f
+    // (colour index, line, its positive points)
+    let lines: Vec<_> = f
         .lines
         .iter()
         .enumerate()
