@@ -29,38 +29,65 @@ fn quad(p: [[f32; 3]; 4]) -> String {
     )
 }
 
-/// The room: x, y ∈ [-2, 2], z ∈ [0, 2.5]; the wall x = 2 has a window y ∈ [-0.5, 0.5],
-/// z ∈ [1, 1.8].
-fn room() -> String {
-    let (x0, x1, y0, y1, z0, z1) = (-2.0, 2.0, -2.0, 2.0, 0.0, 2.5);
-    let (wy0, wy1, wz0, wz1) = (-0.5, 0.5, 1.0, 1.8);
-    let mut s = String::new();
-    s += &quad([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0]]); // floor
-    s += &quad([[x0, y0, z1], [x0, y1, z1], [x1, y1, z1], [x1, y0, z1]]); // ceiling
-    s += &quad([[x0, y0, z0], [x0, y1, z0], [x0, y1, z1], [x0, y0, z1]]); // back wall
-    s += &quad([[x0, y0, z0], [x0, y0, z1], [x1, y0, z1], [x1, y0, z0]]); // side
-    s += &quad([[x0, y1, z0], [x1, y1, z0], [x1, y1, z1], [x0, y1, z1]]); // side
-                                                                          // The window wall, four pieces around the hole.
-    s += &quad([[x1, y0, z0], [x1, y0, wz0], [x1, y1, wz0], [x1, y1, z0]]);
-    s += &quad([[x1, y0, wz1], [x1, y0, z1], [x1, y1, z1], [x1, y1, wz1]]);
-    s += &quad([[x1, y0, wz0], [x1, y0, wz1], [x1, wy0, wz1], [x1, wy0, wz0]]);
-    s += &quad([[x1, wy1, wz0], [x1, wy1, wz1], [x1, y1, wz1], [x1, y1, wz0]]);
-    s
+/// The room: x, y ∈ [-2, 2], z ∈ [0, 2.5], with a window (y0, y1, z0, z1) in the wall
+/// x = 2; without `ceiling` it is open to the sky above as well.
+#[derive(Clone, Copy)]
+struct Room {
+    ceiling: bool,
+    window: [f32; 4],
 }
 
-/// The window as a portal (the same rectangle as the hole).
-fn portal() -> String {
-    "PortalShape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \
-     \"point P\" [2 -0.5 1  2 0.5 1  2 0.5 1.8  2 -0.5 1.8]\n"
-        .to_string()
+/// The closed room with a small window (0.8 m², the noise test's).
+const CLOSED: Room = Room {
+    ceiling: true,
+    window: [-0.5, 0.5, 1.0, 1.8],
+};
+/// The same open above: light arrives through an opening no portal covers.
+const OPEN_TOP: Room = Room {
+    ceiling: false,
+    window: CLOSED.window,
+};
+/// The closed room with a wide window (the comparisons of every light kind converge faster).
+const WIDE: Room = Room {
+    ceiling: true,
+    window: [-1.6, 1.6, 0.4, 2.2],
+};
+
+impl Room {
+    fn shapes(&self) -> String {
+        let (x0, x1, y0, y1, z0, z1) = (-2.0, 2.0, -2.0, 2.0, 0.0, 2.5);
+        let [wy0, wy1, wz0, wz1] = self.window;
+        let mut s = String::new();
+        s += &quad([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0]]); // floor
+        if self.ceiling {
+            s += &quad([[x0, y0, z1], [x0, y1, z1], [x1, y1, z1], [x1, y0, z1]]);
+        }
+        s += &quad([[x0, y0, z0], [x0, y1, z0], [x0, y1, z1], [x0, y0, z1]]); // back wall
+        s += &quad([[x0, y0, z0], [x0, y0, z1], [x1, y0, z1], [x1, y0, z0]]); // side
+        s += &quad([[x0, y1, z0], [x1, y1, z0], [x1, y1, z1], [x0, y1, z1]]); // side
+                                                                              // The window wall, four pieces around the hole.
+        s += &quad([[x1, y0, z0], [x1, y0, wz0], [x1, y1, wz0], [x1, y1, z0]]);
+        s += &quad([[x1, y0, wz1], [x1, y0, z1], [x1, y1, z1], [x1, y1, wz1]]);
+        s += &quad([[x1, y0, wz0], [x1, y0, wz1], [x1, wy0, wz1], [x1, wy0, wz0]]);
+        s += &quad([[x1, wy1, wz0], [x1, wy1, wz1], [x1, y1, wz1], [x1, y1, wz0]]);
+        s
+    }
+
+    /// The window as a portal (the same rectangle as the hole).
+    fn portal(&self) -> String {
+        let [y0, y1, z0, z1] = self.window;
+        format!(
+            "PortalShape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \
+             \"point P\" [2 {y0} {z0}  2 {y1} {z0}  2 {y1} {z1}  2 {y0} {z1}]\n"
+        )
+    }
 }
 
 const SIZE: u32 = 32;
 
-/// The scene text: `light` (LightSource statements) in one attribute block with the portal
-/// when `with_portal`.
-fn scene(light: &str, with_portal: bool, spp: u32, integrator: &str) -> String {
-    let portal = if with_portal { portal() } else { String::new() };
+/// The scene text: `light` (LightSource statements) in one attribute block with `portal`
+/// (PortalShape statements, or nothing).
+fn scene_with(room: Room, light: &str, portal: &str, spp: u32, integrator: &str) -> String {
     format!(
         r#"
 LookAt -1.8 -0.3 1.3  2 0.2 0.6  0 0 1
@@ -74,10 +101,20 @@ AttributeBegin
 {light}
 {portal}AttributeEnd
 Material "matte" "color Kd" [0.7 0.7 0.7]
-{room}WorldEnd
+{shapes}WorldEnd
 "#,
-        room = room()
+        shapes = room.shapes()
     )
+}
+
+/// [`scene_with`] in the closed room with its window as portal, or none.
+fn scene(light: &str, with_portal: bool, spp: u32, integrator: &str) -> String {
+    let portal = if with_portal {
+        CLOSED.portal()
+    } else {
+        String::new()
+    };
+    scene_with(CLOSED, light, &portal, spp, integrator)
 }
 
 const PATH: &str = "\"path\" \"integer maxdepth\" [4]";
@@ -112,10 +149,26 @@ fn mean_pixel_sd(films: &[Film]) -> f64 {
     total / k as f64
 }
 
-/// Renders the scene without and with the portal (`n` runs each) and returns the films.
+/// Renders the closed room without and with the portal (`n` runs each).
 fn both(light: &str, spp: u32, n: u64, dir: &Path) -> (Vec<Film>, Vec<Film>) {
-    let plain = scene_text(&scene(light, false, spp, PATH), &dir.join("room.lxs"));
-    let ported = scene_text(&scene(light, true, spp, PATH), &dir.join("room.lxs"));
+    compare(CLOSED, light, PATH, spp, n, dir)
+}
+
+/// Renders `room` without a portal and with its window as portal, `n` runs each of `spp`.
+fn compare(
+    room: Room,
+    light: &str,
+    integrator: &str,
+    spp: u32,
+    n: u64,
+    dir: &Path,
+) -> (Vec<Film>, Vec<Film>) {
+    let at = dir.join("room.lxs");
+    let plain = scene_text(&scene_with(room, light, "", spp, integrator), &at);
+    let ported = scene_text(
+        &scene_with(room, light, &room.portal(), spp, integrator),
+        &at,
+    );
     (images(&plain, dir, 0, n), images(&ported, dir, 1000, n))
 }
 
@@ -213,4 +266,78 @@ fn sky2_through_a_portal_same_image_less_noise() {
     let ratio = b / a;
     eprintln!("sky2: mean per-pixel sd without portal {a:.5}, with {b:.5}: ratio {ratio:.3}");
     assert!(ratio < 0.9, "portal noise ratio {ratio:.3}");
+}
+
+/// An opening no portal covers: with paths of one bounce (light samples take the full
+/// weight at the last vertex) in the room open above, the sky seen through the open top
+/// still arrives, so the image is unchanged — with path and
+/// with directlighting.
+#[test]
+fn light_through_an_opening_without_portal_is_not_lost() {
+    let dir = tempfile::tempdir().unwrap();
+    for integrator in [
+        "\"path\" \"integer maxdepth\" [1]",
+        "\"directlighting\" \"integer maxdepth\" [1]",
+    ] {
+        let (plain, ported) = compare(OPEN_TOP, INFINITE, integrator, 8, 8, dir.path());
+        let what = format!("open top, portal on the window, {integrator}");
+        assert_agree(&what, &blocks(&plain), &blocks(&ported), 4.0, 0.0);
+    }
+}
+
+/// The legacy sky, sunsky and sunsky2 (the sun is not sampled through portals, the sky half
+/// is) and infinite lights with a map in each mapping: the same image with the portal, in
+/// the room with a wide window.
+#[test]
+fn sky_sunsky_and_mapped_infinite_lights_agree_through_a_portal() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = image::RgbImage::from_fn(16, 8, |x, y| {
+        image::Rgb([(40 + 12 * x) as u8, (200 - 20 * y) as u8, 120])
+    });
+    map.save(dir.path().join("env.png")).unwrap();
+    let lights = [
+        "LightSource \"sky\" \"vector sundir\" [0.6 0.1 0.5] \"float gain\" [0.02]".to_string(),
+        "LightSource \"sunsky\" \"vector sundir\" [0.6 0.1 0.5] \"float gain\" [0.005]".to_string(),
+        "LightSource \"sunsky2\" \"vector sundir\" [0.6 0.1 0.5] \"float gain\" [0.005]".to_string(),
+        "LightSource \"infinite\" \"string mapname\" [\"env.png\"]".to_string(),
+        "LightSource \"infinite\" \"string mapname\" [\"env.png\"] \"string mapping\" [\"angular\"]".to_string(),
+        "LightSource \"infinite\" \"string mapname\" [\"env.png\"] \"string mapping\" [\"vcross\"]".to_string(),
+    ];
+    for light in &lights {
+        let (plain, ported) = compare(WIDE, light, PATH, 8, 6, dir.path());
+        let (a, b) = (mean_pixel_sd(&plain), mean_pixel_sd(&ported));
+        eprintln!(
+            "{light}: mean per-pixel sd without portal {a:.5}, with {b:.5}: ratio {:.3}",
+            b / a
+        );
+        assert_agree(light, &blocks(&plain), &blocks(&ported), 4.0, 0.0);
+    }
+}
+
+/// `PortalInstance` places an object's shapes as portals of the light in scope.
+#[test]
+fn portal_instance_gives_the_light_its_portal() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = scene(INFINITE, false, 1, PATH).replace(
+        "WorldBegin\n",
+        "WorldBegin\nObjectBegin \"window\"\nShape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \
+         \"point P\" [0 -0.5 1  0 0.5 1  0 0.5 1.8  0 -0.5 1.8]\nObjectEnd\n",
+    );
+    let text = text.replace(
+        &format!("{INFINITE}\n"),
+        &format!("{INFINITE}\nTranslate 2 0 0\nPortalInstance \"window\"\n"),
+    );
+    let desc = scene_text(&text, &dir.path().join("room.lxs"));
+    let s = Session::new(&desc, dir.path(), SessionOptions::default()).expect("builds");
+    let world = &s.renderable().world;
+    let p = world.lights()[0]
+        .portals()
+        .expect("the instance is the light's portal");
+    assert_eq!(p.triangle_count(), 2);
+    assert!((p.area() - 0.8).abs() < 1e-5);
+    // Through the window from the room's centre: the instance is placed at x = 2.
+    let at = luxfarm::geometry::Interaction::default();
+    let through = glam::Vec3A::new(2.0, 0.0, 1.4).normalize();
+    assert!(p.pdf(at.p, through) > 0.0);
+    assert_eq!(p.pdf(at.p, -through), 0.0);
 }

@@ -364,7 +364,8 @@ impl Light {
         true
     }
 
-    /// Samples a direction toward the light from `r` (through its portals when it has some).
+    /// Samples a direction toward the light from `r`; a light with portals draws most of its
+    /// directions through them and the rest as it would without ([`portal::PORTAL_SHARE`]).
     pub fn sample_li(
         &self,
         r: &Interaction,
@@ -375,7 +376,14 @@ impl Light {
         let Some(portals) = self.portals() else {
             return self.sample_li_ignoring_portals(r, u, u_pick, shapes);
         };
-        let (wi, pdf) = portals.sample(r.p, u, u_pick)?;
+        let share = portal::PORTAL_SHARE;
+        let wi = if u_pick < share {
+            portals.sample(r.p, u, u_pick / share)?.0
+        } else {
+            let u_own = ((u_pick - share) / (1.0 - share)).min(1.0 - f32::EPSILON);
+            self.sample_li_ignoring_portals(r, u, u_own, shapes)?.wi
+        };
+        let pdf = self.pdf_li(r, wi, None);
         let radius = match self {
             Light::Infinite(l) => l.world_radius,
             Light::Sky(l) => l.world_radius,
@@ -413,9 +421,10 @@ impl Light {
     /// lights `hit` is where a ray along `wi` met the light (for primitives, the crossing;
     /// without one, the first crossing along `wi`).
     pub fn pdf_li(&self, r: &Interaction, wi: Vec3A, hit: Option<&SurfaceInteraction>) -> f32 {
+        let own = self.pdf_li_ignoring_portals(r, wi, hit);
         match self.portals() {
-            Some(p) => p.pdf(r.p, wi),
-            None => self.pdf_li_ignoring_portals(r, wi, hit),
+            Some(p) => portal::mixture_pdf(p.pdf(r.p, wi), own),
+            None => own,
         }
     }
 

@@ -12,13 +12,26 @@
 //! the ray `p + t·wi` (t > 0) crosses (portals may overlap or fold), which is also what
 //! [`Portals::pdf`] answers for a direction found otherwise, so sampling and density agree.
 //!
-//! Unbiasedness: directions that cross no portal have density 0 here, and the integrators
-//! weigh BSDF-sampled escaping rays against light sampling with the power heuristic, so such
-//! directions are counted in full by BSDF sampling (LuxRender's infinite light answers its
-//! Pdf through the portals the same way). Portals are never rendered geometry.
+//! Unbiasedness: a light with portals draws a share [`PORTAL_SHARE`] of its directions
+//! through them and the rest with its own sampling over the whole sphere, and answers the
+//! mixture's density ([`mixture_pdf`]). Every direction the light shines from keeps a
+//! positive density, so light sampling alone is unbiased even where no BSDF sample follows
+//! (a path's last vertex, where light samples take the full weight), and where BSDF samples
+//! do follow they are weighed against the mixture with the power heuristic. LuxRender 1.x
+//! samples through the portals only (its Pdf is 0 elsewhere) and so loses light through
+//! openings that no portal covers at a path's last vertex; the small share spent outside the
+//! portals is what luxfarm pays instead. Portals are never rendered geometry.
 
 use crate::sampling::DiscreteDistribution;
 use glam::{Vec2, Vec3A};
+
+/// Share of a portal light's samples drawn through its portals (the rest: its own sampling).
+pub const PORTAL_SHARE: f32 = 0.9;
+
+/// Density of the mixture: `portal` is [`Portals::pdf`], `own` the light's own density.
+pub fn mixture_pdf(portal: f32, own: f32) -> f32 {
+    PORTAL_SHARE * portal + (1.0 - PORTAL_SHARE) * own
+}
 
 /// Portal triangles at most (a window is a handful; the density test visits each).
 pub const MAX_PORTAL_TRIANGLES: usize = 4096;
