@@ -92,8 +92,8 @@ impl World {
                 pa.entity,
                 group_of(pa.group),
                 &mut textures,
-                emitters.len() as u32,
-                area,
+                (emitters.len() as u32, area),
+                files,
             )?;
             emitters.push(pa.shape);
             if let Some(pi) = prims.get_mut(pa.prim as usize) {
