@@ -113,7 +113,7 @@ impl SpotLight {
         };
         let norm = l.flux_solid_angle();
         let scale = gain * power_gain(power, efficacy, norm, color.y);
-        l.intensity = l.intensity * scale;
+        l.intensity *= scale;
         l.y = color.y * scale;
         l
     }
