@@ -364,11 +364,9 @@ fn portal_instance_gives_the_light_its_portal() {
 #[test]
 fn portal_belongs_to_the_light_in_scope_and_to_the_sky_half() {
     let dir = tempfile::tempdir().unwrap();
-    let light = format!(
-        "LightSource \"sunsky\" \"vector sundir\" [0.6 0.1 0.5]\nAttributeBegin\n\
-         LightSource \"point\" \"point from\" [0 0 2]\nAttributeEnd"
-    );
-    let text = scene_with(CLOSED, &light, &CLOSED.portal(), 1, PATH);
+    let light = "LightSource \"sunsky\" \"vector sundir\" [0.6 0.1 0.5]\nAttributeBegin\n\
+                 LightSource \"point\" \"point from\" [0 0 2]\nAttributeEnd";
+    let text = scene_with(CLOSED, light, &CLOSED.portal(), 1, PATH);
     let desc = scene_text(&text, &dir.path().join("room.lxs"));
     let portal = desc.shapes.iter().find(|s| s.portal).expect("portal shape");
     assert_eq!(
