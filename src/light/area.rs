@@ -5,13 +5,27 @@
 //! The emission profile ([`EmissionProfile`]: falloff exponent, cosine exponent, two sides,
 //! camera visibility) is luxfarm's addition; its defaults are LuxRender's area light. This is
 //! also mental ray's `object` area light: the emitting geometry is an instance's own.
-
+//!
+//! **IES profiles** (`iesname`, and/or `mapname`, `flipz`, read as the point light reads them,
+//! see [`super::gonio`]), as LuxRender 1.x's area light applies them: the profile f is looked
+//! up with the leaving direction in the surface's frame (z the oriented geometric normal, so
+//! an IES nadir points along the normal; x, y a frame around it) and replaces the one-sided
+//! Lambertian emission: the radiance toward ω is `L × gain × π × f(ω) / ∫f dω` — LuxRender's
+//! `π · f / Average_f` with Average_f the integral of f over the sphere — on both sides as
+//! far as the profile reaches (`twosided` and `cosineexponent` are then unused). The profile
+//! is therefore deformed by the shape, as LuxRender's documentation warns. Power/efficacy
+//! normalise by `area × π × Y(L)` as without a profile. Light subpaths leave in directions
+//! drawn ∝ the profile.
 use super::emitter::EmissionProfile;
+use super::falloff::radiance_falloff;
+use super::gonio::Goniometric;
 use super::{power_gain, Emission, LightColor, LightCommon, LightSample, ShapeSampler};
+use crate::geometry::frame::coordinate_system;
 use crate::geometry::{Interaction, Shading, SurfaceInteraction};
 use crate::lxs::ParamSet;
 use crate::spectrum::Rgb;
-use glam::Vec2;
+use glam::{Vec2, Vec3A};
+use std::f32::consts::PI;
 
 #[derive(Debug)]
 pub struct AreaLight {
@@ -24,6 +38,34 @@ pub struct AreaLight {
     pub area: f32,
     pub profile: EmissionProfile,
     y: f32,
+    /// The IES / goniometric profile replacing the Lambertian emission, if any.
+    ies: Option<Box<IesEmission>>,
+}
+
+/// A profile with LuxRender's factor π / ∫f dω.
+#[derive(Debug)]
+struct IesEmission {
+    gonio: Goniometric,
+    norm: f32,
+}
+
+impl IesEmission {
+    /// The profile toward the unit world direction `w` leaving a point of normal `n`.
+    fn eval(&self, n: Vec3A, w: Vec3A) -> Rgb {
+        self.gonio.eval(to_local(n, w)) * self.norm
+    }
+}
+
+/// `w` in the frame of normal `n` (z = n).
+fn to_local(n: Vec3A, w: Vec3A) -> Vec3A {
+    let (s, t) = coordinate_system(n);
+    Vec3A::new(w.dot(s), w.dot(t), w.dot(n))
+}
+
+/// The local direction `d` in world space, for the frame of normal `n`.
+fn to_world(n: Vec3A, d: Vec3A) -> Vec3A {
+    let (s, t) = coordinate_system(n);
+    (s * d.x + t * d.y + n * d.z).normalize_or_zero()
 }
 
 impl AreaLight {
@@ -47,12 +89,48 @@ impl AreaLight {
             area,
             profile,
             y: color.y,
+            ies: None,
         }
+    }
+
+    /// An area light whose emission follows `gonio` (an IES profile and/or a map).
+    pub fn with_ies(
+        params: &ParamSet,
+        color: &LightColor,
+        shape: u32,
+        area: f32,
+        common: LightCommon,
+        profile: EmissionProfile,
+        gonio: Option<Goniometric>,
+    ) -> Self {
+        let mut l = AreaLight::new(params, color, shape, area, common, profile);
+        l.ies = gonio.and_then(|g| {
+            // ∫ f dω = 4π × the profile's solid-angle mean.
+            let integral = 4.0 * PI * g.mean();
+            (integral > 0.0 && integral.is_finite()).then(|| {
+                Box::new(IesEmission {
+                    gonio: g,
+                    norm: PI / integral,
+                })
+            })
+        });
+        l
     }
 
     /// Radiance leaving the light at `si` in direction `w` (unit), toward a point at squared
     /// distance `d2` (`None`: seen by the camera; see [`EmissionProfile::factor`]).
     pub fn le(&self, si: &SurfaceInteraction, w: glam::Vec3A, d2: Option<f32>) -> Rgb {
+        if let Some(ies) = &self.ies {
+            let fall = d2.map_or(1.0, |d2| {
+                radiance_falloff(d2, self.profile.falloff_exponent)
+            });
+            let f = ies.eval(si.it.n, w) * fall;
+            return if f.is_black() {
+                Rgb::BLACK
+            } else {
+                self.emission.eval(si) * f * self.scale
+            };
+        }
         let f = self.profile.factor(si.it.n.dot(w), d2);
         if f > 0.0 {
             self.emission.eval(si) * (self.scale * f)
@@ -115,11 +193,13 @@ impl AreaLight {
     ) -> Option<super::emission::LightRay> {
         let (mut it, uv, pdf_pos) = shapes.sample_shape(self.shape, u_pos, u_pick)?;
         it.time = time;
-        let local = crate::sampling::cosine_hemisphere(u_dir);
-        let (s, t) = crate::geometry::frame::coordinate_system(it.n);
-        let d = (s * local.x + t * local.y + it.n * local.z).normalize_or_zero();
-        let cos = d.dot(it.n);
-        if cos <= 0.0 {
+        let local = match &self.ies {
+            None => crate::sampling::cosine_hemisphere(u_dir),
+            Some(ies) => ies.gonio.sample(u_dir)?.0,
+        };
+        let d = to_world(it.n, local);
+        let pdf_dir = self.pdf_dir(it.n, d);
+        if pdf_dir <= 0.0 {
             return None;
         }
         let si = SurfaceInteraction {
@@ -137,8 +217,24 @@ impl AreaLight {
             n: it.n,
             le: self.le(&si, d, None),
             pdf_pos,
-            pdf_dir: cos * std::f32::consts::FRAC_1_PI,
+            pdf_dir,
         })
+    }
+
+    /// Solid-angle density with which [`Self::sample_le`] leaves a point of normal `n` in
+    /// unit direction `w`: cosine-weighted about the normal, or ∝ the IES profile.
+    pub fn pdf_dir(&self, n: Vec3A, w: Vec3A) -> f32 {
+        match &self.ies {
+            None => {
+                let c = n.dot(w);
+                if c > 0.0 {
+                    c / PI
+                } else {
+                    0.0
+                }
+            }
+            Some(ies) => ies.gonio.pdf(to_local(n, w)),
+        }
     }
 
     /// Solid-angle pdf of reaching `hit` on this light from `r` by [`Self::sample_li`].

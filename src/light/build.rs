@@ -71,7 +71,11 @@ impl Light {
                     Some(profile),
                 ))
             }
-            "spot" => Light::Spot(SpotLight::new(p, l2w, &color, common)),
+            "spot" => {
+                let profile = Goniometric::from_params(p, files)
+                    .map_err(|(name, m)| BuildError::new(&param_loc(p, name, &e.loc), m))?;
+                Light::Spot(SpotLight::with_profile(p, l2w, &color, common, profile))
+            }
             "distant" => Light::Distant(DistantLight::new(p, l2w, &color, common)),
             "infinite" | "infinitesample" => {
                 let map = match p.string("mapname").filter(|s| !s.is_empty()) {
@@ -95,13 +99,13 @@ impl Light {
     }
 
     /// Builds an `AreaLightSource` on emitter `emitter` (its index among the scene's emitting
-    /// shapes), whose surface area is `area`.
+    /// shapes), whose surface area is `area`; `files` opens its `iesname`/`mapname`.
     pub fn build_area(
         entity: &Entity,
         group: usize,
         textures: &mut TextureSet,
-        emitter: u32,
-        area: f32,
+        (emitter, area): (u32, f32),
+        files: &SceneFiles,
     ) -> Result<Light, BuildError> {
         if entity.kind != "area" {
             return Err(BuildError::new(
@@ -114,8 +118,10 @@ impl Light {
         let common = LightCommon::from_params(p, group);
         let profile = EmissionProfile::from_params(p)
             .map_err(|m| BuildError::new(&entity.loc, format!("AreaLightSource \"area\": {m}")))?;
-        Ok(Light::Area(AreaLight::new(
-            p, &color, emitter, area, common, profile,
+        let gonio = Goniometric::from_params(p, files)
+            .map_err(|(name, m)| BuildError::new(&param_loc(p, name, &entity.loc), m))?;
+        Ok(Light::Area(AreaLight::with_ies(
+            p, &color, emitter, area, common, profile, gonio,
         )))
     }
 }

@@ -143,14 +143,7 @@ impl Light {
     /// `from` (with its normal) in unit direction `w`; 0 for lights at infinity.
     pub fn pdf_dir_from(&self, from: &Interaction, w: Vec3A) -> f32 {
         match self {
-            Light::Area(_) => {
-                let c = from.n.dot(w);
-                if c > 0.0 {
-                    c / PI
-                } else {
-                    0.0
-                }
-            }
+            Light::Area(l) => l.pdf_dir(from.n, w),
             Light::Point(l) => l.pdf_dir(w),
             Light::Spot(l) => l.pdf_dir(w),
             _ => 0.0,

@@ -116,6 +116,8 @@ pub struct InfiniteLight {
     map: Option<EnvMap>,
     y: f32,
     pub world_radius: f32,
+    /// Windows it is sampled through (`PortalShape`), see [`super::portal`].
+    pub portals: Option<super::portal::Portals>,
 }
 
 impl InfiniteLight {
@@ -152,6 +154,7 @@ impl InfiniteLight {
             map,
             y: color.y * gain,
             world_radius: 1.0,
+            portals: None,
         })
     }
 
@@ -165,6 +168,7 @@ impl InfiniteLight {
             map,
             y: luminance(radiance),
             world_radius: 1.0,
+            portals: None,
         }
     }
 

@@ -33,6 +33,10 @@
 //!   of spectral radiance from the turbidity and an analytic sky (see [`sun`], [`sky`],
 //!   [`sunsky`]); **sky2**, **sunsky2**: Hosek & Wilkie's sky ([`sky2`]), with the same sun.
 //!
+//! - **portals** (`PortalShape`/`PortalInstance` after an infinite, sky, sky2, sunsky or
+//!   sunsky2 light in the same scope): the light is sampled through those windows
+//!   ([`portal`]) by path and direct lighting; bidirectional ignores them.
+//!
 //! Every light's `nsamples` (1) is the number of shadow rays per direct-lighting estimate;
 //! `lownsamples` replaces it from path depth `lowlevel` on (0: never), as mental ray's
 //! `low_samples` at `low_level`.
@@ -55,6 +59,7 @@ pub mod ies;
 pub mod infinite;
 pub mod latlong;
 pub mod point;
+pub mod portal;
 pub mod primitive;
 pub mod primshape;
 pub mod rectangle;
@@ -82,6 +87,7 @@ pub use emitter::EmissionProfile;
 pub use falloff::{distance_falloff, falloff_exponent, mental_ray_exponent, radiance_falloff};
 pub use infinite::InfiniteLight;
 pub use point::PointLight;
+pub use portal::Portals;
 pub use primitive::{PrimShape, PrimitiveLight, PRIMITIVE_KINDS};
 pub use sky::SkyLight;
 pub use sky2::Sky2Light;
@@ -336,8 +342,61 @@ impl Light {
         let _ = center;
     }
 
-    /// Samples a direction toward the light from `r`.
+    /// The portals this light is sampled through (infinite, sky and sky2 lights given some).
+    pub fn portals(&self) -> Option<&Portals> {
+        match self {
+            Light::Infinite(l) => l.portals.as_ref(),
+            Light::Sky(l) => l.portals.as_ref(),
+            Light::Sky2(l) => l.portals.as_ref(),
+            _ => None,
+        }
+    }
+
+    /// Gives the light windows to be sampled through; `false` (and nothing changes) for the
+    /// kinds that do not use portals.
+    pub fn set_portals(&mut self, portals: Portals) -> bool {
+        match self {
+            Light::Infinite(l) => l.portals = Some(portals),
+            Light::Sky(l) => l.portals = Some(portals),
+            Light::Sky2(l) => l.portals = Some(portals),
+            _ => return false,
+        }
+        true
+    }
+
+    /// Samples a direction toward the light from `r`; a light with portals draws most of its
+    /// directions through them and the rest as it would without ([`portal::PORTAL_SHARE`]).
     pub fn sample_li(
+        &self,
+        r: &Interaction,
+        u: Vec2,
+        u_pick: f32,
+        shapes: &dyn ShapeSampler,
+    ) -> Option<LightSample> {
+        let Some(portals) = self.portals() else {
+            return self.sample_li_ignoring_portals(r, u, u_pick, shapes);
+        };
+        let share = portal::PORTAL_SHARE;
+        let wi = if u_pick < share {
+            portals.sample(r.p, u, u_pick / share)?.0
+        } else {
+            let u_own = ((u_pick - share) / (1.0 - share)).min(1.0 - f32::EPSILON);
+            self.sample_li_ignoring_portals(r, u, u_own, shapes)?.wi
+        };
+        let pdf = self.pdf_li(r, wi, None);
+        let radius = match self {
+            Light::Infinite(l) => l.world_radius,
+            Light::Sky(l) => l.world_radius,
+            Light::Sky2(l) => l.world_radius,
+            _ => 1.0,
+        };
+        let s = LightSample::from_infinity(r, wi, self.le(wi), pdf, false, radius);
+        (s.pdf > 0.0 && s.pdf.is_finite() && s.li.is_finite() && !s.li.is_black()).then_some(s)
+    }
+
+    /// Samples a direction toward the light from `r` over the light's whole extent, portals
+    /// or not (bidirectional's position-free directions at infinity).
+    pub fn sample_li_ignoring_portals(
         &self,
         r: &Interaction,
         u: Vec2,
@@ -362,6 +421,20 @@ impl Light {
     /// lights `hit` is where a ray along `wi` met the light (for primitives, the crossing;
     /// without one, the first crossing along `wi`).
     pub fn pdf_li(&self, r: &Interaction, wi: Vec3A, hit: Option<&SurfaceInteraction>) -> f32 {
+        let own = self.pdf_li_ignoring_portals(r, wi, hit);
+        match self.portals() {
+            Some(p) => portal::mixture_pdf(p.pdf(r.p, wi), own),
+            None => own,
+        }
+    }
+
+    /// The density of [`Self::sample_li_ignoring_portals`].
+    pub fn pdf_li_ignoring_portals(
+        &self,
+        r: &Interaction,
+        wi: Vec3A,
+        hit: Option<&SurfaceInteraction>,
+    ) -> f32 {
         match self {
             Light::Point(_) | Light::Spot(_) => 0.0,
             Light::Distant(l) => l.pdf_li(wi),

@@ -187,6 +187,8 @@ pub struct SkyLight {
     /// Solid-angle mean of the luminance over the sphere.
     mean_y: f32,
     pub world_radius: f32,
+    /// Windows it is sampled through (`PortalShape`), see [`super::portal`].
+    pub portals: Option<super::portal::Portals>,
 }
 
 impl SkyLight {
@@ -262,6 +264,7 @@ impl SkyLight {
             dist: PiecewiseConstant2D::new(&weights, w, h),
             mean_y,
             world_radius: 1.0,
+            portals: None,
         }
     }
 

@@ -150,6 +150,8 @@ pub struct Sky2Light {
     /// Solid-angle mean of the luminance over the sphere (× gain).
     mean_y: f32,
     pub world_radius: f32,
+    /// Windows it is sampled through (`PortalShape`), see [`super::portal`].
+    pub portals: Option<super::portal::Portals>,
 }
 
 impl Sky2Light {
@@ -202,6 +204,7 @@ impl Sky2Light {
             dist: PiecewiseConstant2D::new(&weights, w, h),
             mean_y,
             world_radius: 1.0,
+            portals: None,
         }
     }
 

@@ -1,12 +1,21 @@
 //! Spot light: a point light restricted to a cone from `from` toward `to`, with LuxRender's
 //! fourth-power falloff between `coneangle − conedeltaangle` and `coneangle` (degrees).
 //!
+//! With `iesname` (and/or `mapname`, `flipz`, as the point light reads them, see
+//! [`super::gonio`]) the cone is shaped further: the intensity toward a direction is
+//! `L × gain × falloff × profile(d)`, d the direction in the spot's frame — z along the axis
+//! `from → to` (the IES nadir, so a downlight profile points where the spot points), x and y
+//! a frame around it. LuxRender 1.x's spot reads no profile; point and area lights do, and
+//! luxfarm gives the spot the same. The power normalisation then divides by the flux of
+//! falloff × profile luminance over the cone, integrated on a grid.
+//!
 //! mental ray's spot (luxfarm's addition, used when `float spread` is given): `spread` is the
 //! cosine of the outer half-angle (nothing outside it), `cone` the cosine of the inner
 //! half-angle (full intensity inside; default `spread`, a hard edge), and between them the
 //! intensity falls off linearly in the cosine, (cosθ − spread)/(cone − spread), as
 //! mental ray's `mib_light_spot` and `physical_light` shaders compute it.
 
+use super::gonio::Goniometric;
 use super::{
     distance_falloff, falloff_exponent, point3, power_gain, LightColor, LightCommon, LightSample,
 };
@@ -29,6 +38,10 @@ pub struct SpotLight {
     cos_falloff: f32,
     shape: ConeShape,
     y: f32,
+    /// The IES / goniometric profile shaping the cone, looked up in the spot's frame.
+    profile: Option<Box<Goniometric>>,
+    /// The spot's frame: x, y around the axis (z).
+    frame: (Vec3A, Vec3A),
 }
 
 /// How intensity falls off between the inner and the outer cone.
@@ -67,25 +80,79 @@ fn cone(params: &ParamSet) -> (f32, f32, ConeShape) {
 
 impl SpotLight {
     pub fn new(params: &ParamSet, l2w: Mat4, color: &LightColor, common: LightCommon) -> Self {
+        SpotLight::with_profile(params, l2w, color, common, None)
+    }
+
+    /// A spot shaped by `profile` (an IES file and/or a map) in its frame.
+    pub fn with_profile(
+        params: &ParamSet,
+        l2w: Mat4,
+        color: &LightColor,
+        common: LightCommon,
+        profile: Option<Goniometric>,
+    ) -> Self {
         let gain = params.float_or("gain", 1.0);
         let power = params.float_or("power", 0.0);
         let efficacy = params.float_or("efficacy", 0.0);
         let from = point3(params.point("from").unwrap_or([0.0; 3]));
         let to = point3(params.point("to").unwrap_or([0.0, 0.0, 1.0]));
         let (cos_total, cos_falloff, shape) = cone(params);
-        let norm = cone_solid_angle(cos_total, cos_falloff);
-        let scale = gain * power_gain(power, efficacy, norm, color.y);
         let axis = l2w.transform_vector3a(to - from).normalize_or(Vec3A::Z);
-        SpotLight {
+        let mut l = SpotLight {
             common,
             falloff_exponent: falloff_exponent(params),
             pos: l2w.transform_point3a(from),
             axis,
-            intensity: color.emission.eval(&SurfaceInteraction::default()) * scale,
+            intensity: color.emission.eval(&SurfaceInteraction::default()),
             cos_total,
             cos_falloff,
             shape,
-            y: color.y * scale,
+            y: color.y,
+            profile: profile.map(Box::new),
+            frame: crate::geometry::frame::coordinate_system(axis),
+        };
+        let norm = l.flux_solid_angle();
+        let scale = gain * power_gain(power, efficacy, norm, color.y);
+        l.intensity *= scale;
+        l.y = color.y * scale;
+        l
+    }
+
+    /// The solid angle the power normalisation divides by: LuxRender's cone weighting
+    /// without a profile; with one, ∫ falloff × Y(profile) dω over the cone (midpoint rule on
+    /// a grid in cos θ and φ).
+    fn flux_solid_angle(&self) -> f32 {
+        let Some(p) = &self.profile else {
+            return cone_solid_angle(self.cos_total, self.cos_falloff);
+        };
+        const NC: usize = 64;
+        const NP: usize = 128;
+        let span = 1.0 - self.cos_total;
+        let mut sum = 0.0f64;
+        for i in 0..NC {
+            let c = self.cos_total + span * (i as f32 + 0.5) / NC as f32;
+            let f = self.falloff(c);
+            if f <= 0.0 {
+                continue;
+            }
+            let sin = (1.0 - c * c).max(0.0).sqrt();
+            for j in 0..NP {
+                let phi = 2.0 * PI * (j as f32 + 0.5) / NP as f32;
+                let d = Vec3A::new(sin * phi.cos(), sin * phi.sin(), c);
+                sum += f64::from(f * luminance(p.eval(d)));
+            }
+        }
+        (sum * f64::from(span) * 2.0 * std::f64::consts::PI / (NC * NP) as f64) as f32
+    }
+
+    /// The profile's value toward the unit world direction `w` (1 without a profile).
+    fn shaped(&self, w: Vec3A) -> Rgb {
+        match &self.profile {
+            None => Rgb::WHITE,
+            Some(p) => {
+                let (x, y) = self.frame;
+                p.eval(Vec3A::new(w.dot(x), w.dot(y), w.dot(self.axis)))
+            }
         }
     }
 
@@ -110,12 +177,12 @@ impl SpotLight {
             return None;
         }
         let wi = d / d2.sqrt();
-        let f = self.falloff((-wi).dot(self.axis));
-        if f <= 0.0 {
+        let li = self.intensity_toward(-wi);
+        if li.is_black() {
             return None;
         }
         Some(LightSample {
-            li: self.intensity * (f * distance_falloff(d2, self.falloff_exponent)),
+            li: li * distance_falloff(d2, self.falloff_exponent),
             wi,
             pdf: 1.0,
             p_light: Interaction {
@@ -128,9 +195,14 @@ impl SpotLight {
         })
     }
 
-    /// Radiant intensity toward unit direction `w` (the cone's falloff applied).
+    /// Radiant intensity toward unit direction `w` (the cone's falloff and the profile
+    /// applied).
     pub fn intensity_toward(&self, w: Vec3A) -> Rgb {
-        self.intensity * self.falloff(w.dot(self.axis))
+        let f = self.falloff(w.dot(self.axis));
+        if f <= 0.0 {
+            return Rgb::BLACK;
+        }
+        self.intensity * self.shaped(w) * f
     }
 
     /// A ray leaving the light (light subpaths): uniform over the cone of `coneangle`.
@@ -162,8 +234,12 @@ impl SpotLight {
     }
 
     pub fn power(&self) -> f32 {
-        self.y * cone_solid_angle(self.cos_total, self.cos_falloff)
+        self.y * self.flux_solid_angle()
     }
+}
+
+fn luminance(c: Rgb) -> f32 {
+    0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b
 }
 
 /// The solid angle the power normalisation divides by: the full inner cone plus half the

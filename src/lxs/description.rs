@@ -120,6 +120,10 @@ pub struct ShapeDesc {
     pub exterior: Option<String>,
     /// True when declared with `PortalShape` (used only for light sampling, never rendered).
     pub portal: bool,
+    /// For a portal: index into `SceneDescription::lights` of the LightSource it belongs to
+    /// (the last one declared in its attribute scope, as LuxRender ties them).
+    #[serde(default)]
+    pub portal_light: Option<usize>,
 }
 
 /// Shapes collected between `ObjectBegin "name"` and `ObjectEnd`.
@@ -138,6 +142,9 @@ pub struct InstanceDesc {
     pub instance_to_world: Xform,
     pub loc: Loc,
     pub portal: bool,
+    /// For a `PortalInstance`: index into `SceneDescription::lights` of its light.
+    #[serde(default)]
+    pub portal_light: Option<usize>,
 }
 
 /// `MakeNamedVolume "name" "type" ...` or an anonymous `Volume "type" ...` region.

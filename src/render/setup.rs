@@ -121,6 +121,9 @@ impl Renderable {
                 integrator = Integrator::build(Some(&path), &mut warnings)?;
             }
         }
+        if integrator.splats() && world.lights().iter().any(|l| l.portals().is_some()) {
+            warn_bidir_portals(desc, &mut warnings);
+        }
         if world.media().is_some() && !integrator.renders_media() {
             integrator = media_fallback(desc, &mut warnings)?;
         }
@@ -143,6 +146,29 @@ impl Renderable {
             warnings,
         })
     }
+}
+
+/// Bidirectional light paths and their connections ignore portals (they sample lights at
+/// infinity over the whole sphere, which stays unbiased): one warning at the first portal.
+fn warn_bidir_portals(desc: &SceneDescription, warnings: &mut Vec<Diagnostic>) {
+    let loc = desc
+        .shapes
+        .iter()
+        .find(|s| s.portal)
+        .map(|s| s.entity.loc.clone())
+        .or_else(|| {
+            desc.instances
+                .iter()
+                .find(|i| i.portal)
+                .map(|i| i.loc.clone())
+        })
+        .unwrap_or_default();
+    warn(
+        warnings,
+        &loc,
+        "portals are not used by SurfaceIntegrator \"bidirectional\" (its light paths sample \
+         the sky over the whole sphere); \"path\" and \"directlighting\" sample through them",
+    );
 }
 
 /// The path integrator standing in for a surface integrator that cannot carry paths through

@@ -3,7 +3,7 @@
 //! where a glass2 needs them; material warnings join the build's), then the lights (built by
 //! [`crate::light`]) and their selection — building only what is referenced.
 
-use super::{geometry, World};
+use super::{geometry, portals, World};
 use crate::fileio::SceneFiles;
 use crate::light::{Light, LightSelector, LightStrategy};
 use crate::lxs::{Diagnostic, SceneDescription};
@@ -74,14 +74,18 @@ impl World {
         };
         let group_of = |name: &str| groups.iter().position(|g| g == name).unwrap_or(0);
         let mut lights = Vec::new();
+        let mut built_lights = Vec::with_capacity(desc.lights.len());
         for ld in &desc.lights {
+            let start = lights.len();
             lights.extend(Light::build(
                 ld,
                 group_of(&ld.light_group),
                 &mut textures,
                 files,
             )?);
+            built_lights.push(start..lights.len());
         }
+        portals::attach(desc, &ctx, &built_lights, &mut lights, warnings);
         let mut emitters = Vec::new();
         for pa in &built.pending {
             let area = geometry.prepare_sampling(pa.shape);
@@ -89,8 +93,8 @@ impl World {
                 pa.entity,
                 group_of(pa.group),
                 &mut textures,
-                emitters.len() as u32,
-                area,
+                (emitters.len() as u32, area),
+                files,
             )?;
             emitters.push(pa.shape);
             if let Some(pi) = prims.get_mut(pa.prim as usize) {

@@ -13,10 +13,12 @@
 //! SceneDescription --geometry::build--> Geometry + primitive table + pending area lights
 //!                  --MaterialSet::build--> materials (with their textures)
 //!                  --Light::build / Light::build_area--> lights --> LightSelector
+//!                  --portals::attach--> infinite/sky lights sampled through windows
 //! ```
 
 mod build;
 mod geometry;
+mod portals;
 
 use crate::accel::{Geometry, ShapeId};
 use crate::geometry::{Interaction, Ray, SurfaceInteraction};

@@ -26,6 +26,7 @@ pub fn shape(kind: &str, params: Vec<(&str, ParamValue)>, m: DMat4, reverse: boo
         interior: None,
         exterior: None,
         portal: false,
+        portal_light: None,
     }
 }
 

@@ -45,6 +45,7 @@ fn mesh_desc(p: Vec<[f32; 3]>, idx: Vec<i32>) -> ShapeDesc {
         interior: None,
         exterior: None,
         portal: false,
+        portal_light: None,
     }
 }
 

@@ -506,6 +506,7 @@ fn shape(
         interior: None,
         exterior: None,
         portal: false,
+        portal_light: None,
     }
 }
 
@@ -628,6 +629,7 @@ fn place_geometry(
                 instance_to_world: Xform::fixed(to_world),
                 loc: g.inst.loc.clone(),
                 portal: false,
+                portal_light: None,
             });
             continue;
         }

@@ -218,7 +218,7 @@ pub fn direct(
         if q <= 0.0 {
             continue;
         }
-        let Some(ls) = light.sample_li(&v.si.it, u, u_shape, ctx.world) else {
+        let Some(ls) = light.sample_li_ignoring_portals(&v.si.it, u, u_shape, ctx.world) else {
             continue;
         };
         let f = bsdf.f(v.si.wo, ls.wi) * ls.wi.dot(bsdf.frame.n).abs();

@@ -197,7 +197,7 @@ impl Ctx<'_> {
             .infinite_lights()
             .iter()
             .filter_map(|&i| Some((i, lights.get(i)?)))
-            .map(|(i, l)| count(i) * l.pdf_li(&at, dir, None))
+            .map(|(i, l)| count(i) * l.pdf_li_ignoring_portals(&at, dir, None))
             .sum()
     }
 

@@ -35,6 +35,9 @@ pub struct GraphicsState {
     pub light_group: String,
     /// Kind of the last LightSource (PortalShape/PortalInstance attach to it).
     pub current_light: Option<String>,
+    /// Index in `SceneDescription::lights` of that light (`None` inside ObjectBegin, whose
+    /// lights are only placed by their instances).
+    pub current_light_index: Option<usize>,
     pub float_textures: Names,
     pub color_textures: Names,
     pub fresnel_textures: Names,

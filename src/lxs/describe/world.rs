@@ -168,13 +168,18 @@ impl DescriptionBuilder {
             light_group: self.current_light_group(),
             exterior: self.gs.exterior.clone(),
         };
-        match self.current_object {
-            Some(obj) => self.object_lights.entry(obj).or_default().push(light),
-            None => {
-                self.record_refs(Owner::Light(self.desc.lights.len()), &bindings);
-                self.desc.lights.push(light);
+        self.gs.current_light_index = match self.current_object {
+            Some(obj) => {
+                self.object_lights.entry(obj).or_default().push(light);
+                None
             }
-        }
+            None => {
+                let index = self.desc.lights.len();
+                self.record_refs(Owner::Light(index), &bindings);
+                self.desc.lights.push(light);
+                Some(index)
+            }
+        };
         self.gs.current_light = Some(kind);
         Ok(())
     }
@@ -210,6 +215,7 @@ impl DescriptionBuilder {
             interior: self.gs.interior.clone(),
             exterior: self.gs.exterior.clone(),
             portal,
+            portal_light: self.gs.current_light_index.filter(|_| portal),
         };
         match self.current_object {
             Some(obj) if !portal => {
@@ -318,6 +324,7 @@ impl DescriptionBuilder {
                 instance_to_world: to_world.clone(),
                 loc: loc.clone(),
                 portal,
+                portal_light: self.gs.current_light_index.filter(|_| portal),
             });
         }
         if portal {
