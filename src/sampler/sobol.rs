@@ -27,11 +27,12 @@ pub(super) fn run_key(pixel_key: u64, index: u64) -> u64 {
     combine(pixel_key, index >> SEQ_BITS)
 }
 
-/// The request key of dimension `dim` and the index within the run.
+/// The request key of dimension `dim` and the index within the run: one splitmix step of
+/// the run key (as the random sampler keys its dimensions).
 #[inline]
 fn request(run_key: u64, index: u64, dim: u32) -> (u64, u32) {
     (
-        combine(run_key, u64::from(dim)),
+        mix64(run_key ^ (u64::from(dim) + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15)),
         (index & ((1 << SEQ_BITS) - 1)) as u32,
     )
 }
@@ -43,49 +44,51 @@ fn shuffled_rev(key: u64, i: u32) -> u32 {
     owen_scramble_rev(i.reverse_bits(), key as u32)
 }
 
-/// Sobol dimension `d` (0 or 1) of the point at bit-reversed index `rev` (its top 16 bits),
-/// bit-reversed: the same bits as `sobol_burley::parts::sobol_rev`, without its loop over
-/// index bits and table look-ups.
-///
-/// In the reversed value, bit m is the (m + 1)-th binary digit after the point. Dimension 0
-/// is the van der Corput sequence: digit m + 1 is index bit m, so the reversed value is the
-/// index itself. Dimension 1's generator matrix is Pascal's triangle mod 2: digit m + 1 is
-/// the XOR of the index bits k with C(k, m) odd, that is (Lucas) with m's bits a subset of
-/// k's: a superset-XOR transform over the five bits of a bit position, one shift per bit.
+/// Sobol dimension 0 of the point at bit-reversed index `rev` (its top 16 bits), in the
+/// reversed form `sobol_burley::parts::sobol_rev` returns: bit m of it is the (m + 1)-th binary
+/// digit after the point. Dimension 0 is the van der Corput sequence, digit m + 1 being index
+/// bit m: the reversed value is the index itself.
 #[inline]
-fn sobol_rev(rev: u32, d: u32) -> u32 {
-    let mut v = (rev & 0xffff_0000).reverse_bits();
-    if d != 0 {
-        v ^= (v >> 1) & 0x5555_5555;
-        v ^= (v >> 2) & 0x3333_3333;
-        v ^= (v >> 4) & 0x0f0f_0f0f;
-        v ^= (v >> 8) & 0x00ff_00ff;
-        v ^= (v >> 16) & 0x0000_ffff;
-    }
+fn sobol_rev_0(rev: u32) -> u32 {
+    (rev & 0xffff_0000).reverse_bits()
+}
+
+/// Sobol dimension 1 from dimension 0's reversed value `v0`, in the same form. Its generator
+/// matrix is Pascal's triangle mod 2: digit m + 1 is the XOR of the index bits k with C(k, m)
+/// odd, that is (Lucas) with m's bits a subset of k's — a superset-XOR transform over the five
+/// bits of a bit position, one shift per bit (no loop over index bits, no table).
+#[inline]
+fn sobol_rev_1(v0: u32) -> u32 {
+    let mut v = v0;
+    v ^= (v >> 1) & 0x5555_5555;
+    v ^= (v >> 2) & 0x3333_3333;
+    v ^= (v >> 4) & 0x0f0f_0f0f;
+    v ^= (v >> 8) & 0x00ff_00ff;
+    v ^= (v >> 16) & 0x0000_ffff;
     v
 }
 
-/// Owen-scrambled dimension `d` (0 or 1) of the point at bit-reversed index `rev`.
+/// The value in [0, 1) of a reversed Sobol coordinate under an Owen scramble.
 #[inline]
-fn coordinate(rev: u32, d: u32, scramble: u32) -> f32 {
-    u32_to_f32_norm(owen_scramble_rev(sobol_rev(rev, d), scramble).reverse_bits())
+fn scrambled(v: u32, scramble: u32) -> f32 {
+    u32_to_f32_norm(owen_scramble_rev(v, scramble).reverse_bits())
 }
 
 /// The 1D request at dimension `dim` of sample `index`.
 #[inline]
 pub(super) fn value_1d(run_key: u64, index: u64, dim: u32) -> f32 {
     let (key, i) = request(run_key, index, dim);
-    coordinate(shuffled_rev(key, i), 0, (key >> 32) as u32)
+    scrambled(sobol_rev_0(shuffled_rev(key, i)), (key >> 32) as u32)
 }
 
 /// The 2D request at dimensions `dim`, `dim + 1` of sample `index`.
 #[inline]
 pub(super) fn value_2d(run_key: u64, index: u64, dim: u32) -> Vec2 {
     let (key, i) = request(run_key, index, dim);
-    let rev = shuffled_rev(key, i);
+    let v0 = sobol_rev_0(shuffled_rev(key, i));
     Vec2::new(
-        coordinate(rev, 0, (key >> 32) as u32),
-        coordinate(rev, 1, mix64(key) as u32),
+        scrambled(v0, (key >> 32) as u32),
+        scrambled(sobol_rev_1(v0), mix64(key) as u32),
     )
 }
 
@@ -101,13 +104,10 @@ mod tests {
         for top in 0..=u16::MAX as u32 {
             // The low bits are ignored, as sobol_burley ignores them.
             let rev = (top << 16) | (top.wrapping_mul(0x9e37) & 0xffff);
-            for d in 0..2 {
-                assert_eq!(
-                    super::sobol_rev(rev, d),
-                    sobol_burley::parts::sobol_rev(rev, d),
-                    "index {top:#x}, dimension {d}"
-                );
-            }
+            let v0 = super::sobol_rev_0(rev);
+            assert_eq!(v0, sobol_burley::parts::sobol_rev(rev, 0), "index {top:#x}");
+            let v1 = super::sobol_rev_1(v0);
+            assert_eq!(v1, sobol_burley::parts::sobol_rev(rev, 1), "index {top:#x}");
         }
     }
 }
