@@ -350,6 +350,18 @@ fn report(sums: &[Summary], spp: u32, budget: f64) -> String {
                 f.cpu_rate / other.cpu_rate
             );
         }
+        if let Some(b) = best {
+            // Error falls as 1/sqrt(samples): at equal CPU time the faster renderer has
+            // rate_b/rate_o times the samples. A projection from the equal-samples runs, steadier
+            // than the equal-time renders on a machine whose load drifts between them.
+            let _ = writeln!(
+                out,
+                "{} / {}: RMSE at equal CPU time, projected from {spp} spp: {:.3}",
+                b.who.label(),
+                other.who.label(),
+                b.rmse / other.rmse * (other.cpu_rate / b.cpu_rate).sqrt()
+            );
+        }
         if let (Some(b), Some((eo, _, _))) = (best, other.at_budget) {
             if let Some((eb, _, _)) = b.at_budget {
                 let _ = writeln!(
