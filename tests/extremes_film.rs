@@ -23,7 +23,12 @@ fn film_16k_is_the_size_limit() {
         assert!(msg.contains(&format!("{w}x{h}")), "{msg}");
         assert!(msg.contains("2^28"), "{msg}");
     }
-    let e = Film::with_buffers(16_385, 16_385, vec![], vec![luxfarm::film::BufferType::PerPixel]);
+    let e = Film::with_buffers(
+        16_385,
+        16_385,
+        vec![],
+        vec![luxfarm::film::BufferType::PerPixel],
+    );
     assert!(matches!(e, Err(FilmError::TooLarge { .. })));
 }
 
