@@ -386,7 +386,13 @@ pub fn write_flm_level(
 
 /// The error for the first value of `src` (starting at value `start` of its buffer) that f32
 /// cannot hold.
-fn overflow_error(film: &Film, group: usize, buffer: usize, start: usize, src: &[f64]) -> FilmError {
+fn overflow_error(
+    film: &Film,
+    group: usize,
+    buffer: usize,
+    start: usize,
+    src: &[f64],
+) -> FilmError {
     let i = src
         .iter()
         .position(|v| !(*v as f32).is_finite())
