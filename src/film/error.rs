@@ -39,6 +39,15 @@ pub enum FilmError {
         x: u32,
         y: u32,
     },
+    /// A film sum beyond f32's range, which an FLM (f32 sums) cannot hold.
+    #[error("film value {value:e} (group {group}, buffer {buffer}, pixel ({x}, {y})) overflows the FLM's f32 sums")]
+    Overflow {
+        value: f64,
+        group: usize,
+        buffer: usize,
+        x: u32,
+        y: u32,
+    },
     #[error("films do not match: {0}")]
     Mismatch(String),
     #[error("{0}")]

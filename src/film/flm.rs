@@ -339,7 +339,9 @@ pub fn header_for(film: &Film, params: &FilmParams) -> FlmHeader {
     }
 }
 
-/// Writes a film as an FLM at a given gzip level (0-9).
+/// Writes a film as an FLM at a given gzip level (0-9). A sum beyond f32's range is refused
+/// ([`FilmError::Overflow`], naming the pixel) instead of being written as an infinity that
+/// every FLM reader refuses; what was already written to `w` is then incomplete.
 pub fn write_flm_level(
     film: &Film,
     params: &FilmParams,
@@ -356,21 +358,54 @@ pub fn write_flm_level(
             let Some(buf) = film.buffer(g, b) else {
                 continue;
             };
-            for src in buf.chunks(CHUNK) {
+            for (c, src) in buf.chunks(CHUNK).enumerate() {
                 let out = &mut bytes[..src.len() * 4];
-                out.par_chunks_mut(4096 * 4)
+                let overflow = out
+                    .par_chunks_mut(4096 * 4)
                     .zip(src.par_chunks(4096))
-                    .for_each(|(o, s)| {
+                    .map(|(o, s)| {
+                        let mut ok = true;
                         for (d, &v) in o.chunks_exact_mut(4).zip(s) {
-                            d.copy_from_slice(&(v as f32).to_le_bytes());
+                            let f = v as f32;
+                            ok &= f.is_finite();
+                            d.copy_from_slice(&f.to_le_bytes());
                         }
-                    });
+                        !ok
+                    })
+                    .reduce(|| false, |a, b| a || b);
+                if overflow {
+                    return Err(overflow_error(film, g, b, c * CHUNK, src));
+                }
                 enc.write_all(out)?;
             }
         }
     }
     enc.finish()?.flush()?;
     Ok(())
+}
+
+/// The error for the first value of `src` (starting at value `start` of its buffer) that f32
+/// cannot hold.
+fn overflow_error(
+    film: &Film,
+    group: usize,
+    buffer: usize,
+    start: usize,
+    src: &[f64],
+) -> FilmError {
+    let i = src
+        .iter()
+        .position(|v| !(*v as f32).is_finite())
+        .unwrap_or(0);
+    let px = (start + i) / PIXEL_VALUES;
+    let w = film.width().max(1) as usize;
+    FilmError::Overflow {
+        value: src.get(i).copied().unwrap_or(f64::INFINITY),
+        group,
+        buffer,
+        x: (px % w) as u32,
+        y: (px / w) as u32,
+    }
 }
 
 /// Reads an FLM file.
