@@ -46,6 +46,13 @@ fn testsuite_bidirectional_simple_sobol_matches_path() {
 /// Known failure, left for the next session: bidirectional comes out 10-25 % brighter
 /// than path here (z up to 6.7 over 32-pixel blocks). With `lightdepth` 1 or 2 it agrees
 /// with path, so the excess comes from light subpaths scattering more than once.
+/// Bisection (session 4, 64×48, 32-pixel blocks, random sampler): with only the plane
+/// light emitting (the 17 cubes kept as default-matte geometry) it agrees (max |z| 1.25);
+/// with the floor's substrate replaced by matte it still fails (z 6.9); with
+/// `lightstrategy` and `lightpathstrategy` "all" instead of auto (uniform one-of-n) it
+/// still fails (z 5.6), so the light-selection probability is not the cause. The bias
+/// needs several emitters, i.e. light subpaths meeting other emitters' surfaces or eye
+/// subpaths scattering off emitters.
 #[test]
 #[ignore = "known failure: light subpaths of 3+ vertices overestimate this scene"]
 fn testsuite_mattetranslucent_bidirectional_matches_path() {
