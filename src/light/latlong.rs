@@ -1,9 +1,13 @@
 //! The lat-long (equirectangular) parameterisation shared by the environment lights (infinite
 //! with a map, sky): light-space direction ↔ (s, t) ∈ [0, 1) × [0, 1] with φ = 2π s around +z and
 //! θ = π t from +z, and directions sampled from a piecewise-constant [`PiecewiseConstant2D`] over
-//! (s, t), whose solid-angle pdf is `pdf(s, t) / (2π² sin θ)`.
+//! (s, t), whose solid-angle pdf is `pdf(s, t) / (2π² sin θ)`; and the light sample and power
+//! of a sky sampled that way (`sky`, `sky2`), which differ only in their radiance.
 
+use super::LightSample;
+use crate::geometry::Interaction;
 use crate::sampling::PiecewiseConstant2D;
+use crate::spectrum::Rgb;
 use glam::{Mat4, Vec2, Vec3A};
 use std::f32::consts::PI;
 
@@ -47,6 +51,33 @@ pub fn pdf(dist: &PiecewiseConstant2D, w2l: &Mat4, wi: Vec3A) -> f32 {
         return 0.0;
     }
     dist.pdf(s, t) / (2.0 * PI * PI * sin_t)
+}
+
+/// A light sample of a sky sampled by [`sample`]: `radiance(s, t)` at the lat-long coordinates
+/// drawn, arriving at `r` from the sphere of radius `world_radius` around the scene.
+pub fn sample_li(
+    dist: &PiecewiseConstant2D,
+    l2w: &Mat4,
+    r: &Interaction,
+    u: Vec2,
+    world_radius: f32,
+    radiance: impl FnOnce(f32, f32) -> Rgb,
+) -> Option<LightSample> {
+    let (wi, [s, t], pdf) = sample(dist, l2w, u)?;
+    Some(LightSample::from_infinity(
+        r,
+        wi,
+        radiance(s, t),
+        pdf,
+        false,
+        world_radius,
+    ))
+}
+
+/// Luminous power of a sky of mean luminance `mean_y` through a disc of the scene's radius
+/// (as the infinite light's).
+pub fn sky_power(mean_y: f32, world_radius: f32) -> f32 {
+    mean_y * 4.0 * PI * PI * world_radius * world_radius
 }
 
 #[cfg(test)]

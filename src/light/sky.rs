@@ -306,15 +306,9 @@ impl SkyLight {
     }
 
     pub fn sample_li(&self, r: &Interaction, u: Vec2) -> Option<LightSample> {
-        let (wi, [s, t], pdf) = latlong::sample(&self.dist, &self.l2w, u)?;
-        Some(LightSample::from_infinity(
-            r,
-            wi,
-            self.lookup(s, t),
-            pdf,
-            false,
-            self.world_radius,
-        ))
+        latlong::sample_li(&self.dist, &self.l2w, r, u, self.world_radius, |s, t| {
+            self.lookup(s, t)
+        })
     }
 
     pub fn pdf_li(&self, wi: Vec3A) -> f32 {
@@ -323,7 +317,7 @@ impl SkyLight {
 
     /// Luminous power through a disc of the scene's radius (as the infinite light's).
     pub fn power(&self) -> f32 {
-        self.mean_y * 4.0 * PI * PI * self.world_radius * self.world_radius
+        latlong::sky_power(self.mean_y, self.world_radius)
     }
 }
 

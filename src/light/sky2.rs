@@ -222,16 +222,9 @@ impl Sky2Light {
     }
 
     pub fn sample_li(&self, r: &Interaction, u: Vec2) -> Option<LightSample> {
-        let (wi, [s, t], pdf) = latlong::sample(&self.dist, &self.l2w, u)?;
-        let (d, _) = st_to_dir(s, t);
-        Some(LightSample::from_infinity(
-            r,
-            wi,
-            self.le_local(d),
-            pdf,
-            false,
-            self.world_radius,
-        ))
+        latlong::sample_li(&self.dist, &self.l2w, r, u, self.world_radius, |s, t| {
+            self.le_local(st_to_dir(s, t).0)
+        })
     }
 
     pub fn pdf_li(&self, wi: Vec3A) -> f32 {
@@ -240,7 +233,7 @@ impl Sky2Light {
 
     /// Luminous power through a disc of the scene's radius (as the infinite light's).
     pub fn power(&self) -> f32 {
-        self.mean_y * 4.0 * PI * PI * self.world_radius * self.world_radius
+        latlong::sky_power(self.mean_y, self.world_radius)
     }
 }
 
