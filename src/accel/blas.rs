@@ -273,7 +273,7 @@ impl Blas {
     }
 
     /// Geometry of the hit found by [`Self::closest`] for the same ray, and its primitive id
-    /// (a triangle's point comes from the hit's barycentrics).
+    /// (a triangle's point comes from the hit's barycentrics, a quadric's from its distance).
     pub fn hit_geometry(
         &self,
         hit: BlasHit,
@@ -302,8 +302,12 @@ impl Blas {
                 let Shape::Quadric(q) = &self.shapes[*shape as usize] else {
                     return None;
                 };
-                let (_, g) = q.intersect(o, dn, tm)?;
-                Some((g, self.prims[*shape as usize]))
+                // The traversal's distance (in the caller's units) locates the hit.
+                let t = hit.t * len;
+                if !(t > 0.0 && t.is_finite()) {
+                    return None;
+                }
+                Some((q.geometry_at_t(o, dn, t), self.prims[*shape as usize]))
             }
         }
     }

@@ -167,9 +167,17 @@ impl Quadric {
         Some((t as f32, self.geometry_at(p)))
     }
 
+    /// Local geometry (target space) of the hit at distance `t` along the target-space ray
+    /// `o + t d`, a distance [`Self::intersect_t`] returned for the same ray: the point is
+    /// moved onto the surface as a solve would, without solving again.
+    pub fn geometry_at_t(&self, o: Vec3A, d: Vec3A, t: f32) -> LocalGeometry {
+        let (oo, dd) = self.object_ray(o, d);
+        self.geometry_at(self.project(oo + dd * f64::from(t)))
+    }
+
     fn object_ray(&self, o: Vec3A, d: Vec3A) -> (DVec3, DVec3) {
-        let inv = self.to_space.inverse();
-        (inv.point(to_f64(o)), inv.vector(to_f64(d)))
+        let inv = &self.to_space.inv;
+        (inv.transform_point3(to_f64(o)), inv.transform_vector3(to_f64(d)))
     }
 
     fn r_of_z(&self, z: f64) -> f64 {
