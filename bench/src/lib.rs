@@ -10,6 +10,8 @@
 //! - [`master`]: master capacity under simulated workers over gRPC.
 //! - [`transport`]: the film delta encodings on a rendered delta.
 //! - [`sampler`]: sampler values, camera rays and filter splats per second.
+//! - [`unused`]: a scene with a thousand unused textures, materials and objects builds
+//!   what the same scene without them builds, in the same time and memory.
 //! - [`image_metrics`]: image error metrics, shared with `luxfarm compare-image`;
 //!   [`support`]: helpers the benchmarks share.
 //!
@@ -25,6 +27,7 @@ pub mod parse;
 pub mod sampler;
 pub mod support;
 pub mod transport;
+pub mod unused;
 
 use std::process::ExitCode;
 
@@ -46,6 +49,9 @@ pub enum Command {
     Transport(transport::Args),
     /// Sampler values, camera rays and filter splats per second (one thread).
     Sampler(sampler::Args),
+    /// Build time and memory of a scene with N unused textures, materials and objects
+    /// against the same scene without them (nothing unused is built).
+    Unused(unused::Args),
 }
 
 /// Runs one benchmark.
@@ -58,5 +64,6 @@ pub fn run(command: Command) -> anyhow::Result<ExitCode> {
         Command::Master(a) => master::run(a),
         Command::Transport(a) => transport::run(a),
         Command::Sampler(a) => sampler::run(a),
+        Command::Unused(a) => unused::run(a),
     }
 }

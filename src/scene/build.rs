@@ -57,7 +57,8 @@ impl World {
         let mctx = MaterialCtx {
             files: files.clone(),
         };
-        let mut materials = MaterialSet::build(desc, &used, &mctx)?;
+        // One texture set for materials, lights and media: an image they share loads once.
+        let mut materials = MaterialSet::build_with_textures(desc, &used, &mctx, &mut textures)?;
         // glass2 takes its index from each shape's volumes.
         for (prim, &(interior, exterior)) in prims.iter_mut().zip(&built.media) {
             if let Some(m) = prim.material {
@@ -136,15 +137,22 @@ impl World {
             .filter(|&i| materials.is_built(i))
             .collect();
         report_world_unused(desc, &built_materials, warnings);
-        tracing::info!(
-            shapes = geometry.shape_count(),
-            objects = built.objects,
-            materials = used.len(),
-            textures = textures.built_names().len(),
-            images = textures.images_loaded(),
-            lights = lights.len(),
-            "world built"
-        );
+        let summary = BuiltSummary {
+            shapes: geometry.shape_count(),
+            objects: built.objects,
+            materials: {
+                let mut v: Vec<String> = built_materials
+                    .iter()
+                    .map(|&i| material_name(desc, i))
+                    .collect();
+                v.sort();
+                v
+            },
+            textures: textures.built_names(),
+            images: textures.images_loaded(),
+            lights: lights.len(),
+        };
+        summary.log();
         let has_null = prims.iter().any(|p| materials.get(p.material).is_null());
         let spectral = dispersing_material(desc, &prims, &materials);
         if let Some(name) = &spectral {
@@ -153,6 +161,7 @@ impl World {
             );
         }
         Ok(World {
+            built: summary,
             spectral: spectral.is_some(),
             media,
             has_null,
@@ -171,6 +180,55 @@ impl World {
             },
         })
     }
+}
+
+/// What [`World::build`] built — only what the scene references: the world's shapes, the
+/// objects its instances use, the materials of those shapes (with their components) and
+/// the textures and image files those materials and the lights read. Logged at info level.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct BuiltSummary {
+    /// World-level shapes (each instanced object counts once, in `objects`).
+    pub shapes: usize,
+    pub objects: usize,
+    /// Names of the materials built, sorted (`#i` for an unnamed `Material` statement).
+    pub materials: Vec<String>,
+    /// Names of the named textures built, sorted.
+    pub textures: Vec<String>,
+    /// Image files read.
+    pub images: usize,
+    pub lights: usize,
+}
+
+impl BuiltSummary {
+    fn log(&self) {
+        tracing::info!(
+            shapes = self.shapes,
+            objects = self.objects,
+            materials = %names(&self.materials),
+            textures = %names(&self.textures),
+            images = self.images,
+            lights = self.lights,
+            "world built"
+        );
+    }
+}
+
+/// A list for the log: its length and up to 12 names.
+fn names(v: &[String]) -> String {
+    const SHOWN: usize = 12;
+    let mut s = format!("{} [{}", v.len(), v[..v.len().min(SHOWN)].join(", "));
+    if v.len() > SHOWN {
+        s.push_str(&format!(", +{} more", v.len() - SHOWN));
+    }
+    s.push(']');
+    s
+}
+
+fn material_name(desc: &SceneDescription, i: usize) -> String {
+    desc.materials
+        .get(i)
+        .and_then(|m| m.name.clone())
+        .unwrap_or_else(|| format!("#{i}"))
 }
 
 /// The first material a primitive uses that disperses light, named for the log

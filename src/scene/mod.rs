@@ -28,7 +28,7 @@ use crate::spectrum::Rgb;
 use crate::volume::{MediaSet, MediumId};
 use glam::Vec2;
 
-pub use build::WorldOptions;
+pub use build::{BuiltSummary, WorldOptions};
 
 /// What the renderer knows about a primitive id (`SurfaceInteraction::prim`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -41,6 +41,8 @@ pub struct PrimInfo {
 
 /// What the scene contains, immutable once built (shared by the render threads).
 pub struct World {
+    /// What was built (and logged): only what the scene references.
+    pub built: BuiltSummary,
     /// Light group names, in film group order.
     groups: Vec<String>,
     geometry: Geometry,

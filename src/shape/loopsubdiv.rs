@@ -286,14 +286,27 @@ fn to_arrays(input: &MeshArrays, s: Subdivided, flip: bool) -> MeshArrays {
     }
 }
 
-/// The float textures the scene's subdivided shapes displace by, built once by name. A name
+/// The float textures the subdivided shapes that are built (world shapes, shapes of instanced
+/// objects) displace by, built once by name. A name
 /// with no float texture is left out (the shape warns and is not displaced, as LuxRender).
 pub fn displacement_maps(
     desc: &SceneDescription,
     textures: &mut TextureSet,
 ) -> Result<BTreeMap<String, FloatTex>, BuildError> {
     let mut maps = BTreeMap::new();
-    let object_shapes = desc.objects.iter().flat_map(|o| o.shapes.iter());
+    // Shapes of the world and of the objects that are instanced (the others are not built).
+    let mut instanced: Vec<usize> = desc
+        .instances
+        .iter()
+        .filter(|i| !i.portal)
+        .map(|i| i.object)
+        .collect();
+    instanced.sort_unstable();
+    instanced.dedup();
+    let object_shapes = instanced
+        .iter()
+        .filter_map(|&i| desc.objects.get(i))
+        .flat_map(|o| o.shapes.iter());
     let shapes: Vec<&ShapeDesc> = desc.shapes.iter().chain(object_shapes).collect();
     for s in shapes.into_iter().filter(|s| !s.portal) {
         let ps = &s.entity.params;

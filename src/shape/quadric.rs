@@ -177,7 +177,10 @@ impl Quadric {
 
     fn object_ray(&self, o: Vec3A, d: Vec3A) -> (DVec3, DVec3) {
         let inv = &self.to_space.inv;
-        (inv.transform_point3(to_f64(o)), inv.transform_vector3(to_f64(d)))
+        (
+            inv.transform_point3(to_f64(o)),
+            inv.transform_vector3(to_f64(d)),
+        )
     }
 
     fn r_of_z(&self, z: f64) -> f64 {
