@@ -12,8 +12,8 @@ const COUNT: usize = 300;
 fn unused_textures_materials_and_objects_are_not_built() {
     let dir = tempfile::tempdir().unwrap();
     let scenes = generate(dir.path(), COUNT).unwrap();
-    let (_, _, _, base) = parse_and_build(&scenes.base).unwrap();
-    let (_, _, _, padded) = parse_and_build(&scenes.padded).unwrap();
+    let base = parse_and_build(&scenes.base).unwrap().built;
+    let padded = parse_and_build(&scenes.padded).unwrap().built;
     assert_eq!(base.materials, ["ball", "floor"]);
     assert_eq!(base.textures, ["floortex"]);
     assert_eq!((base.images, base.objects, base.lights), (1, 0, 1));
@@ -27,7 +27,7 @@ fn padded_with(extra: &str) -> anyhow::Result<luxfarm::scene::BuiltSummary> {
     let text = std::fs::read_to_string(&scenes.padded).unwrap();
     let text = text.replace("WorldEnd", &format!("{extra}\nWorldEnd"));
     std::fs::write(&scenes.padded, text).unwrap();
-    parse_and_build(&scenes.padded).map(|r| r.3)
+    parse_and_build(&scenes.padded).map(|r| r.built)
 }
 
 #[test]
