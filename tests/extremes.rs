@@ -276,12 +276,11 @@ fn orthographic_default_hither_clips_at_1e_minus6() {
     let clipped = block_means(&render_box(&b, 2), 4);
     // The blocks on the spheres lose most of their light; the largest block difference
     // stands far above the stream-to-stream noise of a block.
-    let worst = r
-        .a
-        .iter()
-        .zip(&clipped)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0f64, f64::max);
+    let worst =
+        r.a.iter()
+            .zip(&clipped)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0f64, f64::max);
     let same = 1.6 * r.noise + 0.01 * r.mean;
     assert!(
         worst > 3.0 * same,
