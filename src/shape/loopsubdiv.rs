@@ -287,8 +287,8 @@ fn to_arrays(input: &MeshArrays, s: Subdivided, flip: bool) -> MeshArrays {
 }
 
 /// The float textures the subdivided shapes that are built (world shapes, shapes of instanced
-/// objects) displace by, built once by name. A name
-/// with no float texture is left out (the shape warns and is not displaced, as LuxRender).
+/// objects) displace by, built once by name. A name with no float texture is left out (the
+/// shape warns and is not displaced, as LuxRender).
 pub fn displacement_maps(
     desc: &SceneDescription,
     textures: &mut TextureSet,
