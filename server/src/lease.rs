@@ -124,6 +124,7 @@ impl Farm {
                 history: VecDeque::from([(Instant::now(), samples)]),
                 convergence: Default::default(),
                 noise_map: Default::default(),
+                trade: Default::default(),
                 first_lease_ms: row.first_lease_ms,
             }),
         }))
