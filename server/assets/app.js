@@ -329,11 +329,12 @@ async function jobPage(my, id) {
   const tmSlot = el("div", { id: "tonemap-slot", class: "job-tonemap" });
   const dl = (f, label) => el("a", { href: `${API}/jobs/${id}/${f}`, download: f, onclick: download, id: `dl-${f.replace(".", "-")}` }, label);
   const pngLink = dl("image.png", "PNG");
+  const trade = tradePanel(id, my);
   main.replaceChildren(title, el("div", { class: "job" },
-    el("div", { class: "preview" }, img), tmSlot,
+    el("div", { class: "preview" }, el("div", { class: "stack" }, img, trade.overlay)), tmSlot,
     el("div", { class: "job-side" }, info, el("p", { class: "actions" }, cancel,
       el("span", { class: "downloads" }, pngLink, dl("image.exr", "EXR"), dl("film.flm", "FLM")))),
-    el("div", { class: "job-progress" }, el("h3", {}, "Progress"), chart, el("h3", {}, "Workers"),
+    el("div", { class: "job-progress" }, trade.panel, el("h3", {}, "Progress"), chart, el("h3", {}, "Workers"),
       el("div", { class: "scroll" }, workers))));
   const history = [];
   let etag = null, url = null, job = null, query = "", fetchSeq = 0;
@@ -407,6 +408,7 @@ async function jobPage(my, id) {
       if (history.length > 600) history.shift();
       drawInfo();
       drawChart(chart, history);
+      await trade.update(job);
       if (job.samples > 0) await pollPreview();
     } catch (e) { showError(e); }
   };
@@ -415,6 +417,165 @@ async function jobPage(my, id) {
   }).catch(showError);
   await refresh();
   timer = setInterval(refresh, 2500);
+}
+
+// ---- speed / accuracy trade ----------------------------------------------------------------
+
+// The "Error over time" panel of a job: the convergence test's failing fraction against time
+// (log–log inline SVG) with the projection to the job's haltthreshold or to the target typed
+// here, and the toggle of the convergence-map overlay on the preview. `update(job)` redraws
+// from the job's view (or from /trade?target= when a target is typed).
+function tradePanel(id, my) {
+  const svg = document.createElementNS(SVG_NS, "svg");
+  svg.setAttribute("id", "trade-chart");
+  svg.setAttribute("viewBox", `0 0 ${TRADE_W} ${TRADE_H}`);
+  svg.setAttribute("role", "img");
+  svg.setAttribute("aria-label", "failing fraction against time, log–log");
+  const text = el("p", { id: "trade-projection", class: "mute" }, "not enough data");
+  const target = el("input", { id: "trade-target", type: "number", min: "0", max: "1", step: "any",
+    placeholder: "haltthreshold", "aria-label": "target failing fraction" });
+  const toggle = el("input", { id: "overlay-toggle", type: "checkbox" });
+  const mapStatus = el("span", { id: "overlay-status", class: "mute" });
+  const overlay = el("img", { id: "overlay", alt: "convergence map", hidden: "" });
+  const panel = el("section", { id: "trade", class: "panel" },
+    el("div", { class: "panel-head" }, el("h3", {}, "Error over time"),
+      el("label", { class: "trade-target" }, "target ", target)),
+    svg, text,
+    el("label", { class: "overlay-toggle" }, toggle, " convergence map on the preview ", mapStatus));
+  let job = null, url = null;
+  const targetValue = () => {
+    const v = Number(target.value);
+    return target.value !== "" && isFinite(v) && v > 0 && v <= 1 ? v : null;
+  };
+  const pollOverlay = async () => {
+    if (!toggle.checked) return;
+    let resp;
+    try { resp = await fetch(`${API}/jobs/${id}/convergence.png`, { headers: authHeaders() }); } catch (e) { throw new ApiError(`network error: ${e.message}`); }
+    if (my !== page || !toggle.checked) return;
+    if (resp.status === 503 || resp.status === 404) {
+      const body = await resp.json().catch(() => ({}));
+      mapStatus.textContent = resp.status === 503 ? "(no convergence test yet)" : `(${body.detail || "not rendering"})`;
+      return;
+    }
+    if (!resp.ok) throw await failure(resp);
+    const blob = await resp.blob();
+    if (url) URL.revokeObjectURL(url);
+    url = URL.createObjectURL(blob);
+    overlay.src = url;
+    overlay.dataset.loads = String(Number(overlay.dataset.loads || 0) + 1);
+    mapStatus.textContent = "";
+  };
+  const update = async (j) => {
+    if (j) job = j;
+    if (!job) return;
+    let t = job.trade;
+    const want = targetValue();
+    if (want !== null) t = await api(`/jobs/${id}/trade?target=${want}`);
+    if (my !== page) return;
+    drawTrade(svg, t);
+    const p = t.projection;
+    text.textContent = projectionText(t, p);
+    text.dataset.status = p ? p.status : "no_target";
+    await pollOverlay();
+  };
+  let debounce = null;
+  target.addEventListener("input", () => {
+    clearTimeout(debounce);
+    debounce = setTimeout(() => update().catch(showError), 300);
+  });
+  toggle.addEventListener("change", () => {
+    overlay.hidden = !toggle.checked;
+    if (!toggle.checked) mapStatus.textContent = "";
+    pollOverlay().catch(showError);
+  });
+  return { panel, overlay, update };
+}
+
+const SVG_NS = "http://www.w3.org/2000/svg";
+const TRADE_W = 600, TRADE_H = 200, TRADE_PAD = 40;
+
+function projectionText(t, p) {
+  if (!p) return "no haltthreshold: type a target failing fraction to project";
+  switch (p.status) {
+    case "projected":
+      return `failing fraction ${p.target} projected at ${dur(p.at_secs)}, in ${dur(p.remaining_secs)}` +
+        ` (fit ∝ t^${p.fit.exponent.toFixed(2)} on ${p.fit.points} points)`;
+    case "reached": return `failing fraction ${p.target} reached`;
+    case "no_trend": return `no downward trend yet towards ${p.target}`;
+    case "noisy": return `too noisy to project to ${p.target}`;
+    case "unreachable": return `${p.target} is out of reach at the current rate`;
+    default: return t.history.length ? "not enough data" : "not enough data (no convergence test yet)";
+  }
+}
+
+function svgEl(tag, attrs) {
+  const n = document.createElementNS(SVG_NS, tag);
+  for (const [k, v] of Object.entries(attrs)) n.setAttribute(k, String(v));
+  return n;
+}
+
+// Log–log axes over the history (and the projection's end), decade ticks, the history as a
+// line, the target as a dashed horizontal line and the projection as a dashed segment.
+function drawTrade(svg, t) {
+  const pts = t.history.filter((p) => p.secs > 0 && p.estimate > 0);
+  const p = t.projection;
+  const kids = [];
+  const projected = p && p.status === "projected" && pts.length;
+  let x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity;
+  const extend = (secs, e) => {
+    x0 = Math.min(x0, Math.log10(secs)); x1 = Math.max(x1, Math.log10(secs));
+    y0 = Math.min(y0, Math.log10(e)); y1 = Math.max(y1, Math.log10(e));
+  };
+  for (const q of pts) extend(q.secs, q.estimate);
+  if (projected) extend(p.at_secs, p.target);
+  else if (p && p.target > 0 && pts.length) extend(pts[pts.length - 1].secs, p.target);
+  if (!pts.length) {
+    kids.push(svgEl("text", { x: TRADE_PAD, y: TRADE_H / 2, class: "trade-empty" }));
+    kids[0].textContent = "no error estimate yet";
+    svg.replaceChildren(...kids);
+    svg.dataset.points = "0";
+    return;
+  }
+  if (x1 - x0 < 0.3) { x0 -= 0.15; x1 += 0.15; }
+  if (y1 - y0 < 0.3) { y0 -= 0.15; y1 += 0.15; }
+  const X = (secs) => TRADE_PAD + (Math.log10(secs) - x0) / (x1 - x0) * (TRADE_W - 1.5 * TRADE_PAD);
+  const Y = (e) => TRADE_H - TRADE_PAD + (TRADE_PAD * 1.5 - TRADE_H) * (Math.log10(e) - y0) / (y1 - y0);
+  kids.push(svgEl("rect", { x: TRADE_PAD, y: TRADE_PAD / 2, width: TRADE_W - 1.5 * TRADE_PAD,
+    height: TRADE_H - 1.5 * TRADE_PAD, class: "trade-frame" }));
+  for (let d = Math.ceil(x0); d <= Math.floor(x1); d++) {
+    const x = X(10 ** d);
+    kids.push(svgEl("line", { x1: x, x2: x, y1: TRADE_PAD / 2, y2: TRADE_H - TRADE_PAD, class: "trade-grid" }));
+    const l = svgEl("text", { x, y: TRADE_H - TRADE_PAD + 14, class: "trade-tick", "text-anchor": "middle" });
+    l.textContent = dur(10 ** d);
+    kids.push(l);
+  }
+  for (let d = Math.ceil(y0); d <= Math.floor(y1); d++) {
+    const y = Y(10 ** d);
+    kids.push(svgEl("line", { x1: TRADE_PAD, x2: TRADE_W - TRADE_PAD / 2, y1: y, y2: y, class: "trade-grid" }));
+    const l = svgEl("text", { x: TRADE_PAD - 4, y: y + 4, class: "trade-tick", "text-anchor": "end" });
+    l.textContent = `1e${d}`;
+    kids.push(l);
+  }
+  if (p && p.target > 0) {
+    const y = Y(p.target);
+    kids.push(svgEl("line", { id: "trade-target-line", x1: TRADE_PAD, x2: TRADE_W - TRADE_PAD / 2, y1: y, y2: y, class: "trade-target" }));
+  }
+  kids.push(svgEl("polyline", { id: "trade-line", class: "trade-line",
+    points: pts.map((q) => `${X(q.secs).toFixed(1)},${Y(q.estimate).toFixed(1)}`).join(" ") }));
+  const last = pts[pts.length - 1];
+  kids.push(svgEl("circle", { cx: X(last.secs), cy: Y(last.estimate), r: 3, class: "trade-last" }));
+  if (projected) {
+    const f = p.fit, from = f.coefficient * last.secs ** f.exponent;
+    kids.push(svgEl("line", { id: "trade-projection-line", class: "trade-projection",
+      x1: X(last.secs), y1: Y(from), x2: X(p.at_secs), y2: Y(p.target) }));
+  }
+  const xl = svgEl("text", { x: TRADE_W - TRADE_PAD / 2, y: TRADE_H - 6, class: "trade-tick", "text-anchor": "end" });
+  xl.textContent = "time since first lease (log)";
+  const yl = svgEl("text", { x: TRADE_PAD, y: TRADE_PAD / 2 - 6, class: "trade-tick" });
+  yl.textContent = "failing fraction (log)";
+  kids.push(xl, yl);
+  svg.replaceChildren(...kids);
+  svg.dataset.points = String(pts.length);
 }
 
 async function download(ev) {

@@ -4,8 +4,8 @@
 //! this module asks them at the master's moments, on the merged film: haltspp and haltthreshold
 //! (the convergence test every convergencestep spp) after each merge, halttime (seconds since
 //! the first lease) on every tick. A noise-aware job's sampling map is rebuilt after merges
-//! too (`crate::noisemap`), and every convergence test's failing fraction goes into the job's
-//! error history (`crate::trade`; jobs without haltthreshold get a test of their own for it).
+//! too (`crate::noisemap`), and every convergence test's moment goes into the job's error
+//! history (`crate::trade`; jobs without haltthreshold get a test of their own for it).
 //! When a halt rule holds the job enters its halting phase: every lease is told to stop and
 //! the master waits for the last deltas (at most two upload intervals plus
 //! a margin), then writes the outputs the Film asks for (`luxfarm::output`) and marks the job
@@ -26,7 +26,7 @@ use crate::error::{Result, ServerError};
 use crate::farm::{lock, now_ms, Farm, JobRt, RunState};
 use crate::scene;
 use crate::scene::Film;
-use crate::trade::TradePoint;
+use luxfarm::tonemap::TonemapParams;
 use luxfarm::halt::HaltRules;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
@@ -74,9 +74,8 @@ pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
             let mut st = lock(&rt.state);
             let reason =
                 rules.test_convergence(&mut st.convergence, &film, &rt.info.params.tonemap);
-            if let Some(failing) = st.convergence.last_failing {
-                record_estimate(&mut st, film.spp(), failing);
-            }
+            let failing = st.convergence.last_failing;
+            observe(&mut st, &film, &rt.info.params.tonemap, failing);
             reason
         };
         if let Some(reason) = reason {
@@ -97,22 +96,17 @@ fn trade_test(rt: &JobRt, spp: f64) {
     }
     let film = lock(&rt.film).clone();
     let mut st = lock(&rt.state);
-    if let Some(failing) = st.trade.own_test(&film, &rt.info.params.tonemap) {
-        record_estimate(&mut st, film.spp(), failing);
-    }
+    let failing = st.trade.own_test(&film, &rt.info.params.tonemap);
+    observe(&mut st, &film, &rt.info.params.tonemap, failing);
 }
 
-/// Adds a convergence test's failing fraction to the job's error history, at the job's
-/// clock (seconds since its first lease).
-fn record_estimate(st: &mut RunState, spp: f64, failing: f64) {
+/// Gives a convergence test's moment (the film copy it tested and its failing fraction) to
+/// the job's error history, at the job's clock (seconds since its first lease).
+fn observe(st: &mut RunState, film: &Film, tonemap: &TonemapParams, failing: Option<f64>) {
     let secs = st
         .first_lease_ms
         .map_or(0.0, |t| (now_ms() - t) as f64 / 1000.0);
-    st.trade.history.push(TradePoint {
-        secs: secs.max(0.0),
-        spp,
-        estimate: failing,
-    });
+    st.trade.observe(film, tonemap, secs.max(0.0), failing);
 }
 
 /// For a noise-aware job, rebuilds the sampling map from a copy of the merged film when

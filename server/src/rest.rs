@@ -65,6 +65,7 @@ type AppState = Arc<Farm>;
         crate::trade::TradePoint,
         crate::trade::Projection,
         crate::trade::ProjectionStatus,
+        crate::trade::Metric,
         crate::trade::PowerFit,
         crate::db::JobState
     ))
@@ -517,19 +518,19 @@ async fn job_tonemap(
     Ok(Json(TonemapView::new(&info.params.tonemap)))
 }
 
-/// Query of a job's trade: the target failing fraction to project to.
+/// Query of a job's trade: the target relative error to project to.
 #[derive(Debug, Default, serde::Deserialize, utoipa::IntoParams)]
 #[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct TradeQuery {
-    /// Target failing-pixel fraction in (0, 1] (default: the job's haltthreshold).
+    /// Target relative error of the film in (0, 10] (e.g. 0.01 for 1 %).
     #[param(value_type = Option<f64>)]
     pub target: Option<String>,
 }
 
-/// A job's error estimate over time (the convergence test's failing fraction) with the
-/// projected time to `target` (or to its haltthreshold). The history is empty for a job not
-/// rendering and after a master restart.
+/// A job's error estimates over time (the film's relative error, and the convergence test's
+/// failing fraction) with the projected times to its haltthreshold and to the relative error
+/// `target`. The history is empty for a job not rendering and after a master restart.
 #[utoipa::path(get, path = "/api/v1/jobs/{id}/trade", params(("id" = String, Path), TradeQuery),
     responses((status = 200, body = crate::trade::TradeView), (status = 400, body = ErrorBody),
               (status = 404, body = ErrorBody)))]

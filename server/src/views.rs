@@ -136,7 +136,7 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
         },
         samples_per_sec: 0.0,
         eta: None,
-        trade: TradeView::new(Vec::new(), None),
+        trade: TradeView::new(Vec::new(), row.haltthreshold, None),
         active_leases: 0,
         workers: per_lease
             .into_iter()
@@ -172,7 +172,7 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
         let st = lock(&rt.state);
         view.halting = st.halting.is_some();
         view.convergence = st.convergence.last_failing;
-        view.trade = TradeView::new(st.trade.history.points(), row.haltthreshold);
+        view.trade = TradeView::new(st.trade.history.points(), row.haltthreshold, None);
         if let (Some((t0, s0)), Some((t1, s1))) = (st.history.front(), st.history.back()) {
             let dt = t1.duration_since(*t0).as_secs_f64();
             if dt > 0.0 {
@@ -190,14 +190,13 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
     Ok(view)
 }
 
-/// A job's trade with the projection to `target` (else to its haltthreshold). A job that is
-/// not loaded (queued or ended) has an empty history.
+/// A job's trade with the projections to its haltthreshold and to the relative error
+/// `target`. A job that is not loaded (queued or ended) has an empty history.
 pub fn trade_view(farm: &Farm, id: &str, target: Option<f64>) -> Result<TradeView> {
     let row = farm.job_row(id)?;
-    let target = target.or(row.haltthreshold);
     let rt = lock(&farm.jobs).get(id).cloned();
     let history = rt.map_or_else(Vec::new, |rt| lock(&rt.state).trade.history.points());
-    Ok(TradeView::new(history, target))
+    Ok(TradeView::new(history, row.haltthreshold, target))
 }
 
 /// A PNG of the job's last convergence map (the haltthreshold test's, else `trade`'s own),
