@@ -421,31 +421,34 @@ async function jobPage(my, id) {
 
 // ---- speed / accuracy trade ----------------------------------------------------------------
 
-// The "Error over time" panel of a job: the convergence test's failing fraction against time
-// (log–log inline SVG) with the projection to the job's haltthreshold or to the target typed
-// here, and the toggle of the convergence-map overlay on the preview. `update(job)` redraws
-// from the job's view (or from /trade?target= when a target is typed).
+// The "Error over time" panel of a job: the film's relative error and the convergence test's
+// failing fraction against time (log–log inline SVG), with the projections to the job's
+// haltthreshold (failing fraction) and to the relative error typed here, and the toggle of
+// the convergence-map overlay on the preview. `update(job)` redraws from the job's view, or
+// from /trade?target= while a target is typed.
 function tradePanel(id, my) {
   const svg = document.createElementNS(SVG_NS, "svg");
   svg.setAttribute("id", "trade-chart");
   svg.setAttribute("viewBox", `0 0 ${TRADE_W} ${TRADE_H}`);
   svg.setAttribute("role", "img");
-  svg.setAttribute("aria-label", "failing fraction against time, log–log");
-  const text = el("p", { id: "trade-projection", class: "mute" }, "not enough data");
-  const target = el("input", { id: "trade-target", type: "number", min: "0", max: "1", step: "any",
-    placeholder: "haltthreshold", "aria-label": "target failing fraction" });
+  svg.setAttribute("aria-label", "relative error and failing fraction against time, log–log");
+  const text = el("div", { id: "trade-projection" }, "not enough data");
+  const target = el("input", { id: "trade-target", type: "number", min: "0", max: "10", step: "any",
+    placeholder: "e.g. 0.05", "aria-label": "target relative error" });
   const toggle = el("input", { id: "overlay-toggle", type: "checkbox" });
   const mapStatus = el("span", { id: "overlay-status", class: "mute" });
   const overlay = el("img", { id: "overlay", alt: "convergence map", hidden: "" });
   const panel = el("section", { id: "trade", class: "panel" },
     el("div", { class: "panel-head" }, el("h3", {}, "Error over time"),
-      el("label", { class: "trade-target" }, "target ", target)),
-    svg, text,
+      el("label", { class: "trade-target-label" }, "target relative error ", target)),
+    svg, el("p", { class: "trade-legend mute" }, el("i", { class: "key key-rel" }), "relative error ",
+      el("i", { class: "key key-fail" }), "failing fraction ", el("i", { class: "key key-proj" }), "projection"),
+    text,
     el("label", { class: "overlay-toggle" }, toggle, " convergence map on the preview ", mapStatus));
   let job = null, url = null;
   const targetValue = () => {
     const v = Number(target.value);
-    return target.value !== "" && isFinite(v) && v > 0 && v <= 1 ? v : null;
+    return target.value !== "" && isFinite(v) && v > 0 && v <= 10 ? v : null;
   };
   const pollOverlay = async () => {
     if (!toggle.checked) return;
@@ -454,7 +457,7 @@ function tradePanel(id, my) {
     if (my !== page || !toggle.checked) return;
     if (resp.status === 503 || resp.status === 404) {
       const body = await resp.json().catch(() => ({}));
-      mapStatus.textContent = resp.status === 503 ? "(no convergence test yet)" : `(${body.detail || "not rendering"})`;
+      mapStatus.textContent = `(${body.detail || "no convergence map"})`;
       return;
     }
     if (!resp.ok) throw await failure(resp);
@@ -473,9 +476,13 @@ function tradePanel(id, my) {
     if (want !== null) t = await api(`/jobs/${id}/trade?target=${want}`);
     if (my !== page) return;
     drawTrade(svg, t);
-    const p = t.projection;
-    text.textContent = projectionText(t, p);
-    text.dataset.status = p ? p.status : "no_target";
+    const lines = [];
+    if (t.target_projection) lines.push(el("p", { id: "trade-target-text", "data-status": t.target_projection.status }, projectionText(t, t.target_projection)));
+    else lines.push(el("p", { class: "mute" }, "type a target relative error to project it"));
+    if (t.threshold_projection) lines.push(el("p", { id: "trade-threshold-text", "data-status": t.threshold_projection.status }, projectionText(t, t.threshold_projection)));
+    text.replaceChildren(...lines);
+    const primary = t.target_projection || t.threshold_projection;
+    text.dataset.status = primary ? primary.status : "no_target";
     await pollOverlay();
   };
   let debounce = null;
@@ -492,19 +499,21 @@ function tradePanel(id, my) {
 }
 
 const SVG_NS = "http://www.w3.org/2000/svg";
-const TRADE_W = 600, TRADE_H = 200, TRADE_PAD = 40;
+const TRADE_W = 600, TRADE_H = 210, TRADE_PAD = 44;
+// The value of a history point a metric reads.
+const METRIC = { relative_error: (q) => q.estimate, failing_fraction: (q) => q.failing };
 
 function projectionText(t, p) {
-  if (!p) return "no haltthreshold: type a target failing fraction to project";
+  const what = p.metric === "failing_fraction" ? `haltthreshold ${p.target} (failing fraction)` : `relative error ${p.target}`;
   switch (p.status) {
     case "projected":
-      return `failing fraction ${p.target} projected at ${dur(p.at_secs)}, in ${dur(p.remaining_secs)}` +
+      return `${what}: projected at ${dur(p.at_secs)}, in ${dur(p.remaining_secs)}` +
         ` (fit ∝ t^${p.fit.exponent.toFixed(2)} on ${p.fit.points} points)`;
-    case "reached": return `failing fraction ${p.target} reached`;
-    case "no_trend": return `no downward trend yet towards ${p.target}`;
-    case "noisy": return `too noisy to project to ${p.target}`;
-    case "unreachable": return `${p.target} is out of reach at the current rate`;
-    default: return t.history.length ? "not enough data" : "not enough data (no convergence test yet)";
+    case "reached": return `${what}: reached`;
+    case "no_trend": return `${what}: no downward trend yet`;
+    case "noisy": return `${what}: too noisy to project`;
+    case "unreachable": return `${what}: out of reach at the current rate`;
+    default: return `${what}: not enough data${t.history.length ? "" : " (no convergence test yet)"}`;
   }
 }
 
@@ -514,68 +523,65 @@ function svgEl(tag, attrs) {
   return n;
 }
 
-// Log–log axes over the history (and the projection's end), decade ticks, the history as a
-// line, the target as a dashed horizontal line and the projection as a dashed segment.
+// Log–log axes over both series (and the projections' ends), decade ticks, each series as a
+// line, targets as dashed horizontal lines and projections as dashed segments.
 function drawTrade(svg, t) {
-  const pts = t.history.filter((p) => p.secs > 0 && p.estimate > 0);
-  const p = t.projection;
-  const kids = [];
-  const projected = p && p.status === "projected" && pts.length;
-  let x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity;
-  const extend = (secs, e) => {
-    x0 = Math.min(x0, Math.log10(secs)); x1 = Math.max(x1, Math.log10(secs));
-    y0 = Math.min(y0, Math.log10(e)); y1 = Math.max(y1, Math.log10(e));
-  };
-  for (const q of pts) extend(q.secs, q.estimate);
-  if (projected) extend(p.at_secs, p.target);
-  else if (p && p.target > 0 && pts.length) extend(pts[pts.length - 1].secs, p.target);
-  if (!pts.length) {
-    kids.push(svgEl("text", { x: TRADE_PAD, y: TRADE_H / 2, class: "trade-empty" }));
-    kids[0].textContent = "no error estimate yet";
-    svg.replaceChildren(...kids);
+  const series = Object.entries(METRIC).map(([metric, f]) => [metric,
+    t.history.filter((q) => q.secs > 0 && f(q) > 0).map((q) => [q.secs, f(q)])]);
+  const projections = [t.target_projection, t.threshold_projection].filter((p) => p && p.target > 0);
+  const all = series.flatMap(([, pts]) => pts);
+  if (!all.length) {
+    const msg = svgEl("text", { x: TRADE_PAD, y: TRADE_H / 2, class: "trade-empty" });
+    msg.textContent = "no error estimate yet (it starts with the second convergence test)";
+    svg.replaceChildren(msg);
     svg.dataset.points = "0";
     return;
   }
+  const xs = all.map((p) => p[0]), ys = all.map((p) => p[1]);
+  for (const p of projections) {
+    ys.push(p.target);
+    if (p.status === "projected") xs.push(p.at_secs);
+  }
+  let x0 = Math.log10(Math.min(...xs)), x1 = Math.log10(Math.max(...xs));
+  let y0 = Math.log10(Math.min(...ys)), y1 = Math.log10(Math.max(...ys));
   if (x1 - x0 < 0.3) { x0 -= 0.15; x1 += 0.15; }
   if (y1 - y0 < 0.3) { y0 -= 0.15; y1 += 0.15; }
-  const X = (secs) => TRADE_PAD + (Math.log10(secs) - x0) / (x1 - x0) * (TRADE_W - 1.5 * TRADE_PAD);
-  const Y = (e) => TRADE_H - TRADE_PAD + (TRADE_PAD * 1.5 - TRADE_H) * (Math.log10(e) - y0) / (y1 - y0);
-  kids.push(svgEl("rect", { x: TRADE_PAD, y: TRADE_PAD / 2, width: TRADE_W - 1.5 * TRADE_PAD,
-    height: TRADE_H - 1.5 * TRADE_PAD, class: "trade-frame" }));
-  for (let d = Math.ceil(x0); d <= Math.floor(x1); d++) {
-    const x = X(10 ** d);
-    kids.push(svgEl("line", { x1: x, x2: x, y1: TRADE_PAD / 2, y2: TRADE_H - TRADE_PAD, class: "trade-grid" }));
-    const l = svgEl("text", { x, y: TRADE_H - TRADE_PAD + 14, class: "trade-tick", "text-anchor": "middle" });
-    l.textContent = dur(10 ** d);
+  const left = TRADE_PAD, right = TRADE_W - 12, top = 14, bottom = TRADE_H - 30;
+  const X = (secs) => left + (Math.log10(secs) - x0) / (x1 - x0) * (right - left);
+  const Y = (v) => bottom - (Math.log10(v) - y0) / (y1 - y0) * (bottom - top);
+  const kids = [svgEl("rect", { x: left, y: top, width: right - left, height: bottom - top, class: "trade-frame" })];
+  const tick = (x, y, label, anchor) => {
+    const l = svgEl("text", { x, y, class: "trade-tick", "text-anchor": anchor });
+    l.textContent = label;
     kids.push(l);
+  };
+  for (let d = Math.ceil(x0); d <= Math.floor(x1); d++) {
+    kids.push(svgEl("line", { x1: X(10 ** d), x2: X(10 ** d), y1: top, y2: bottom, class: "trade-grid" }));
+    tick(X(10 ** d), bottom + 14, dur(10 ** d), "middle");
   }
   for (let d = Math.ceil(y0); d <= Math.floor(y1); d++) {
-    const y = Y(10 ** d);
-    kids.push(svgEl("line", { x1: TRADE_PAD, x2: TRADE_W - TRADE_PAD / 2, y1: y, y2: y, class: "trade-grid" }));
-    const l = svgEl("text", { x: TRADE_PAD - 4, y: y + 4, class: "trade-tick", "text-anchor": "end" });
-    l.textContent = `1e${d}`;
-    kids.push(l);
+    kids.push(svgEl("line", { x1: left, x2: right, y1: Y(10 ** d), y2: Y(10 ** d), class: "trade-grid" }));
+    tick(left - 4, Y(10 ** d) + 4, `1e${d}`, "end");
   }
-  if (p && p.target > 0) {
-    const y = Y(p.target);
-    kids.push(svgEl("line", { id: "trade-target-line", x1: TRADE_PAD, x2: TRADE_W - TRADE_PAD / 2, y1: y, y2: y, class: "trade-target" }));
+  for (const [metric, pts] of series) {
+    if (!pts.length) continue;
+    kids.push(svgEl("polyline", { class: `trade-line trade-${metric}`, "data-metric": metric,
+      points: pts.map(([s, v]) => `${X(s).toFixed(1)},${Y(v).toFixed(1)}`).join(" ") }));
+    const [ls, lv] = pts[pts.length - 1];
+    kids.push(svgEl("circle", { cx: X(ls), cy: Y(lv), r: 3, class: `trade-last trade-${metric}` }));
   }
-  kids.push(svgEl("polyline", { id: "trade-line", class: "trade-line",
-    points: pts.map((q) => `${X(q.secs).toFixed(1)},${Y(q.estimate).toFixed(1)}`).join(" ") }));
-  const last = pts[pts.length - 1];
-  kids.push(svgEl("circle", { cx: X(last.secs), cy: Y(last.estimate), r: 3, class: "trade-last" }));
-  if (projected) {
-    const f = p.fit, from = f.coefficient * last.secs ** f.exponent;
-    kids.push(svgEl("line", { id: "trade-projection-line", class: "trade-projection",
-      x1: X(last.secs), y1: Y(from), x2: X(p.at_secs), y2: Y(p.target) }));
+  for (const p of projections) {
+    kids.push(svgEl("line", { x1: left, x2: right, y1: Y(p.target), y2: Y(p.target),
+      class: `trade-target trade-${p.metric}`, "data-metric": p.metric }));
+    const pts = series.find(([m]) => m === p.metric)[1];
+    if (p.status !== "projected" || !pts.length) continue;
+    const ls = pts[pts.length - 1][0], f = p.fit;
+    kids.push(svgEl("line", { class: "trade-projection", "data-metric": p.metric,
+      x1: X(ls), y1: Y(f.coefficient * ls ** f.exponent), x2: X(p.at_secs), y2: Y(p.target) }));
   }
-  const xl = svgEl("text", { x: TRADE_W - TRADE_PAD / 2, y: TRADE_H - 6, class: "trade-tick", "text-anchor": "end" });
-  xl.textContent = "time since first lease (log)";
-  const yl = svgEl("text", { x: TRADE_PAD, y: TRADE_PAD / 2 - 6, class: "trade-tick" });
-  yl.textContent = "failing fraction (log)";
-  kids.push(xl, yl);
+  tick(right, TRADE_H - 4, "time since the first lease (log)", "end");
   svg.replaceChildren(...kids);
-  svg.dataset.points = String(pts.length);
+  svg.dataset.points = String(t.history.length);
 }
 
 async function download(ev) {
