@@ -569,8 +569,7 @@ fn dashboard_charts_the_error_trade_and_overlays_the_convergence_map() {
            && c.querySelector('polyline[data-metric=relative_error]')
            && c.querySelector('polyline[data-metric=failing_fraction]') ? c.dataset.points : null;",
     );
-    let untargeted =
-        browser.js("return document.getElementById('trade-projection').textContent;");
+    let untargeted = browser.js("return document.getElementById('trade-projection').textContent;");
     assert!(
         untargeted
             .as_str()
@@ -590,10 +589,7 @@ fn dashboard_charts_the_error_trade_and_overlays_the_convergence_map() {
            ? p.textContent : null;",
     );
     let text = text.as_str().expect("projection text").to_string();
-    assert!(
-        text.contains("relative error 0.05: projected at"),
-        "{text}"
-    );
+    assert!(text.contains("relative error 0.05: projected at"), "{text}");
     let t = get_json(&s.api(&format!("/jobs/{id}/trade?target=0.05")));
     let p = &t["target_projection"];
     assert!(
@@ -604,7 +600,10 @@ fn dashboard_charts_the_error_trade_and_overlays_the_convergence_map() {
         "return performance.getEntriesByType('resource').map((e) => e.name)
            .filter((n) => n.includes('/trade?target=0.05')).length;",
     );
-    assert!(requested.as_u64() >= Some(1), "no /trade request with the target");
+    assert!(
+        requested.as_u64() >= Some(1),
+        "no /trade request with the target"
+    );
 
     // The convergence map over the preview, the preview's size.
     browser.js("document.getElementById('overlay-toggle').click(); return true;");

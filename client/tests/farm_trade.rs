@@ -12,7 +12,10 @@ use farm_common::*;
 use serde_json::Value;
 
 fn history(v: &Value) -> Vec<Value> {
-    v["trade"]["history"].as_array().cloned().unwrap_or_default()
+    v["trade"]["history"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default()
 }
 
 fn is_finite_number(v: &Value) -> bool {
@@ -84,7 +87,14 @@ fn a_running_job_shows_its_error_history_and_projection() {
     let tp = &t["threshold_projection"];
     assert_eq!(tp["metric"], "failing_fraction", "{t}");
     assert_eq!(tp["target"], 0.00001f32 as f64, "{tp}");
-    let statuses = ["projected", "reached", "not_enough_data", "no_trend", "noisy", "unreachable"];
+    let statuses = [
+        "projected",
+        "reached",
+        "not_enough_data",
+        "no_trend",
+        "noisy",
+        "unreachable",
+    ];
     assert!(statuses.iter().any(|s| tp["status"] == *s), "{tp}");
     // The job's own view carries the same history.
     let v = get_json(&s.api(&format!("/jobs/{id}")));
@@ -137,7 +147,10 @@ fn a_running_job_shows_its_error_history_and_projection() {
         .unwrap();
     assert_eq!(dims(&small), (16, 16));
     // a job still rendering: the halt did not end it meanwhile
-    assert_eq!(get_json(&s.api(&format!("/jobs/{id}")))["state"], "rendering");
+    assert_eq!(
+        get_json(&s.api(&format!("/jobs/{id}")))["state"],
+        "rendering"
+    );
     let r = http()
         .get(s.api(&format!("/jobs/{id}/convergence.png?max_size=0")))
         .send()

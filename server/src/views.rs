@@ -222,7 +222,8 @@ pub fn convergence_png(farm: &Farm, id: &str, max_size: u32) -> Result<Vec<u8>> 
             "job {id} has no convergence map yet (the first test runs after convergencestep spp)"
         )));
     }
-    crate::trade::overlay_png(&noise, rt.info.width, rt.info.height, max_size).map_err(ServerError::Internal)
+    crate::trade::overlay_png(&noise, rt.info.width, rt.info.height, max_size)
+        .map_err(ServerError::Internal)
 }
 
 fn eta(v: &JobView) -> Option<f64> {
