@@ -1,33 +1,38 @@
-//! The speed/accuracy trade of a running job over REST, on loopback: a master and a worker
-//! render a small scene with `haltthreshold`; the job's view carries an error history (the
-//! film's relative error and the convergence test's failing fraction against time and spp)
-//! that grows, with a projection to the threshold; `/trade?target=` projects the relative
-//! error to a target (finite once the fit has enough points) and refuses bad targets with a
-//! JSON 400; `/convergence.png` serves the last convergence map while the job renders and a
-//! JSON 404 once it ended.
+//! The speed/accuracy trade of a job over REST, on loopback: a master and a worker render a
+//! small scene with `haltthreshold` until the threshold holds. While it renders the job's view
+//! carries an error history (the film's relative error and the convergence test's failing
+//! fraction against time and spp) and `/convergence.png` serves the last convergence map.
+//! Once it is done the saved history (`/trade`) has grown, the projection to the threshold
+//! says it was reached, a typed target relative error gets a finite projected time, bad
+//! targets are JSON 400s, the map a JSON 404; after a master restart the history is the same.
 
 mod farm_common;
 
 use farm_common::*;
 use serde_json::Value;
 
-fn history(v: &Value) -> Vec<Value> {
-    v["trade"]["history"]
-        .as_array()
-        .cloned()
-        .unwrap_or_default()
+fn history(trade: &Value) -> Vec<Value> {
+    trade["history"].as_array().cloned().unwrap_or_default()
 }
 
 fn is_finite_number(v: &Value) -> bool {
     v.as_f64().is_some_and(f64::is_finite)
 }
 
+/// IHDR width and height of a PNG.
+fn png_size(b: &[u8]) -> (u32, u32) {
+    assert_eq!(b.get(1..4), Some(&b"PNG"[..]), "not a PNG");
+    (
+        u32::from_be_bytes([b[16], b[17], b[18], b[19]]),
+        u32::from_be_bytes([b[20], b[21], b[22], b[23]]),
+    )
+}
+
 #[test]
-fn a_running_job_shows_its_error_history_and_projection() {
+fn a_jobs_error_history_grows_projects_and_survives_a_restart() {
     let dir = tempfile::tempdir().unwrap();
-    let s = server(&dir.path().join("data"), &["--upload-interval", "0.5"]);
-    // A threshold no small render reaches soon (no failing pixel at all): the job renders on
-    // while the history grows.
+    let data = dir.path().join("data");
+    let mut s = server(&data, &["--upload-interval", "0.5"]);
     let scene = small_scene(
         dir.path(),
         "t",
@@ -37,25 +42,46 @@ fn a_running_job_shows_its_error_history_and_projection() {
     let (st, job) = post_job(&s, std::fs::read(scene).unwrap(), "?filename=t.lxs");
     assert_eq!(st, 201, "{job}");
     assert_eq!(job["trade"]["estimate"], "relative_error");
-    assert_eq!(history(&job).len(), 0, "{job}");
+    assert_eq!(history(&job["trade"]).len(), 0, "{job}");
     assert_eq!(
         job["trade"]["threshold_projection"]["status"],
         "not_enough_data"
     );
     let id = job["id"].as_str().unwrap().to_string();
-    let _w = worker(&s.url(), 1, &[]);
+    let w = worker(&s.url(), 1, &[]);
 
-    // The history grows (the waits are hang guards only).
-    let first = wait_job(&s, &id, 300, |v| history(v).len() >= 2);
-    let n0 = history(&first).len();
-    assert!(n0 >= 2, "no history: {first}");
+    // While it renders: a history in the job's view, and the convergence map (hang guards
+    // only; the job renders for about a hundred spp more).
+    let early = wait_job(&s, &id, 300, |v| history(&v["trade"]).len() >= 2);
+    assert_eq!(early["state"], "rendering", "{early}");
+    let n0 = history(&early["trade"]).len();
+    let r = http()
+        .get(s.api(&format!("/jobs/{id}/convergence.png")))
+        .send()
+        .unwrap();
+    assert_eq!(r.status(), 200);
+    assert_eq!(r.headers()["content-type"], "image/png");
+    assert_eq!(png_size(&r.bytes().unwrap()), (96, 96));
+    let small = http()
+        .get(s.api(&format!("/jobs/{id}/convergence.png?max_size=16")))
+        .send()
+        .unwrap()
+        .bytes()
+        .unwrap();
+    assert_eq!(png_size(&small), (16, 16));
+    let r = http()
+        .get(s.api(&format!("/jobs/{id}/convergence.png?max_size=0")))
+        .send()
+        .unwrap();
+    assert_eq!(r.status(), 400);
+
+    // The threshold holds; the saved history has grown and says so.
+    let done = wait_job(&s, &id, 600, |v| v["state"] != "rendering");
+    assert_eq!(done["state"], "done", "{done}");
     let trade = |target: &str| get_json(&s.api(&format!("/jobs/{id}/trade?target={target}")));
-    let t = wait_view(&s, &format!("/jobs/{id}/trade?target=0.0001"), 300, |t| {
-        history(&serde_json::json!({ "trade": t })).len() >= n0 + 4
-            && t["target_projection"]["status"] == "projected"
-    });
-    let h = history(&serde_json::json!({ "trade": &t }));
-    assert!(h.len() > n0, "the history did not grow past {n0}: {t}");
+    let t = trade("0.01");
+    let h = history(&t);
+    assert!(h.len() > n0 + 3, "the history did not grow past {n0}: {t}");
     for w in h.windows(2) {
         assert!(w[0]["secs"].as_f64() <= w[1]["secs"].as_f64(), "{h:?}");
         assert!(w[0]["spp"].as_f64() < w[1]["spp"].as_f64(), "{h:?}");
@@ -68,42 +94,29 @@ fn a_running_job_shows_its_error_history_and_projection() {
         let f = p["failing"].as_f64().unwrap_or(0.0);
         assert!((0.0..=1.0).contains(&f), "{p}");
     }
-    // The relative error falls: the last point is below the first.
-    assert!(
-        h.last().unwrap()["estimate"].as_f64() < h[0]["estimate"].as_f64(),
-        "{h:?}"
+    let (e0, e1) = (
+        h[0]["estimate"].as_f64(),
+        h[h.len() - 1]["estimate"].as_f64(),
     );
-    let p = &t["target_projection"];
-    assert_eq!(p["status"], "projected", "{t}");
-    assert_eq!(p["metric"], "relative_error", "{p}");
-    let at = p["at_secs"].as_f64().unwrap();
-    let last = h.last().unwrap()["secs"].as_f64().unwrap();
-    assert!(at.is_finite() && at >= last, "{p}");
-    assert!(is_finite_number(&p["remaining_secs"]), "{p}");
-    let exponent = p["fit"]["exponent"].as_f64().unwrap();
-    assert!(exponent < 0.0, "{p}");
-    eprintln!("trade after {} points: {p}", h.len());
-    // The projection to haltthreshold is there, on the failing fraction, never NaN.
+    assert!(e1 < e0, "the relative error did not fall: {h:?}");
     let tp = &t["threshold_projection"];
     assert_eq!(tp["metric"], "failing_fraction", "{t}");
-    assert_eq!(tp["target"], 0.00001f32 as f64, "{tp}");
-    let statuses = [
-        "projected",
-        "reached",
-        "not_enough_data",
-        "no_trend",
-        "noisy",
-        "unreachable",
-    ];
-    assert!(statuses.iter().any(|s| tp["status"] == *s), "{tp}");
-    // The job's own view carries the same history.
-    let v = get_json(&s.api(&format!("/jobs/{id}")));
-    assert!(history(&v).len() >= h.len(), "{v}");
+    assert_eq!(tp["status"], "reached", "{tp}");
+    assert!(is_finite_number(&tp["at_secs"]), "{tp}");
+    let p = &t["target_projection"];
+    assert_eq!(p["metric"], "relative_error", "{p}");
+    assert_eq!(p["status"], "projected", "{t}");
+    let last = h[h.len() - 1]["secs"].as_f64().unwrap();
+    let at = p["at_secs"].as_f64().unwrap();
+    assert!(at.is_finite() && at > last, "{p}");
+    assert!(is_finite_number(&p["remaining_secs"]), "{p}");
+    assert!(p["fit"]["exponent"].as_f64() < Some(0.0), "{p}");
+    eprintln!("{} points; to relative error 0.01: {p}", h.len());
 
-    // A target above the latest estimate is reached already.
-    let t = trade("10");
-    assert_eq!(t["target_projection"]["status"], "reached", "{t}");
-    assert_eq!(t["target_projection"]["remaining_secs"], 0.0, "{t}");
+    // A target above the latest estimate is reached; bad targets are JSON 400s.
+    let t10 = trade("10");
+    assert_eq!(t10["target_projection"]["status"], "reached", "{t10}");
+    assert_eq!(t10["target_projection"]["remaining_secs"], 0.0, "{t10}");
     for bad in ["11", "0", "-1", "abc", "NaN"] {
         let r = http()
             .get(s.api(&format!("/jobs/{id}/trade?target={bad}")))
@@ -121,49 +134,20 @@ fn a_running_job_shows_its_error_history_and_projection() {
     let r = http().get(s.api("/jobs/nope/trade")).send().unwrap();
     assert_eq!(r.status(), 404);
     assert_eq!(r.json::<Value>().unwrap()["error"], "not_found");
-
-    // The convergence map: a PNG the size of the film (or of max_size).
-    let r = http()
-        .get(s.api(&format!("/jobs/{id}/convergence.png")))
-        .send()
-        .unwrap();
-    assert_eq!(r.status(), 200);
-    assert_eq!(r.headers()["content-type"], "image/png");
-    let png = r.bytes().unwrap();
-    assert_eq!(&png[1..4], b"PNG");
-    // IHDR width and height, big endian, at bytes 16..24
-    let dims = |b: &[u8]| {
-        (
-            u32::from_be_bytes([b[16], b[17], b[18], b[19]]),
-            u32::from_be_bytes([b[20], b[21], b[22], b[23]]),
-        )
-    };
-    assert_eq!(dims(&png), (96, 96));
-    let small = http()
-        .get(s.api(&format!("/jobs/{id}/convergence.png?max_size=16")))
-        .send()
-        .unwrap()
-        .bytes()
-        .unwrap();
-    assert_eq!(dims(&small), (16, 16));
-    // a job still rendering: the halt did not end it meanwhile
-    assert_eq!(
-        get_json(&s.api(&format!("/jobs/{id}")))["state"],
-        "rendering"
-    );
-    let r = http()
-        .get(s.api(&format!("/jobs/{id}/convergence.png?max_size=0")))
-        .send()
-        .unwrap();
-    assert_eq!(r.status(), 400);
-
-    // Once the job ended there is no map to show.
-    let r = http().delete(s.api(&format!("/jobs/{id}"))).send().unwrap();
-    assert_eq!(r.status(), 200);
+    // No map once the job ended.
     let r = http()
         .get(s.api(&format!("/jobs/{id}/convergence.png")))
         .send()
         .unwrap();
     assert_eq!(r.status(), 404);
     assert_eq!(r.json::<Value>().unwrap()["error"], "not_found");
+
+    // A restarted master has the same history.
+    drop(w);
+    s.proc.term();
+    assert!(s.proc.wait_exit(60).is_some(), "the master did not stop");
+    let s2 = server(&data, &[]);
+    let again = get_json(&s2.api(&format!("/jobs/{id}/trade?target=0.01")));
+    assert_eq!(history(&again), h, "{again}");
+    assert_eq!(again["target_projection"], t["target_projection"]);
 }

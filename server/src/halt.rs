@@ -12,7 +12,8 @@
 //! done.
 //!
 //! Checkpoints make acknowledged deltas durable: the film is written atomically (file and
-//! directory synced), then the ledger rows it holds are committed with its generation. Faults
+//! directory synced), then the ledger rows it holds are committed with its generation; the
+//! job's error history is saved beside it (`crate::trade`, best effort). Faults
 //! stay with their job: a checkpoint that cannot be written is named (file and reason) on the
 //! job and retried every checkpoint interval while the job renders on (its workers keep the
 //! deltas not yet durable); a final checkpoint that fails keeps the job halting and retried; a
@@ -264,6 +265,10 @@ fn write_checkpoint(farm: &Farm, rt: &JobRt, row: &JobRow) -> Result<u64> {
         .and_then(|d| d.sync_all())
         .map_err(ServerError::file(dir_rel))?;
     lock(&farm.db).commit_checkpoint(&rt.id, generation, max_rowid)?;
+    let history = lock(&rt.state).trade.history.clone();
+    if let Err(e) = crate::trade::save(&history, &dir.join(crate::trade::SAVED_FILE)) {
+        tracing::warn!(job = %rt.id, error = %e, "the error history could not be saved");
+    }
     let old = farm.cfg.data_dir.join(checkpoint_rel(&rt.id, row.ckpt_gen));
     if row.ckpt_gen > 0 && old.exists() {
         let _ = std::fs::remove_file(old);
@@ -286,6 +291,16 @@ pub fn load_checkpoint(farm: &Farm, row: &JobRow) -> Result<Option<Film>> {
             ServerError::Internal(m) => ServerError::Internal(format!("{rel}: {m}")),
             other => other,
         })
+}
+
+/// The job's error history saved with its last checkpoint (`crate::trade`); empty when
+/// there is none or it cannot be read (logged).
+pub fn load_trade(farm: &Farm, id: &str) -> crate::trade::ErrorHistory {
+    let path = farm.job_dir(id).join(crate::trade::SAVED_FILE);
+    crate::trade::load(&path).unwrap_or_else(|e| {
+        tracing::warn!(job = %id, error = %e, "the saved error history is left out");
+        Default::default()
+    })
 }
 
 /// Path of the job's final (or latest) checkpoint.

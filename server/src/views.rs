@@ -191,11 +191,15 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
 }
 
 /// A job's trade with the projections to its haltthreshold and to the relative error
-/// `target`. A job that is not loaded (queued or ended) has an empty history.
+/// `target`. A job that is not loaded (ended, or not started since the master started) has
+/// the history saved with its last checkpoint.
 pub fn trade_view(farm: &Farm, id: &str, target: Option<f64>) -> Result<TradeView> {
     let row = farm.job_row(id)?;
     let rt = lock(&farm.jobs).get(id).cloned();
-    let history = rt.map_or_else(Vec::new, |rt| lock(&rt.state).trade.history.points());
+    let history = match rt {
+        Some(rt) => lock(&rt.state).trade.history.points(),
+        None => crate::halt::load_trade(farm, id).points(),
+    };
     Ok(TradeView::new(history, row.haltthreshold, target))
 }
 

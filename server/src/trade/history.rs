@@ -11,7 +11,7 @@
 pub const MAX_POINTS: usize = 200;
 
 /// One observation of a job's error estimate.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, utoipa::ToSchema)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, utoipa::ToSchema)]
 pub struct TradePoint {
     /// Seconds since the job's first lease.
     pub secs: f64,
@@ -35,6 +35,15 @@ pub enum Metric {
 }
 
 impl Metric {
+    /// The exponent of the metric's decay where theory gives one: -1/2 for the relative
+    /// error of an unbiased Monte Carlo estimate; the failing fraction has none.
+    pub fn exponent(self) -> Option<f64> {
+        match self {
+            Metric::RelativeError => Some(-0.5),
+            Metric::FailingFraction => None,
+        }
+    }
+
     /// The value of `p` this metric reads (None: the point has none).
     pub fn of(self, p: &TradePoint) -> Option<f64> {
         match self {

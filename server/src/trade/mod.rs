@@ -29,8 +29,11 @@
 //!
 //! The fit is least squares of ln(value) against ln(secs) over the recent points, the exponent
 //! taken from the data (-1/2 for the relative error of an unbiased render). The history lives
-//! in the job's run state only: after a master restart it starts empty again (the job's clock,
-//! its first lease time, is kept by the store, so new points carry on at the right times).
+//! in the job's run state and is saved beside each checkpoint (`jobs/ID/trade.json`, the
+//! points as JSON): a master restart takes it back (points read again one by one through the
+//! same checks, the file's size bounded), and an ended job's history stays readable. The
+//! relative-error snapshots are not saved: after a restart the next point comes once a new
+//! snapshot was taken.
 //!
 //! `history`: the bounded, evenly thinned list of points; `fit`: the fit and the projection;
 //! here: the estimates from the film, the view, and the convergence map picture.
@@ -46,6 +49,43 @@ use luxfarm::film::Film;
 use luxfarm::halt::ConvergenceTest;
 use luxfarm::imageio::{encode_png_preview, LdrImage};
 use luxfarm::tonemap::{film_xyz, tonemap_display, TonemapParams};
+use std::path::Path;
+
+/// The file of a job's saved history, in its job directory.
+pub const SAVED_FILE: &str = "trade.json";
+/// The largest saved history read back (200 points take about 20 KB).
+pub const MAX_SAVED_BYTES: u64 = 1 << 20;
+
+/// Saves a history's points (JSON) atomically at `path`.
+pub fn save(history: &ErrorHistory, path: &Path) -> Result<(), String> {
+    let json = serde_json::to_vec(&history.points()).map_err(|e| e.to_string())?;
+    luxfarm::atomic_write::write_bytes_atomic(path, &json).map_err(|e| e.to_string())
+}
+
+/// Reads a saved history back: an absent file is an empty history; a larger file than
+/// [`MAX_SAVED_BYTES`] or one that is not a list of points is an error naming the file;
+/// points the history refuses (bad values, time going back) are left out.
+pub fn load(path: &Path) -> Result<ErrorHistory, String> {
+    let mut history = ErrorHistory::default();
+    let len = match std::fs::metadata(path) {
+        Ok(m) => m.len(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(history),
+        Err(e) => return Err(format!("{}: {e}", path.display())),
+    };
+    if len > MAX_SAVED_BYTES {
+        return Err(format!(
+            "{}: {len} bytes, more than a saved history may hold ({MAX_SAVED_BYTES})",
+            path.display()
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let points: Vec<TradePoint> =
+        serde_json::from_slice(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    for p in points {
+        history.push(p);
+    }
+    Ok(history)
+}
 
 /// What the estimate of the history is (the `estimate` field of the view).
 pub const ESTIMATE_KIND: &str = "relative_error";
@@ -136,6 +176,14 @@ pub struct TradeState {
 }
 
 impl TradeState {
+    /// The state of a job resumed with a saved history.
+    pub fn with_history(history: ErrorHistory) -> TradeState {
+        TradeState {
+            history,
+            ..TradeState::default()
+        }
+    }
+
     /// Takes a convergence test's moment: the film (a copy of the merged one) and the test's
     /// failing fraction, at `secs` since the first lease. Adds a point once the previous
     /// snapshot gives a relative error.
@@ -334,6 +382,37 @@ mod tests {
         t.observe(&f, &tp, 4.0, None);
         assert_eq!(marks(&t), [4.0, 8.0]);
         assert_eq!(t.history.points().len(), 3);
+    }
+
+    #[test]
+    fn a_saved_history_comes_back_and_bad_files_are_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(SAVED_FILE);
+        assert_eq!(load(&path).unwrap().points(), []);
+        let mut h = ErrorHistory::default();
+        for i in 1..=5 {
+            h.push(TradePoint {
+                secs: f64::from(i),
+                spp: f64::from(4 * i),
+                estimate: 1.0 / f64::from(i),
+                failing: (i > 2).then_some(0.01),
+            });
+        }
+        save(&h, &path).unwrap();
+        assert_eq!(load(&path).unwrap().points(), h.points());
+        // bad points are left out, a file of something else is an error naming it
+        std::fs::write(
+            &path,
+            r#"[{"secs":1,"spp":1,"estimate":0.5,"failing":null},
+               {"secs":0.5,"spp":2,"estimate":0.4,"failing":null},
+               {"secs":2,"spp":3,"estimate":-1,"failing":null}]"#,
+        )
+        .unwrap();
+        assert_eq!(load(&path).unwrap().points().len(), 1);
+        std::fs::write(&path, b"{\"not\": \"points\"}").unwrap();
+        assert!(load(&path).unwrap_err().contains("trade.json"));
+        std::fs::write(&path, vec![b' '; MAX_SAVED_BYTES as usize + 1]).unwrap();
+        assert!(load(&path).unwrap_err().contains("more than"));
     }
 
     #[test]
