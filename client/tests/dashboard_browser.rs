@@ -545,7 +545,7 @@ fn dashboard_strip_follows_a_sequence_over_server_sent_events() {
 /// The job page's "Error over time" panel on a small scene: the log–log chart draws the
 /// relative error and the failing fraction as they come, a typed target relative error is
 /// projected (the text and the dashed projection line, the same time the REST API gives),
-/// and the toggle lays the convergence map over the preview.
+/// the toggle lays the convergence map over the preview, and a cancelled job keeps its chart.
 #[test]
 fn dashboard_charts_the_error_trade_and_overlays_the_convergence_map() {
     let browser = Browser::start();
@@ -639,9 +639,18 @@ fn dashboard_charts_the_error_trade_and_overlays_the_convergence_map() {
         .filter(|e| e["level"] == "SEVERE")
         .collect();
     assert!(severe.is_empty(), "browser console errors: {severe:?}");
+    // Cancelled, the page keeps the chart: the history saved with the final checkpoint.
     let r = http()
         .delete(s.api(&format!("/jobs/{id}")))
         .send()
         .expect("cancel");
     assert_eq!(r.status(), 200);
+    browser.wait_js(
+        30,
+        "the ended job's saved history on the chart",
+        "const c = document.getElementById('trade-chart');
+         return document.getElementById('job-info').dataset.state === 'cancelled'
+           && c && Number(c.dataset.points) >= 2 ? c.dataset.points : null;",
+    );
+    assert_eq!(browser.js("return window.__errors;"), json!([]));
 }

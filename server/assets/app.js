@@ -425,7 +425,7 @@ async function jobPage(my, id) {
 // failing fraction against time (log–log inline SVG), with the projections to the job's
 // haltthreshold (failing fraction) and to the relative error typed here, and the toggle of
 // the convergence-map overlay on the preview. `update(job)` redraws from the job's view, or
-// from /trade?target= while a target is typed.
+// from /trade (?target= while a target is typed; an ended job's saved history).
 function tradePanel(id, my) {
   const svg = document.createElementNS(SVG_NS, "svg");
   svg.setAttribute("id", "trade-chart");
@@ -473,7 +473,9 @@ function tradePanel(id, my) {
     if (!job) return;
     let t = job.trade;
     const want = targetValue();
-    if (want !== null) t = await api(`/jobs/${id}/trade?target=${want}`);
+    // An ended job's view has no history: /trade reads the one saved with its checkpoint.
+    const ended = ["done", "cancelled", "failed"].includes(job.state);
+    if (want !== null || ended) t = await api(`/jobs/${id}/trade${want !== null ? `?target=${want}` : ""}`);
     if (my !== page) return;
     drawTrade(svg, t);
     const lines = [];
