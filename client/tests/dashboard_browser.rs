@@ -4,7 +4,9 @@
 //! preview load and change, switches the tonemapping (the preview is refetched with the new
 //! query and gets brighter), cancels the job and sees it cancelled. The browser console must
 //! stay free of errors; screenshots are saved to `target/dashboard*.png`. A second test shows a
-//! frame sequence as a strip that fills in over Server-Sent Events, without poll requests.
+//! frame sequence as a strip that fills in over Server-Sent Events, without poll requests. A
+//! third watches a job's speed/accuracy trade: the error-over-time chart, the projection to a
+//! typed target relative error, and the convergence map toggled over the preview.
 //!
 //! The WebDriver client is a few JSON calls over the `reqwest` already used by the farm tests.
 //! Without `/usr/bin/chromium` and `chromedriver` the test fails and says how to install them
@@ -538,4 +540,117 @@ fn dashboard_strip_follows_a_sequence_over_server_sent_events() {
         .filter(|e| e["level"] == "SEVERE")
         .collect();
     assert!(errors.is_empty(), "console errors: {errors:?}");
+}
+
+/// The job page's "Error over time" panel on a small scene: the log–log chart draws the
+/// relative error and the failing fraction as they come, a typed target relative error is
+/// projected (the text and the dashed projection line, the same time the REST API gives),
+/// the toggle lays the convergence map over the preview, and a cancelled job keeps its chart.
+#[test]
+fn dashboard_charts_the_error_trade_and_overlays_the_convergence_map() {
+    let browser = Browser::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let s = server(&dir.path().join("data"), &["--upload-interval", "0.5"]);
+    let scene = small_scene(dir.path(), "t", (96, 96), "\"float convergencestep\" [4]");
+    let bytes = std::fs::read(scene).expect("read scene");
+    let (status, job) = post_job(&s, bytes, "?filename=t.lxs&haltspp=100000");
+    assert_eq!(status, 201, "{job}");
+    let id = job["id"].as_str().expect("job id").to_string();
+    let _w = worker(&s.url(), 1, &[]);
+    browser.goto(&format!("{}/#/job/{id}", s.url()));
+    browser.js(CAPTURE);
+
+    // The chart fills in: both series drawn once there are points.
+    browser.wait_js(
+        120,
+        "the error-over-time chart",
+        "const c = document.getElementById('trade-chart');
+         return c && Number(c.dataset.points) >= 2
+           && c.querySelector('polyline[data-metric=relative_error]')
+           && c.querySelector('polyline[data-metric=failing_fraction]') ? c.dataset.points : null;",
+    );
+    let untargeted = browser.js("return document.getElementById('trade-projection').textContent;");
+    assert!(
+        untargeted
+            .as_str()
+            .is_some_and(|t| t.contains("type a target")),
+        "{untargeted}"
+    );
+
+    // A typed target is projected: the text, the dashed line, and the REST API's time.
+    browser.type_into("#trade-target", "0.05");
+    let text = browser.wait_js(
+        120,
+        "the projection to the typed target",
+        "const p = document.getElementById('trade-target-text');
+         return p && p.dataset.status === 'projected'
+           && document.querySelector('#trade-chart .trade-projection[data-metric=relative_error]')
+           && document.querySelector('#trade-chart .trade-target[data-metric=relative_error]')
+           ? p.textContent : null;",
+    );
+    let text = text.as_str().expect("projection text").to_string();
+    assert!(text.contains("relative error 0.05: projected at"), "{text}");
+    let t = get_json(&s.api(&format!("/jobs/{id}/trade?target=0.05")));
+    let p = &t["target_projection"];
+    assert!(
+        p["at_secs"].as_f64().is_some_and(f64::is_finite),
+        "the API has no finite projection while the page shows {text:?}: {t}"
+    );
+    let requested = browser.js(
+        "return performance.getEntriesByType('resource').map((e) => e.name)
+           .filter((n) => n.includes('/trade?target=0.05')).length;",
+    );
+    assert!(
+        requested.as_u64() >= Some(1),
+        "no /trade request with the target"
+    );
+
+    // The convergence map over the preview, the preview's size.
+    browser.js("document.getElementById('overlay-toggle').click(); return true;");
+    let sizes = browser.wait_js(
+        60,
+        "the convergence map overlay",
+        "const o = document.getElementById('overlay'), i = document.getElementById('preview');
+         return o && !o.hidden && o.complete && o.naturalWidth && Number(o.dataset.loads) >= 1
+           && i && i.naturalWidth && getComputedStyle(o).display !== 'none'
+           ? [o.naturalWidth, o.naturalHeight, i.naturalWidth, i.naturalHeight] : null;",
+    );
+    assert_eq!(sizes, json!([96, 96, 96, 96]));
+    browser.js("document.getElementById('trade').scrollIntoView(); return true;");
+    browser.screenshot(&target_dir().join("dashboard-trade.png"));
+    browser.js("window.scrollTo(0, 0); return true;");
+    browser.screenshot(&target_dir().join("dashboard-trade-overlay.png"));
+    browser.js("document.getElementById('overlay-toggle').click(); return true;");
+    let hidden = browser.js("return document.getElementById('overlay').hidden;");
+    assert_eq!(hidden, true);
+
+    let banner =
+        browser.js("return getComputedStyle(document.getElementById('error')).display === 'none';");
+    assert_eq!(
+        banner,
+        true,
+        "error banner shown: {}",
+        browser.js("return document.getElementById('error-text').textContent;")
+    );
+    assert_eq!(browser.js("return window.__errors;"), json!([]));
+    let severe: Vec<Value> = browser
+        .console()
+        .into_iter()
+        .filter(|e| e["level"] == "SEVERE")
+        .collect();
+    assert!(severe.is_empty(), "browser console errors: {severe:?}");
+    // Cancelled, the page keeps the chart: the history saved with the final checkpoint.
+    let r = http()
+        .delete(s.api(&format!("/jobs/{id}")))
+        .send()
+        .expect("cancel");
+    assert_eq!(r.status(), 200);
+    browser.wait_js(
+        30,
+        "the ended job's saved history on the chart",
+        "const c = document.getElementById('trade-chart');
+         return document.getElementById('job-info').dataset.state === 'cancelled'
+           && c && Number(c.dataset.points) >= 2 ? c.dataset.points : null;",
+    );
+    assert_eq!(browser.js("return window.__errors;"), json!([]));
 }

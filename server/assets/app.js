@@ -329,11 +329,12 @@ async function jobPage(my, id) {
   const tmSlot = el("div", { id: "tonemap-slot", class: "job-tonemap" });
   const dl = (f, label) => el("a", { href: `${API}/jobs/${id}/${f}`, download: f, onclick: download, id: `dl-${f.replace(".", "-")}` }, label);
   const pngLink = dl("image.png", "PNG");
+  const trade = tradePanel(id, my);
   main.replaceChildren(title, el("div", { class: "job" },
-    el("div", { class: "preview" }, img), tmSlot,
+    el("div", { class: "preview" }, el("div", { class: "stack" }, img, trade.overlay)), tmSlot,
     el("div", { class: "job-side" }, info, el("p", { class: "actions" }, cancel,
       el("span", { class: "downloads" }, pngLink, dl("image.exr", "EXR"), dl("film.flm", "FLM")))),
-    el("div", { class: "job-progress" }, el("h3", {}, "Progress"), chart, el("h3", {}, "Workers"),
+    el("div", { class: "job-progress" }, trade.panel, el("h3", {}, "Progress"), chart, el("h3", {}, "Workers"),
       el("div", { class: "scroll" }, workers))));
   const history = [];
   let etag = null, url = null, job = null, query = "", fetchSeq = 0;
@@ -407,6 +408,7 @@ async function jobPage(my, id) {
       if (history.length > 600) history.shift();
       drawInfo();
       drawChart(chart, history);
+      await trade.update(job);
       if (job.samples > 0) await pollPreview();
     } catch (e) { showError(e); }
   };
@@ -415,6 +417,173 @@ async function jobPage(my, id) {
   }).catch(showError);
   await refresh();
   timer = setInterval(refresh, 2500);
+}
+
+// ---- speed / accuracy trade ----------------------------------------------------------------
+
+// The "Error over time" panel of a job: the film's relative error and the convergence test's
+// failing fraction against time (log–log inline SVG), with the projections to the job's
+// haltthreshold (failing fraction) and to the relative error typed here, and the toggle of
+// the convergence-map overlay on the preview. `update(job)` redraws from the job's view, or
+// from /trade (?target= while a target is typed; an ended job's saved history).
+function tradePanel(id, my) {
+  const svg = document.createElementNS(SVG_NS, "svg");
+  svg.setAttribute("id", "trade-chart");
+  svg.setAttribute("viewBox", `0 0 ${TRADE_W} ${TRADE_H}`);
+  svg.setAttribute("role", "img");
+  svg.setAttribute("aria-label", "relative error and failing fraction against time, log–log");
+  const text = el("div", { id: "trade-projection" }, "not enough data");
+  const target = el("input", { id: "trade-target", type: "number", min: "0", max: "10", step: "any",
+    placeholder: "e.g. 0.05", "aria-label": "target relative error" });
+  const toggle = el("input", { id: "overlay-toggle", type: "checkbox" });
+  const mapStatus = el("span", { id: "overlay-status", class: "mute" });
+  const overlay = el("img", { id: "overlay", alt: "convergence map", hidden: "" });
+  const panel = el("section", { id: "trade", class: "panel" },
+    el("div", { class: "panel-head" }, el("h3", {}, "Error over time"),
+      el("label", { class: "trade-target-label" }, "target relative error ", target)),
+    svg, el("p", { class: "trade-legend mute" }, el("i", { class: "key key-rel" }), "relative error ",
+      el("i", { class: "key key-fail" }), "failing fraction ", el("i", { class: "key key-proj" }), "projection"),
+    text,
+    el("label", { class: "overlay-toggle" }, toggle, " convergence map on the preview ", mapStatus));
+  let job = null, url = null;
+  const targetValue = () => {
+    const v = Number(target.value);
+    return target.value !== "" && isFinite(v) && v > 0 && v <= 10 ? v : null;
+  };
+  const pollOverlay = async () => {
+    if (!toggle.checked) return;
+    let resp;
+    try { resp = await fetch(`${API}/jobs/${id}/convergence.png`, { headers: authHeaders() }); } catch (e) { throw new ApiError(`network error: ${e.message}`); }
+    if (my !== page || !toggle.checked) return;
+    if (resp.status === 503 || resp.status === 404) {
+      const body = await resp.json().catch(() => ({}));
+      mapStatus.textContent = `(${body.detail || "no convergence map"})`;
+      return;
+    }
+    if (!resp.ok) throw await failure(resp);
+    const blob = await resp.blob();
+    if (url) URL.revokeObjectURL(url);
+    url = URL.createObjectURL(blob);
+    overlay.src = url;
+    overlay.dataset.loads = String(Number(overlay.dataset.loads || 0) + 1);
+    mapStatus.textContent = "";
+  };
+  const update = async (j) => {
+    if (j) job = j;
+    if (!job) return;
+    let t = job.trade;
+    const want = targetValue();
+    // An ended job's view has no history: /trade reads the one saved with its checkpoint.
+    const ended = ["done", "cancelled", "failed"].includes(job.state);
+    if (want !== null || ended) t = await api(`/jobs/${id}/trade${want !== null ? `?target=${want}` : ""}`);
+    if (my !== page) return;
+    drawTrade(svg, t);
+    const lines = [];
+    if (t.target_projection) lines.push(el("p", { id: "trade-target-text", "data-status": t.target_projection.status }, projectionText(t, t.target_projection)));
+    else lines.push(el("p", { class: "mute" }, "type a target relative error to project it"));
+    if (t.threshold_projection) lines.push(el("p", { id: "trade-threshold-text", "data-status": t.threshold_projection.status }, projectionText(t, t.threshold_projection)));
+    text.replaceChildren(...lines);
+    const primary = t.target_projection || t.threshold_projection;
+    text.dataset.status = primary ? primary.status : "no_target";
+    await pollOverlay();
+  };
+  let debounce = null;
+  target.addEventListener("input", () => {
+    clearTimeout(debounce);
+    debounce = setTimeout(() => update().catch(showError), 300);
+  });
+  toggle.addEventListener("change", () => {
+    overlay.hidden = !toggle.checked;
+    if (!toggle.checked) mapStatus.textContent = "";
+    pollOverlay().catch(showError);
+  });
+  return { panel, overlay, update };
+}
+
+const SVG_NS = "http://www.w3.org/2000/svg";
+const TRADE_W = 600, TRADE_H = 210, TRADE_PAD = 44;
+// The value of a history point a metric reads.
+const METRIC = { relative_error: (q) => q.estimate, failing_fraction: (q) => q.failing };
+
+function projectionText(t, p) {
+  const what = p.metric === "failing_fraction" ? `haltthreshold ${p.target} (failing fraction)` : `relative error ${p.target}`;
+  switch (p.status) {
+    case "projected":
+      return `${what}: projected at ${dur(p.at_secs)}, in ${dur(p.remaining_secs)}` +
+        ` (fit ∝ t^${p.fit.exponent.toFixed(2)} on ${p.fit.points} points)`;
+    case "reached": return `${what}: reached`;
+    case "no_trend": return `${what}: no downward trend yet`;
+    case "noisy": return `${what}: too noisy to project`;
+    case "unreachable": return `${what}: out of reach at the current rate`;
+    default: return `${what}: not enough data${t.history.length ? "" : " (no convergence test yet)"}`;
+  }
+}
+
+function svgEl(tag, attrs) {
+  const n = document.createElementNS(SVG_NS, tag);
+  for (const [k, v] of Object.entries(attrs)) n.setAttribute(k, String(v));
+  return n;
+}
+
+// Log–log axes over both series (and the projections' ends), decade ticks, each series as a
+// line, targets as dashed horizontal lines and projections as dashed segments.
+function drawTrade(svg, t) {
+  const series = Object.entries(METRIC).map(([metric, f]) => [metric,
+    t.history.filter((q) => q.secs > 0 && f(q) > 0).map((q) => [q.secs, f(q)])]);
+  const projections = [t.target_projection, t.threshold_projection].filter((p) => p && p.target > 0);
+  const all = series.flatMap(([, pts]) => pts);
+  if (!all.length) {
+    const msg = svgEl("text", { x: TRADE_PAD, y: TRADE_H / 2, class: "trade-empty" });
+    msg.textContent = "no error estimate yet (it starts with the second convergence test)";
+    svg.replaceChildren(msg);
+    svg.dataset.points = "0";
+    return;
+  }
+  const xs = all.map((p) => p[0]), ys = all.map((p) => p[1]);
+  for (const p of projections) {
+    ys.push(p.target);
+    if (p.status === "projected") xs.push(p.at_secs);
+  }
+  let x0 = Math.log10(Math.min(...xs)), x1 = Math.log10(Math.max(...xs));
+  let y0 = Math.log10(Math.min(...ys)), y1 = Math.log10(Math.max(...ys));
+  if (x1 - x0 < 0.3) { x0 -= 0.15; x1 += 0.15; }
+  if (y1 - y0 < 0.3) { y0 -= 0.15; y1 += 0.15; }
+  const left = TRADE_PAD, right = TRADE_W - 12, top = 14, bottom = TRADE_H - 30;
+  const X = (secs) => left + (Math.log10(secs) - x0) / (x1 - x0) * (right - left);
+  const Y = (v) => bottom - (Math.log10(v) - y0) / (y1 - y0) * (bottom - top);
+  const kids = [svgEl("rect", { x: left, y: top, width: right - left, height: bottom - top, class: "trade-frame" })];
+  const tick = (x, y, label, anchor) => {
+    const l = svgEl("text", { x, y, class: "trade-tick", "text-anchor": anchor });
+    l.textContent = label;
+    kids.push(l);
+  };
+  for (let d = Math.ceil(x0); d <= Math.floor(x1); d++) {
+    kids.push(svgEl("line", { x1: X(10 ** d), x2: X(10 ** d), y1: top, y2: bottom, class: "trade-grid" }));
+    tick(X(10 ** d), bottom + 14, dur(10 ** d), "middle");
+  }
+  for (let d = Math.ceil(y0); d <= Math.floor(y1); d++) {
+    kids.push(svgEl("line", { x1: left, x2: right, y1: Y(10 ** d), y2: Y(10 ** d), class: "trade-grid" }));
+    tick(left - 4, Y(10 ** d) + 4, `1e${d}`, "end");
+  }
+  for (const [metric, pts] of series) {
+    if (!pts.length) continue;
+    kids.push(svgEl("polyline", { class: `trade-line trade-${metric}`, "data-metric": metric,
+      points: pts.map(([s, v]) => `${X(s).toFixed(1)},${Y(v).toFixed(1)}`).join(" ") }));
+    const [ls, lv] = pts[pts.length - 1];
+    kids.push(svgEl("circle", { cx: X(ls), cy: Y(lv), r: 3, class: `trade-last trade-${metric}` }));
+  }
+  for (const p of projections) {
+    kids.push(svgEl("line", { x1: left, x2: right, y1: Y(p.target), y2: Y(p.target),
+      class: `trade-target trade-${p.metric}`, "data-metric": p.metric }));
+    const pts = series.find(([m]) => m === p.metric)[1];
+    if (p.status !== "projected" || !pts.length) continue;
+    const ls = pts[pts.length - 1][0], f = p.fit;
+    kids.push(svgEl("line", { class: "trade-projection", "data-metric": p.metric,
+      x1: X(ls), y1: Y(f.coefficient * ls ** f.exponent), x2: X(p.at_secs), y2: Y(p.target) }));
+  }
+  tick(right, TRADE_H - 4, "time since the first lease (log)", "end");
+  svg.replaceChildren(...kids);
+  svg.dataset.points = String(t.history.length);
 }
 
 async function download(ev) {

@@ -119,6 +119,8 @@ pub struct RunState {
     pub convergence: crate::scene::Convergence,
     /// The noise-aware sampling map built from the merged film (noise-aware jobs).
     pub noise_map: crate::noisemap::NoiseMapState,
+    /// The error estimate over time (`crate::trade`); empty again after a master restart.
+    pub trade: crate::trade::TradeState,
     /// First lease time (job clock for halttime).
     pub first_lease_ms: Option<i64>,
 }

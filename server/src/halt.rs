@@ -4,13 +4,16 @@
 //! this module asks them at the master's moments, on the merged film: haltspp and haltthreshold
 //! (the convergence test every convergencestep spp) after each merge, halttime (seconds since
 //! the first lease) on every tick. A noise-aware job's sampling map is rebuilt after merges
-//! too (`crate::noisemap`). When one holds the job enters its halting phase: every lease
-//! is told to stop and the master waits for the last deltas (at most two upload intervals plus
+//! too (`crate::noisemap`), and every convergence test's moment goes into the job's error
+//! history (`crate::trade`; jobs without haltthreshold get a test of their own for it).
+//! When a halt rule holds the job enters its halting phase: every lease is told to stop and
+//! the master waits for the last deltas (at most two upload intervals plus
 //! a margin), then writes the outputs the Film asks for (`luxfarm::output`) and marks the job
 //! done.
 //!
 //! Checkpoints make acknowledged deltas durable: the film is written atomically (file and
-//! directory synced), then the ledger rows it holds are committed with its generation. Faults
+//! directory synced), then the ledger rows it holds are committed with its generation; the
+//! job's error history is saved beside it (`crate::trade`, best effort). Faults
 //! stay with their job: a checkpoint that cannot be written is named (file and reason) on the
 //! job and retried every checkpoint interval while the job renders on (its workers keep the
 //! deltas not yet durable); a final checkpoint that fails keeps the job halting and retried; a
@@ -21,10 +24,11 @@ use crate::auth::Identity;
 use crate::datadir::checkpoint_rel;
 use crate::db::{JobRow, JobState};
 use crate::error::{Result, ServerError};
-use crate::farm::{lock, now_ms, Farm, JobRt};
+use crate::farm::{lock, now_ms, Farm, JobRt, RunState};
 use crate::scene;
 use crate::scene::Film;
 use luxfarm::halt::HaltRules;
+use luxfarm::tonemap::TonemapParams;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -69,14 +73,41 @@ pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
         let film = lock(&rt.film).clone();
         let reason = {
             let mut st = lock(&rt.state);
-            rules.test_convergence(&mut st.convergence, &film, &rt.info.params.tonemap)
+            let reason =
+                rules.test_convergence(&mut st.convergence, &film, &rt.info.params.tonemap);
+            let failing = st.convergence.last_failing;
+            observe(&mut st, &film, &rt.info.params.tonemap, failing);
+            reason
         };
         if let Some(reason) = reason {
             begin_halt(farm, rt, reason.to_string());
         }
+    } else if rules.threshold.is_none() {
+        trade_test(rt, spp);
     }
     rebuild_noise_map(rt, spp);
     Ok(())
+}
+
+/// The error estimate of a job without haltthreshold: `crate::trade`'s own convergence test,
+/// every convergencestep spp, on a copy of the merged film.
+fn trade_test(rt: &JobRt, spp: f64) {
+    if !lock(&rt.state).trade.own_due(spp, rt.info.convergence_step) {
+        return;
+    }
+    let film = lock(&rt.film).clone();
+    let mut st = lock(&rt.state);
+    let failing = st.trade.own_test(&film, &rt.info.params.tonemap);
+    observe(&mut st, &film, &rt.info.params.tonemap, failing);
+}
+
+/// Gives a convergence test's moment (the film copy it tested and its failing fraction) to
+/// the job's error history, at the job's clock (seconds since its first lease).
+fn observe(st: &mut RunState, film: &Film, tonemap: &TonemapParams, failing: Option<f64>) {
+    let secs = st
+        .first_lease_ms
+        .map_or(0.0, |t| (now_ms() - t) as f64 / 1000.0);
+    st.trade.observe(film, tonemap, secs.max(0.0), failing);
 }
 
 /// For a noise-aware job, rebuilds the sampling map from a copy of the merged film when
@@ -234,6 +265,10 @@ fn write_checkpoint(farm: &Farm, rt: &JobRt, row: &JobRow) -> Result<u64> {
         .and_then(|d| d.sync_all())
         .map_err(ServerError::file(dir_rel))?;
     lock(&farm.db).commit_checkpoint(&rt.id, generation, max_rowid)?;
+    let history = lock(&rt.state).trade.history.clone();
+    if let Err(e) = crate::trade::save(&history, &dir.join(crate::trade::SAVED_FILE)) {
+        tracing::warn!(job = %rt.id, error = %e, "the error history could not be saved");
+    }
     let old = farm.cfg.data_dir.join(checkpoint_rel(&rt.id, row.ckpt_gen));
     if row.ckpt_gen > 0 && old.exists() {
         let _ = std::fs::remove_file(old);
@@ -256,6 +291,16 @@ pub fn load_checkpoint(farm: &Farm, row: &JobRow) -> Result<Option<Film>> {
             ServerError::Internal(m) => ServerError::Internal(format!("{rel}: {m}")),
             other => other,
         })
+}
+
+/// The job's error history saved with its last checkpoint (`crate::trade`); empty when
+/// there is none or it cannot be read (logged).
+pub fn load_trade(farm: &Farm, id: &str) -> crate::trade::ErrorHistory {
+    let path = farm.job_dir(id).join(crate::trade::SAVED_FILE);
+    crate::trade::load(&path).unwrap_or_else(|e| {
+        tracing::warn!(job = %id, error = %e, "the saved error history is left out");
+        Default::default()
+    })
 }
 
 /// Path of the job's final (or latest) checkpoint.

@@ -124,6 +124,9 @@ impl Farm {
                 history: VecDeque::from([(Instant::now(), samples)]),
                 convergence: Default::default(),
                 noise_map: Default::default(),
+                trade: crate::trade::TradeState::with_history(crate::halt::load_trade(
+                    self, &row.id,
+                )),
                 first_lease_ms: row.first_lease_ms,
             }),
         }))

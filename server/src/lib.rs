@@ -12,7 +12,8 @@
 //!   and upgrades in `db::migrate`); `schedule`: which job a worker gets (priority, tags,
 //!   memory, sequence policies); `sequence`: frame sequences; `blocks`: failing workers
 //!   blocked from jobs and quarantined; `noisemap`: noise-aware sampling maps built from the
-//!   merged film, sent to workers with their acknowledgements.
+//!   merged film, sent to workers with their acknowledgements; `trade`: each running job's
+//!   error estimate over time, its projection to a target and the convergence map picture.
 //!
 //! Durability of acknowledged deltas: a delta is acknowledged once merged into the job's film
 //! in memory, and becomes durable with the next checkpoint (the film written atomically, then
@@ -62,6 +63,7 @@ pub(crate) mod scene;
 pub(crate) mod schedule;
 pub(crate) mod sequence;
 pub(crate) mod serve;
+pub(crate) mod trade;
 pub(crate) mod views;
 
 /// The delta codec, as `crate::codec` (checkpoints are written and read through it).

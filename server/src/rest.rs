@@ -35,6 +35,8 @@ type AppState = Arc<Farm>;
         cancel_job,
         preview_png,
         job_tonemap,
+        job_trade,
+        convergence_png,
         film_flm,
         image_exr,
         image_png,
@@ -59,6 +61,12 @@ type AppState = Arc<Farm>;
         NewSequence,
         TonemapView,
         TonemapSettings,
+        crate::trade::TradeView,
+        crate::trade::TradePoint,
+        crate::trade::Projection,
+        crate::trade::ProjectionStatus,
+        crate::trade::Metric,
+        crate::trade::PowerFit,
         crate::db::JobState
     ))
 )]
@@ -73,6 +81,8 @@ pub fn router(farm: AppState) -> Router {
         .route("/api/v1/jobs/{id}", get(get_job).delete(cancel_job))
         .route("/api/v1/jobs/{id}/preview.png", get(preview_png))
         .route("/api/v1/jobs/{id}/tonemap", get(job_tonemap))
+        .route("/api/v1/jobs/{id}/trade", get(job_trade))
+        .route("/api/v1/jobs/{id}/convergence.png", get(convergence_png))
         .route("/api/v1/jobs/{id}/film.flm", get(film_flm))
         .route("/api/v1/jobs/{id}/image.exr", get(image_exr))
         .route("/api/v1/jobs/{id}/image.png", get(image_png))
@@ -506,6 +516,63 @@ async fn job_tonemap(
 ) -> Result<Json<TonemapView>> {
     let info = blocking(move || crate::output::scene_info(&farm, &id)).await?;
     Ok(Json(TonemapView::new(&info.params.tonemap)))
+}
+
+/// Query of a job's trade: the target relative error to project to.
+#[derive(Debug, Default, serde::Deserialize, utoipa::IntoParams)]
+#[serde(deny_unknown_fields)]
+#[into_params(parameter_in = Query)]
+pub struct TradeQuery {
+    /// Target relative error of the film in (0, 10] (e.g. 0.01 for 1 %).
+    #[param(value_type = Option<f64>)]
+    pub target: Option<String>,
+}
+
+/// A job's error estimates over time (the film's relative error, and the convergence test's
+/// failing fraction) with the projected times to its haltthreshold and to the relative error
+/// `target`. The history is empty for a job not rendering and after a master restart.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/trade", params(("id" = String, Path), TradeQuery),
+    responses((status = 200, body = crate::trade::TradeView), (status = 400, body = ErrorBody),
+              (status = 404, body = ErrorBody)))]
+async fn job_trade(
+    State(farm): State<AppState>,
+    Path(id): Path<String>,
+    q: std::result::Result<Query<TradeQuery>, QueryRejection>,
+) -> Result<Json<crate::trade::TradeView>> {
+    let q = query(q)?;
+    let target = match q.target.as_deref().map(str::trim).filter(|t| !t.is_empty()) {
+        Some(t) => Some(crate::trade::parse_target(t).map_err(ServerError::BadRequest)?),
+        None => None,
+    };
+    Ok(Json(
+        blocking(move || views::trade_view(&farm, &id, target)).await?,
+    ))
+}
+
+/// The job's last convergence map as a PNG (same size as preview.png for the same
+/// `max_size`): passing pixels dark blue, failing ones yellow to red by how far they are above
+/// the visible threshold. 503 before the first test, 404 for a job not rendering.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/convergence.png",
+    params(("id" = String, Path), ImageQuery),
+    responses((status = 200, content_type = "image/png", body = Vec<u8>),
+              (status = 400, body = ErrorBody), (status = 404, body = ErrorBody),
+              (status = 503, body = ErrorBody)))]
+async fn convergence_png(
+    State(farm): State<AppState>,
+    Path(id): Path<String>,
+    q: std::result::Result<Query<ImageQuery>, QueryRejection>,
+) -> Result<Response> {
+    let q = query(q)?;
+    let size = q.max_size()?.unwrap_or(1024);
+    let png = blocking(move || views::convergence_png(&farm, &id, size)).await?;
+    Ok((
+        [
+            (header::CONTENT_TYPE, "image/png"),
+            (header::CACHE_CONTROL, "no-store"),
+        ],
+        png,
+    )
+        .into_response())
 }
 
 /// The merged film as a LuxRender FLM.

@@ -1,9 +1,11 @@
 //! What the API shows of jobs and workers: one view type each, serialised as JSON for REST and
-//! converted to protobuf for gRPC.
+//! converted to protobuf for gRPC; and a job's speed/accuracy trade (`crate::trade`): its
+//! error history with a projection, and its convergence map as a PNG.
 
 use crate::db::{JobRow, JobState};
-use crate::error::Result;
+use crate::error::{Result, ServerError};
 use crate::farm::{lock, now_ms, Farm};
+use crate::trade::TradeView;
 use luxfarm_proto as pb;
 use std::collections::HashMap;
 use std::sync::atomic::Ordering;
@@ -36,6 +38,8 @@ pub struct JobView {
     pub samples_per_sec: f64,
     /// Estimated seconds left (from haltspp or halttime), when known.
     pub eta: Option<f64>,
+    /// The error estimate over time and the projected time to haltthreshold (`trade`).
+    pub trade: TradeView,
     pub active_leases: u32,
     /// Workers on the job with the samples they contributed.
     pub workers: Vec<JobWorkerView>,
@@ -132,6 +136,7 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
         },
         samples_per_sec: 0.0,
         eta: None,
+        trade: TradeView::new(Vec::new(), row.haltthreshold, None),
         active_leases: 0,
         workers: per_lease
             .into_iter()
@@ -167,6 +172,7 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
         let st = lock(&rt.state);
         view.halting = st.halting.is_some();
         view.convergence = st.convergence.last_failing;
+        view.trade = TradeView::new(st.trade.history.points(), row.haltthreshold, None);
         if let (Some((t0, s0)), Some((t1, s1))) = (st.history.front(), st.history.back()) {
             let dt = t1.duration_since(*t0).as_secs_f64();
             if dt > 0.0 {
@@ -182,6 +188,46 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
     }
     view.eta = eta(&view);
     Ok(view)
+}
+
+/// A job's trade with the projections to its haltthreshold and to the relative error
+/// `target`. A job that is not loaded (ended, or not started since the master started) has
+/// the history saved with its last checkpoint.
+pub fn trade_view(farm: &Farm, id: &str, target: Option<f64>) -> Result<TradeView> {
+    let row = farm.job_row(id)?;
+    let rt = lock(&farm.jobs).get(id).cloned();
+    let history = match rt {
+        Some(rt) => lock(&rt.state).trade.history.points(),
+        None => crate::halt::load_trade(farm, id).points(),
+    };
+    Ok(TradeView::new(history, row.haltthreshold, target))
+}
+
+/// A PNG of the job's last convergence map (the haltthreshold test's, else `trade`'s own),
+/// its longer side at most `max_size`. 503 before a test ran, 404 for a job not rendering.
+pub fn convergence_png(farm: &Farm, id: &str, max_size: u32) -> Result<Vec<u8>> {
+    let row = farm.job_row(id)?;
+    let rt = lock(&farm.jobs).get(id).cloned().ok_or_else(|| {
+        ServerError::NotFound(format!(
+            "job {id} is {}: convergence maps exist only while a job renders",
+            row.state.as_str()
+        ))
+    })?;
+    let noise: Vec<f32> = {
+        let st = lock(&rt.state);
+        if row.haltthreshold.is_some() {
+            st.convergence.test().noise_map().to_vec()
+        } else {
+            st.trade.own_noise().to_vec()
+        }
+    };
+    if noise.is_empty() {
+        return Err(ServerError::NotReady(format!(
+            "job {id} has no convergence map yet (the first test runs after convergencestep spp)"
+        )));
+    }
+    crate::trade::overlay_png(&noise, rt.info.width, rt.info.height, max_size)
+        .map_err(ServerError::Internal)
 }
 
 fn eta(v: &JobView) -> Option<f64> {
