@@ -7,65 +7,12 @@
 mod farm_common;
 
 use farm_common::*;
-use luxfarm::film::Film;
-use luxfarm_wire::codec;
 use std::path::Path;
 
 fn cornell() -> Vec<u8> {
     let dir = shared().join("scenes/cornell");
     let text = std::fs::read_to_string(dir.join("cornell.lxs")).expect("cornell scene");
     text.into_bytes()
-}
-
-/// The sum of the deltas a worker kept (`--keep-deltas`) that the master merged.
-fn sum_kept(dirs: &[&Path]) -> (Film, usize) {
-    let mut sum: Option<Film> = None;
-    let mut n = 0;
-    for d in dirs {
-        for p in files_under(d) {
-            let name = p.file_name().unwrap().to_string_lossy().to_string();
-            if !name.ends_with(".merged.lxd") {
-                continue;
-            }
-            let f = codec::decode(&std::fs::read(&p).unwrap()).unwrap();
-            n += 1;
-            match &mut sum {
-                Some(s) => s.merge(&f).unwrap(),
-                None => sum = Some(f),
-            }
-        }
-    }
-    (sum.expect("some deltas"), n)
-}
-
-/// The films hold the same sums: sample counts exactly, pixel sums up to the rounding of f64
-/// additions done in another order (the master adds deltas in arrival order).
-fn assert_same_sums(a: &Film, b: &Film) {
-    a.check_layout(b).unwrap();
-    for g in 0..a.groups().len() {
-        assert_eq!(
-            a.sample_count(g),
-            b.sample_count(g),
-            "group {g} sample count"
-        );
-        for k in 0..a.buffer_types().len() {
-            let (x, y) = (a.buffer(g, k).unwrap(), b.buffer(g, k).unwrap());
-            for (i, (p, q)) in x.iter().zip(y).enumerate() {
-                assert!(
-                    (p - q).abs() <= 1e-12 * p.abs().max(1.0),
-                    "value {i}: {p} vs {q}"
-                );
-            }
-        }
-    }
-}
-
-fn final_checkpoint(s: &Server, id: &str) -> Film {
-    let p = files_under(&s.data.join("jobs").join(id))
-        .into_iter()
-        .find(|p| p.extension().is_some_and(|e| e == "lxd"))
-        .expect("a checkpoint");
-    codec::decode(&std::fs::read(p).unwrap()).unwrap()
 }
 
 /// GET /metrics after a render: the merge latency histogram counts every merged delta, and

@@ -217,3 +217,66 @@ pub fn files_under(dir: &Path) -> Vec<PathBuf> {
     }
     out
 }
+
+/// The sum of the deltas workers kept (`--keep-deltas`) that the master merged, and their
+/// number.
+pub fn sum_kept(dirs: &[&Path]) -> (luxfarm::film::Film, usize) {
+    let mut sum: Option<luxfarm::film::Film> = None;
+    let mut n = 0;
+    for d in dirs {
+        for p in files_under(d) {
+            let name = p.file_name().unwrap().to_string_lossy().to_string();
+            if !name.ends_with(".merged.lxd") {
+                continue;
+            }
+            let f = luxfarm_wire::codec::decode(&std::fs::read(&p).unwrap()).unwrap();
+            n += 1;
+            match &mut sum {
+                Some(s) => s.merge(&f).unwrap(),
+                None => sum = Some(f),
+            }
+        }
+    }
+    (sum.expect("some deltas"), n)
+}
+
+/// The films hold the same sums: sample counts exactly, pixel sums up to the rounding of f64
+/// additions done in another order (the master adds deltas in arrival order).
+pub fn assert_same_sums(a: &luxfarm::film::Film, b: &luxfarm::film::Film) {
+    a.check_layout(b).unwrap();
+    for g in 0..a.groups().len() {
+        assert_eq!(
+            a.sample_count(g),
+            b.sample_count(g),
+            "group {g} sample count"
+        );
+        for k in 0..a.buffer_types().len() {
+            let (x, y) = (a.buffer(g, k).unwrap(), b.buffer(g, k).unwrap());
+            for (i, (p, q)) in x.iter().zip(y).enumerate() {
+                assert!(
+                    (p - q).abs() <= 1e-12 * p.abs().max(1.0),
+                    "value {i}: {p} vs {q}"
+                );
+            }
+        }
+    }
+}
+
+pub fn final_checkpoint(s: &Server, id: &str) -> luxfarm::film::Film {
+    let p = files_under(&s.data.join("jobs").join(id))
+        .into_iter()
+        .find(|p| p.extension().is_some_and(|e| e == "lxd"))
+        .expect("a checkpoint");
+    luxfarm_wire::codec::decode(&std::fs::read(p).unwrap()).unwrap()
+}
+
+/// Runs a command to completion; panics with its standard error when it fails.
+pub fn run_ok(cmd: &mut Command) -> std::process::Output {
+    let out = cmd.output().expect("run command");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
