@@ -2,6 +2,7 @@
 //! instancing, scale robustness and area sampling (one file per theme).
 
 mod files;
+mod motion;
 pub(crate) mod fixtures;
 mod robust;
 mod sampling;
@@ -10,7 +11,8 @@ mod shapes;
 use super::*;
 use crate::lxs::{ObjectDesc, ParamValue};
 use crate::shape::test_util::{floats, ints, points, quad, shape};
-use glam::{DMat4, DVec3};
+use crate::geometry::Interaction;
+use glam::{DMat4, DVec3, Vec2};
 use std::f32::consts::PI;
 
 pub(super) fn geo(descs: &[ShapeDesc]) -> Geometry {
