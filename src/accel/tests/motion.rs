@@ -140,9 +140,6 @@ fn a_rotating_instance_misses_nothing() {
         let time = (i % 60) as f32 / 59.0;
         let mut sb = GeometryBuilder::new();
         let sid = sb.add_object(&ball_object(), &[1, 2], &ShapeCtx::default()).unwrap();
-        if i % 60 == 0 || i < 60 {
-            // (rebuilt below per time; the object is tiny)
-        }
         sb.add_instance(sid, &Xform::fixed(DMat4::from(m.at(time))));
         let fixed = sb.build();
         let o = [rng.f32() * 8.0 - 4.0, rng.f32() * 8.0 - 4.0, 3.0];
