@@ -97,41 +97,75 @@ impl Geometry {
     /// one not prepared by [`Self::prepare_sampling`], gives pdf 0.
     pub fn sample(&self, id: ShapeId, u: Vec2, u_pick: f32, time: f32) -> (Interaction, Vec2, f32) {
         let none = (Interaction::default(), Vec2::ZERO, 0.0);
-        let (Some((shape, motion)), Some(Some(a))) = (self.shape_of(id), self.areas.get(id.0 as usize))
-        else {
+        let i = id.0 as usize;
+        let (Some(r), Some(Some(a))) = (self.refs.get(i), self.areas.get(i)) else {
             return none;
         };
-        let (g, pdf) = match shape {
+        let shape = match r {
+            ShapeRef::World(w) => match self.world.shapes.get(*w as usize) {
+                Some(s) => s,
+                None => return none,
+            },
+            ShapeRef::Moving { object, motion } => {
+                return self
+                    .sample_moving(*object, motion, a, (u, u_pick), time)
+                    .unwrap_or(none)
+            }
+        };
+        match shape {
             Shape::Mesh(m) => match &a.tris {
                 Some(dist) => {
                     let (s, uv) = m.sample(dist.pick(u_pick), u);
-                    let g = LocalGeometry {
+                    let it = Interaction {
                         p: s.p,
                         p_error: s.p_error,
                         n: s.n,
-                        ns: None,
-                        uv,
-                        dpdu: Vec3A::ZERO,
-                        dpdv: Vec3A::ZERO,
-                        hit: Default::default(),
+                        time,
                     };
-                    (g, (1.0 / a.area) as f32)
+                    (it, uv, (1.0 / a.area) as f32)
                 }
-                None => return none,
+                None => none,
             },
             Shape::Quadric(q) => {
                 let (g, pdf) = q.sample(u);
-                let scale = motion.map_or(1.0, area_scale);
-                (g, (pdf as f64 / scale) as f32)
+                (g.interaction(time), g.uv, pdf)
+            }
+        }
+    }
+
+    /// [`Self::sample`] of a moving shape (the one shape of `object`): sampled in its own
+    /// space, carried to world space with the transform at `time`.
+    #[inline(never)]
+    fn sample_moving(
+        &self,
+        object: u32,
+        motion: &MotionTransform,
+        a: &ShapeArea,
+        (u, u_pick): (Vec2, f32),
+        time: f32,
+    ) -> Option<(Interaction, Vec2, f32)> {
+        let shape = self.objects.get(object as usize)?.shapes.first()?;
+        let (g, pdf) = match shape {
+            Shape::Mesh(m) => {
+                let (s, uv) = m.sample(a.tris.as_ref()?.pick(u_pick), u);
+                let g = LocalGeometry {
+                    p: s.p,
+                    p_error: s.p_error,
+                    n: s.n,
+                    ns: None,
+                    uv,
+                    dpdu: Vec3A::ZERO,
+                    dpdv: Vec3A::ZERO,
+                    hit: Default::default(),
+                };
+                (g, (1.0 / a.area) as f32)
+            }
+            Shape::Quadric(q) => {
+                let (g, pdf) = q.sample(u);
+                (g, (pdf as f64 / area_scale(motion)) as f32)
             }
         };
-        let g = match motion {
-            None => g,
-            Some(m) => match m.transform_at(time) {
-                Some(t) => to_world(&t, &g),
-                None => return none,
-            },
-        };
-        (g.interaction(time), g.uv, pdf)
+        let g = to_world(&motion.transform_at(time)?, &g);
+        Some((g.interaction(time), g.uv, pdf))
     }
 }

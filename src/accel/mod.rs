@@ -4,7 +4,10 @@
 //! World-level shapes share one bottom-level BVH ([`blas::Blas`]); each `ObjectBegin` object
 //! gets its own, and a top-level BVH over the instances' world boxes transforms rays into the
 //! object's space (f64 transform, one f32 rounding) and hits back to world space with error
-//! bounds. Layout and build quality were chosen by measurement (`luxfarm bench bvh --all`,
+//! bounds. Shapes and instances with animated transforms are moving instances with a
+//! top-level BVH of their own over boxes bounding their whole motion (`motion.rs`), so static
+//! geometry keeps this path unchanged; `area.rs` samples world shapes (moving ones where they
+//! are at the sample's time). Layout and build quality were chosen by measurement (`luxfarm bench bvh --all`,
 //! `bench/src/bvh/`, over [`bvh::BvhOptions::candidates`]; the shared 2-core machine was loaded, so rates are per CPU-second
 //! received). On cornell-mesh.lxs, single thread: our uncompressed 8-wide BVH ([`bvh8`],
 //! collapsed from obvhs's BVH2) with 2 primitives per leaf ran 6.1-6.4 M closest-hit and
@@ -21,10 +24,10 @@
 //! noise on that scene, and on 500k triangles the slow build traversed ~10% faster (1.50 vs
 //! 1.35 M rays/s) for a 2.4 s instead of 1.4 s build: the slow build is the default.
 
+mod area;
 pub mod blas;
 pub mod bvh;
 pub mod bvh8;
-mod area;
 mod motion;
 pub mod tri4;
 
@@ -39,7 +42,7 @@ use area::ShapeArea;
 use blas::{Blas, BlasHit};
 use bvh::{padded, Bvh, BvhOptions};
 use glam::{DVec3, Vec3A};
-use motion::{MovingInstance, Movers};
+use motion::{Movers, MovingInstance};
 
 /// A world-level shape (index in the order of `add_shape`), static or moving.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -67,7 +70,10 @@ pub struct GeometryBuilder {
 #[derive(Clone, Debug)]
 enum ShapeRef {
     World(u32),
-    Moving { object: u32, motion: MotionTransform },
+    Moving {
+        object: u32,
+        motion: MotionTransform,
+    },
 }
 
 impl GeometryBuilder {
@@ -284,6 +290,18 @@ impl Geometry {
         if self.instances.is_empty() && self.movers.is_empty() {
             return best;
         }
+        self.closest_instanced(ray, t_max, best)
+    }
+
+    /// [`Self::closest`] over the static and moving instances, given the world's best hit
+    /// (kept out of line: scenes without instances never come here).
+    #[inline(never)]
+    fn closest_instanced(
+        &self,
+        ray: &Ray,
+        mut t_max: f32,
+        mut best: Option<(Found, f32)>,
+    ) -> Option<(Found, f32)> {
         let len = ray.d.length();
         if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return best;
@@ -363,6 +381,13 @@ impl Geometry {
         if self.instances.is_empty() && self.movers.is_empty() {
             return false;
         }
+        self.any_instanced(ray)
+    }
+
+    /// [`Self::intersect_p`] over the static and moving instances (out of line, as
+    /// [`Self::closest_instanced`]).
+    #[inline(never)]
+    fn any_instanced(&self, ray: &Ray) -> bool {
         let len = ray.d.length();
         if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return false;
@@ -370,8 +395,7 @@ impl Geometry {
         let dn = ray.d / len;
         let tm = ray.t_max * len;
         (!self.instances.is_empty() && self.any_instance(ray.o, dn, tm))
-            || (!self.movers.is_empty()
-                && self.movers.any(&self.objects, ray.o, dn, tm, ray.time))
+            || (!self.movers.is_empty() && self.movers.any(&self.objects, ray.o, dn, tm, ray.time))
     }
 
     /// Whether a static instance is hit along `o + t·dn` (dn unit) with t < `t_max`.

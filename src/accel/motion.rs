@@ -154,7 +154,11 @@ impl Movers {
         Some((super::to_world(&to_world, &g), prim))
     }
 
-    fn get<'a>(&'a self, objects: &'a [Blas], slot: usize) -> Option<(&'a MovingInstance, &'a Blas)> {
+    fn get<'a>(
+        &'a self,
+        objects: &'a [Blas],
+        slot: usize,
+    ) -> Option<(&'a MovingInstance, &'a Blas)> {
         let inst = self.instances.get(slot)?.as_ref()?;
         Some((inst, objects.get(inst.object as usize)?))
     }

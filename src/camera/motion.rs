@@ -56,9 +56,7 @@ impl CameraMotion {
             ));
         }
         if MotionTransform::loses_shear(&keys) {
-            tracing::warn!(
-                "a camera motion key is sheared: it is interpolated without its shear"
-            );
+            tracing::warn!("a camera motion key is sheared: it is interpolated without its shear");
         }
         MotionTransform::new(&keys)
             .map(CameraMotion::Keys)

@@ -76,7 +76,12 @@ impl MotionTransform {
         keys.iter().any(|(_, a)| {
             let (s, r, t) = a.to_scale_rotation_translation();
             let back = DAffine3::from_scale_rotation_translation(s, r.normalize(), t);
-            let size = a.matrix3.abs().to_cols_array().into_iter().fold(0.0, f64::max);
+            let size = a
+                .matrix3
+                .abs()
+                .to_cols_array()
+                .into_iter()
+                .fold(0.0, f64::max);
             let diff = (back.matrix3 - a.matrix3)
                 .abs()
                 .to_cols_array()
@@ -264,10 +269,19 @@ mod tests {
             ),
         );
         let p = DVec3::new(1.0, 0.0, 0.0);
-        assert!(close(m.at(0.5).transform_point3(p), DVec3::new(2.0, 1.0, 0.0)));
-        assert!(close(m.at(0.25).transform_point3(DVec3::ZERO), DVec3::new(-0.5, 0.5, 0.0)));
+        assert!(close(
+            m.at(0.5).transform_point3(p),
+            DVec3::new(2.0, 1.0, 0.0)
+        ));
+        assert!(close(
+            m.at(0.25).transform_point3(DVec3::ZERO),
+            DVec3::new(-0.5, 0.5, 0.0)
+        ));
         assert!(close(m.at(-3.0).transform_point3(p), DVec3::ZERO));
-        assert!(close(m.at(7.0).transform_point3(p), DVec3::new(4.0, 2.0, 0.0)));
+        assert!(close(
+            m.at(7.0).transform_point3(p),
+            DVec3::new(4.0, 2.0, 0.0)
+        ));
         assert!(close(m.at(f32::NAN).transform_point3(p), DVec3::ZERO));
     }
 
@@ -296,8 +310,8 @@ mod tests {
     #[test]
     fn several_keys_pick_the_interval_around_the_time() {
         let at = |x: f64| DAffine3::from_translation(DVec3::new(x, 0.0, 0.0));
-        let m = MotionTransform::new(&[(2.0, at(10.0)), (0.0, at(0.0)), (1.0, at(4.0))])
-            .expect("keys");
+        let m =
+            MotionTransform::new(&[(2.0, at(10.0)), (0.0, at(0.0)), (1.0, at(4.0))]).expect("keys");
         assert_eq!(m.time_range(), (0.0, 2.0));
         let x = |t: f32| m.at(t).translation.x;
         assert!((x(0.5) - 2.0).abs() < 1e-12);
@@ -329,10 +343,18 @@ mod tests {
 
     #[test]
     fn shear_is_detected() {
-        let shear = DAffine3::from_cols_array(&[1.0, 0.0, 0.0, 0.7, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
-        assert!(MotionTransform::loses_shear(&[(0.0, DAffine3::IDENTITY), (1.0, shear)]));
+        let shear = DAffine3::from_cols_array(&[
+            1.0, 0.0, 0.0, 0.7, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0,
+        ]);
+        assert!(MotionTransform::loses_shear(&[
+            (0.0, DAffine3::IDENTITY),
+            (1.0, shear)
+        ]));
         let rigid = DAffine3::from_rotation_z(2.0);
-        assert!(!MotionTransform::loses_shear(&[(0.0, DAffine3::IDENTITY), (1.0, rigid)]));
+        assert!(!MotionTransform::loses_shear(&[
+            (0.0, DAffine3::IDENTITY),
+            (1.0, rigid)
+        ]));
     }
 
     /// Every corner, edge midpoint and face centre of the box, at many times, lies in the

@@ -2,16 +2,16 @@
 //! instancing, scale robustness and area sampling (one file per theme).
 
 mod files;
-mod motion;
 pub(crate) mod fixtures;
+mod motion;
 mod robust;
 mod sampling;
 mod shapes;
 
 use super::*;
+use crate::geometry::Interaction;
 use crate::lxs::{ObjectDesc, ParamValue};
 use crate::shape::test_util::{floats, ints, points, quad, shape};
-use crate::geometry::Interaction;
 use glam::{DMat4, DVec3, Vec2};
 use std::f32::consts::PI;
 

@@ -63,8 +63,12 @@ fn a_moving_sphere_is_hit_where_it_is_at_the_ray_time() {
         }
     }
     // Before the first key and after the last, the end keys hold.
-    assert!(g.intersect(&timed([-2.0, 0.0, 5.0], [0.0, 0.0, -1.0], -1.0)).is_some());
-    assert!(g.intersect(&timed([2.0, 0.0, 5.0], [0.0, 0.0, -1.0], 3.0)).is_some());
+    assert!(g
+        .intersect(&timed([-2.0, 0.0, 5.0], [0.0, 0.0, -1.0], -1.0))
+        .is_some());
+    assert!(g
+        .intersect(&timed([2.0, 0.0, 5.0], [0.0, 0.0, -1.0], 3.0))
+        .is_some());
     let (lo, hi) = g.bounds();
     assert!(lo.x <= -2.5 && hi.x >= 2.5 && lo.y <= -0.5 && hi.y >= 0.5);
 }
@@ -79,7 +83,9 @@ fn constant_motion_matches_the_static_instance() {
     );
     let build = |moving: bool| {
         let mut b = GeometryBuilder::new();
-        let id = b.add_object(&ball_object(), &[1, 2], &ShapeCtx::default()).unwrap();
+        let id = b
+            .add_object(&ball_object(), &[1, 2], &ShapeCtx::default())
+            .unwrap();
         if moving {
             let a = DAffine3::from_mat4(place);
             b.moving.push(MovingInstance {
@@ -105,7 +111,12 @@ fn constant_motion_matches_the_static_instance() {
         if let (Some(a), Some(b)) = (a, b) {
             hits += 1;
             assert_eq!(a.prim, b.prim);
-            assert!((a.t - b.t).abs() <= 1e-5 * a.t.max(1.0), "{} vs {}", a.t, b.t);
+            assert!(
+                (a.t - b.t).abs() <= 1e-5 * a.t.max(1.0),
+                "{} vs {}",
+                a.t,
+                b.t
+            );
             assert!(close(a.it.n, b.it.n, 1e-5) && close(a.it.p, b.it.p, 1e-4));
         }
     }
@@ -130,7 +141,9 @@ fn a_rotating_instance_misses_nothing() {
         ],
     };
     let mut b = GeometryBuilder::new();
-    let id = b.add_object(&ball_object(), &[1, 2], &ShapeCtx::default()).unwrap();
+    let id = b
+        .add_object(&ball_object(), &[1, 2], &ShapeCtx::default())
+        .unwrap();
     b.add_instance(id, &motion);
     let g = b.build();
     let m = MotionTransform::from_matrices(&motion.keys).unwrap();
@@ -139,7 +152,9 @@ fn a_rotating_instance_misses_nothing() {
     for i in 0..3000 {
         let time = (i % 60) as f32 / 59.0;
         let mut sb = GeometryBuilder::new();
-        let sid = sb.add_object(&ball_object(), &[1, 2], &ShapeCtx::default()).unwrap();
+        let sid = sb
+            .add_object(&ball_object(), &[1, 2], &ShapeCtx::default())
+            .unwrap();
         sb.add_instance(sid, &Xform::fixed(DMat4::from(m.at(time))));
         let fixed = sb.build();
         let o = [rng.f32() * 8.0 - 4.0, rng.f32() * 8.0 - 4.0, 3.0];
