@@ -4,7 +4,10 @@
 //! World-level shapes share one bottom-level BVH ([`blas::Blas`]); each `ObjectBegin` object
 //! gets its own, and a top-level BVH over the instances' world boxes transforms rays into the
 //! object's space (f64 transform, one f32 rounding) and hits back to world space with error
-//! bounds. Layout and build quality were chosen by measurement (`luxfarm bench bvh --all`,
+//! bounds. Shapes and instances with animated transforms are moving instances with a
+//! top-level BVH of their own over boxes bounding their whole motion (`motion.rs`), so static
+//! geometry keeps this path unchanged; `area.rs` samples world shapes (moving ones where they
+//! are at the sample's time). Layout and build quality were chosen by measurement (`luxfarm bench bvh --all`,
 //! `bench/src/bvh/`, over [`bvh::BvhOptions::candidates`]; the shared 2-core machine was loaded, so rates are per CPU-second
 //! received). On cornell-mesh.lxs, single thread: our uncompressed 8-wide BVH ([`bvh8`],
 //! collapsed from obvhs's BVH2) with 2 primitives per leaf ran 6.1-6.4 M closest-hit and
@@ -21,23 +24,27 @@
 //! noise on that scene, and on 500k triangles the slow build traversed ~10% faster (1.50 vs
 //! 1.35 M rays/s) for a 2.4 s instead of 1.4 s build: the slow build is the default.
 
+mod area;
 pub mod blas;
 pub mod bvh;
 pub mod bvh8;
+mod motion;
 pub mod tri4;
 
 use crate::geometry::frame::LocalGeometry;
+use crate::geometry::motion::MotionTransform;
 use crate::geometry::transform::{to_f32, to_f64};
-use crate::geometry::{unit_or, Interaction, Ray, SurfaceInteraction, Transform};
+use crate::geometry::{unit_or, Ray, SurfaceInteraction, Transform};
 use crate::lxs::{ObjectDesc, ShapeDesc, Xform};
 use crate::plugin::BuildError;
-use crate::sampling::DiscreteDistribution;
 use crate::shape::{Shape, ShapeCtx};
+use area::ShapeArea;
 use blas::{Blas, BlasHit};
 use bvh::{padded, Bvh, BvhOptions};
-use glam::{DVec3, Vec2, Vec3A};
+use glam::{DVec3, Vec3A};
+use motion::{Movers, MovingInstance};
 
-/// A world-level shape (index in the order of `add_shape`).
+/// A world-level shape (index in the order of `add_shape`), static or moving.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ShapeId(pub u32);
 
@@ -52,7 +59,21 @@ pub struct GeometryBuilder {
     prims: Vec<u32>,
     objects: Vec<(Vec<Shape>, Vec<u32>)>,
     instances: Vec<(u32, Transform)>,
+    moving: Vec<MovingInstance>,
+    /// What each `ShapeId` is.
+    refs: Vec<ShapeRef>,
     options: BvhOptions,
+}
+
+/// Where a world-level shape lives: in the world BVH (index in its shapes), or, moving, as
+/// the one shape of an object placed by its animated transform.
+#[derive(Clone, Debug)]
+enum ShapeRef {
+    World(u32),
+    Moving {
+        object: u32,
+        motion: MotionTransform,
+    },
 }
 
 impl GeometryBuilder {
@@ -68,17 +89,34 @@ impl GeometryBuilder {
         }
     }
 
-    /// Adds a world-level shape; every hit on it reports `prim`.
+    /// Adds a world-level shape; every hit on it reports `prim`. A shape whose transform is
+    /// animated is built once in its own space and placed as a moving instance.
     pub fn add_shape(
         &mut self,
         desc: &ShapeDesc,
         prim: u32,
         ctx: &ShapeCtx,
     ) -> Result<ShapeId, BuildError> {
-        let s = Shape::build(desc, &Transform::IDENTITY, ctx)?;
-        self.shapes.push(s);
-        self.prims.push(prim);
-        Ok(ShapeId(self.shapes.len() as u32 - 1))
+        let r = match moving_shape_motion(desc) {
+            Some(motion) => {
+                let s = Shape::build_local(desc, ctx)?;
+                let object = self.objects.len() as u32;
+                self.objects.push((vec![s], vec![prim]));
+                self.moving.push(MovingInstance {
+                    object,
+                    motion: motion.clone(),
+                });
+                ShapeRef::Moving { object, motion }
+            }
+            None => {
+                let s = Shape::build(desc, &Transform::IDENTITY, ctx)?;
+                self.shapes.push(s);
+                self.prims.push(prim);
+                ShapeRef::World(self.shapes.len() as u32 - 1)
+            }
+        };
+        self.refs.push(r);
+        Ok(ShapeId(self.refs.len() as u32 - 1))
     }
 
     /// Adds an object; `prims[i]` is reported for hits on `obj.shapes[i]`.
@@ -108,11 +146,21 @@ impl GeometryBuilder {
         Ok(ObjectId(self.objects.len() as u32 - 1))
     }
 
-    /// Places an instance of `object`. Singular transforms are skipped with a warning;
-    /// motion-blurred ones use their first key.
+    /// Places an instance of `object`; an animated transform makes it a moving instance.
+    /// Singular transforms are skipped with a warning.
     pub fn add_instance(&mut self, object: ObjectId, instance_to_world: &Xform) {
         if instance_to_world.is_animated() {
-            tracing::warn!("object instance with a motion-blurred transform: using its first key (motion blur is not implemented)");
+            match motion_of(instance_to_world) {
+                Ok(motion) if (object.0 as usize) < self.objects.len() => {
+                    self.moving.push(MovingInstance {
+                        object: object.0,
+                        motion,
+                    })
+                }
+                Ok(_) => tracing::warn!("instance of unknown object {} skipped", object.0),
+                Err(why) => tracing::warn!("moving object instance skipped: {why}"),
+            }
+            return;
         }
         match Transform::new(instance_to_world.start()) {
             Some(t) if (object.0 as usize) < self.objects.len() => {
@@ -126,7 +174,7 @@ impl GeometryBuilder {
     pub fn build(self) -> Geometry {
         let start = std::time::Instant::now();
         // Area-sampling tables are made on demand, for the shapes that emit light.
-        let areas = vec![None; self.shapes.len()];
+        let areas = vec![None; self.refs.len()];
         let world = Blas::build(self.shapes, self.prims, self.options);
         let objects: Vec<Blas> = self
             .objects
@@ -156,7 +204,8 @@ impl GeometryBuilder {
             .iter()
             .map(|&i| instances[i as usize].clone())
             .collect();
-        let (mut lo, mut hi) = (world.lo, world.hi);
+        let movers = Movers::build(self.moving, &objects, self.options);
+        let (mut lo, mut hi) = (world.lo.min(movers.lo), world.hi.max(movers.hi));
         for b in &boxes {
             lo = lo.min(b.min);
             hi = hi.max(b.max);
@@ -166,7 +215,7 @@ impl GeometryBuilder {
             .map(|i| objects[i.object as usize].triangle_count())
             .sum();
         tracing::info!(
-            "geometry: {} shapes ({} triangles, {} quadrics), {} objects ({} triangles), {} instances ({} instanced triangles); BVH {} built in {:.1?}",
+            "geometry: {} shapes ({} triangles, {} quadrics), {} objects ({} triangles), {} instances ({} instanced triangles), {} moving ({} triangles); BVH {} built in {:.1?}",
             world.shapes.len(),
             world.triangle_count(),
             world.quadric_count(),
@@ -174,15 +223,19 @@ impl GeometryBuilder {
             objects.iter().map(Blas::triangle_count).sum::<usize>(),
             instances.len(),
             instanced_tris,
+            movers.len(),
+            movers.triangle_count(&objects),
             self.options,
             start.elapsed()
         );
         Geometry {
             world,
+            refs: self.refs,
             areas,
             objects,
             instances,
             tlas,
+            movers,
             lo,
             hi,
         }
@@ -196,40 +249,19 @@ struct Instance {
     to_object: Transform,
 }
 
-/// Area of a world shape and, for meshes, the triangle-picking table.
-#[derive(Clone, Debug)]
-struct ShapeArea {
-    area: f64,
-    tris: Option<DiscreteDistribution>,
-}
-
-impl ShapeArea {
-    fn new(s: &Shape) -> ShapeArea {
-        match s {
-            Shape::Mesh(m) => {
-                let w: Vec<f64> = (0..m.tris.len()).map(|i| m.area(i)).collect();
-                ShapeArea {
-                    area: w.iter().sum(),
-                    tris: DiscreteDistribution::new(&w),
-                }
-            }
-            Shape::Quadric(q) => ShapeArea {
-                area: q.area(),
-                tris: None,
-            },
-        }
-    }
-}
-
 /// All the scene's geometry, ready for ray queries.
 #[derive(Clone, Debug)]
 pub struct Geometry {
     world: Blas,
+    /// What each [`ShapeId`] is.
+    refs: Vec<ShapeRef>,
     /// Per world shape: its area-sampling table, once [`Geometry::prepare_sampling`] made it.
     areas: Vec<Option<ShapeArea>>,
     objects: Vec<Blas>,
     instances: Vec<Instance>,
     tlas: Bvh,
+    /// Instances and world shapes with animated transforms.
+    movers: Movers,
     lo: Vec3A,
     hi: Vec3A,
 }
@@ -239,6 +271,7 @@ pub struct Geometry {
 enum Found {
     World(BlasHit),
     Instance(u32, BlasHit),
+    Moving(u32, BlasHit),
 }
 
 impl Geometry {
@@ -254,31 +287,65 @@ impl Geometry {
             t_max = h.t;
             best = Some((Found::World(h), h.t));
         }
-        if self.instances.is_empty() {
+        if self.instances.is_empty() && self.movers.is_empty() {
             return best;
         }
+        self.closest_instanced(ray, t_max, best)
+    }
+
+    /// [`Self::closest`] over the static and moving instances, given the world's best hit
+    /// (kept out of line: scenes without instances never come here).
+    #[inline(never)]
+    fn closest_instanced(
+        &self,
+        ray: &Ray,
+        mut t_max: f32,
+        mut best: Option<(Found, f32)>,
+    ) -> Option<(Found, f32)> {
         let len = ray.d.length();
         if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return best;
         }
         let dn = ray.d / len;
         let mut inst_best = None;
-        self.tlas.closest(ray.o, dn, t_max * len, |o, d, tm, slot| {
+        if !self.instances.is_empty() {
+            self.closest_instance(ray.o, dn, t_max * len, &mut inst_best);
+        }
+        if let Some((slot, h)) = inst_best {
+            t_max = h.t / len;
+            best = Some((Found::Instance(slot, h), t_max));
+        }
+        if !self.movers.is_empty() {
+            let found = self
+                .movers
+                .closest(&self.objects, ray.o, dn, t_max * len, ray.time);
+            if let Some((slot, h)) = found {
+                best = Some((Found::Moving(slot, h), h.t / len));
+            }
+        }
+        best
+    }
+
+    /// The closest static instance hit along `o + t·dn` (dn unit) with t < `t_max`.
+    fn closest_instance(
+        &self,
+        o: Vec3A,
+        dn: Vec3A,
+        t_max: f32,
+        inst_best: &mut Option<(u32, BlasHit)>,
+    ) {
+        self.tlas.closest(o, dn, t_max, |o, d, tm, slot| {
             let inst = &self.instances[slot];
             let o = inst.to_object.point_f32(o);
             let d = inst.to_object.vector_f32(d);
             match self.objects[inst.object as usize].closest(o, d, tm) {
                 Some(h) => {
-                    inst_best = Some((slot as u32, h));
+                    *inst_best = Some((slot as u32, h));
                     h.t
                 }
                 None => f32::INFINITY,
             }
         });
-        if let Some((slot, h)) = inst_best {
-            best = Some((Found::Instance(slot, h), h.t / len));
-        }
-        best
     }
 
     /// The closest hit with 0 < t < ray.t_max, fully described.
@@ -296,6 +363,11 @@ impl Geometry {
                     self.objects[inst.object as usize].hit_geometry(h, o, d, f32::INFINITY)?;
                 (to_world(&inst.to_world, &g), prim)
             }
+            Found::Moving(slot, h) => {
+                let dn = ray.d / ray.d.length();
+                self.movers
+                    .hit_geometry(&self.objects, slot, h, (ray.o, dn), ray.time)?
+            }
         };
         let wo = unit_or(-ray.d, Vec3A::ZERO);
         Some(g.into_surface_interaction(wo, t, prim, ray.time))
@@ -306,15 +378,29 @@ impl Geometry {
         if self.world.any(ray.o, ray.d, ray.t_max) {
             return true;
         }
-        if self.instances.is_empty() {
+        if self.instances.is_empty() && self.movers.is_empty() {
             return false;
         }
+        self.any_instanced(ray)
+    }
+
+    /// [`Self::intersect_p`] over the static and moving instances (out of line, as
+    /// [`Self::closest_instanced`]).
+    #[inline(never)]
+    fn any_instanced(&self, ray: &Ray) -> bool {
         let len = ray.d.length();
         if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return false;
         }
         let dn = ray.d / len;
-        self.tlas.any(ray.o, dn, ray.t_max * len, |o, d, tm, slot| {
+        let tm = ray.t_max * len;
+        (!self.instances.is_empty() && self.any_instance(ray.o, dn, tm))
+            || (!self.movers.is_empty() && self.movers.any(&self.objects, ray.o, dn, tm, ray.time))
+    }
+
+    /// Whether a static instance is hit along `o + t·dn` (dn unit) with t < `t_max`.
+    fn any_instance(&self, o: Vec3A, dn: Vec3A, t_max: f32) -> bool {
+        self.tlas.any(o, dn, t_max, |o, d, tm, slot| {
             let inst = &self.instances[slot];
             let o = inst.to_object.point_f32(o);
             let d = inst.to_object.vector_f32(d);
@@ -326,64 +412,46 @@ impl Geometry {
         })
     }
 
-    /// World-space area of a world-level shape (0 for an unknown id).
-    pub fn area(&self, id: ShapeId) -> f32 {
-        match (
-            self.areas.get(id.0 as usize),
-            self.world.shapes.get(id.0 as usize),
-        ) {
-            (Some(Some(a)), _) => a.area as f32,
-            (_, Some(s)) => s.area() as f32,
-            _ => 0.0,
-        }
-    }
-
-    /// Makes world shape `id` ready for [`Self::sample`] (for a mesh, its triangle-picking
-    /// table, 16 bytes per triangle: only emitters pay for it) and returns its area.
-    pub fn prepare_sampling(&mut self, id: ShapeId) -> f32 {
-        let i = id.0 as usize;
-        let (Some(slot), Some(shape)) = (self.areas.get_mut(i), self.world.shapes.get(i)) else {
-            return 0.0;
-        };
-        slot.get_or_insert_with(|| ShapeArea::new(shape)).area as f32
-    }
-
-    /// A point of the shape, uniform by area (`u_pick` chooses the triangle of a mesh), its uv
-    /// and its density with respect to area. An unknown id, or one not prepared by
-    /// [`Self::prepare_sampling`], gives pdf 0.
-    pub fn sample(&self, id: ShapeId, u: Vec2, u_pick: f32) -> (Interaction, Vec2, f32) {
-        let none = (Interaction::default(), Vec2::ZERO, 0.0);
-        let (Some(shape), Some(Some(a))) = (
-            self.world.shapes.get(id.0 as usize),
-            self.areas.get(id.0 as usize),
-        ) else {
-            return none;
-        };
-        match shape {
-            Shape::Mesh(m) => match &a.tris {
-                Some(dist) => {
-                    let (s, uv) = m.sample(dist.pick(u_pick), u);
-                    let it = Interaction {
-                        p: s.p,
-                        p_error: s.p_error,
-                        n: s.n,
-                        time: 0.0,
-                    };
-                    (it, uv, (1.0 / a.area) as f32)
-                }
-                None => none,
-            },
-            Shape::Quadric(q) => {
-                let (g, pdf) = q.sample(u);
-                (g.interaction(0.0), g.uv, pdf)
-            }
-        }
-    }
-
-    /// Number of world-level shapes.
+    /// Number of world-level shapes (static and moving).
     pub fn shape_count(&self) -> usize {
-        self.world.shapes.len()
+        self.refs.len()
     }
+}
+
+/// The motion of a world shape whose transform is animated (`None` for a static one, or
+/// when its keys cannot be interpolated: then, with a warning, its first key is used).
+fn moving_shape_motion(desc: &ShapeDesc) -> Option<MotionTransform> {
+    if !desc.object_to_world.is_animated() {
+        return None;
+    }
+    match motion_of(&desc.object_to_world) {
+        Ok(m) => Some(m),
+        Err(why) => {
+            tracing::warn!(
+                "{}: shape \"{}\": {why}; using its first key",
+                desc.entity.loc,
+                desc.entity.kind
+            );
+            None
+        }
+    }
+}
+
+/// The interpolated motion of animated keys; an error when a key is singular or not finite.
+/// A sheared key is interpolated without its shear (warned).
+fn motion_of(x: &Xform) -> Result<MotionTransform, String> {
+    if x.keys.iter().any(|(_, m)| Transform::new(*m).is_none()) {
+        return Err("a motion key is singular or not finite".into());
+    }
+    let affine: Vec<(f32, glam::DAffine3)> = x
+        .keys
+        .iter()
+        .map(|(t, m)| (*t, glam::DAffine3::from_mat4(*m)))
+        .collect();
+    if MotionTransform::loses_shear(&affine) {
+        tracing::warn!("a motion key is sheared: it is interpolated without its shear");
+    }
+    MotionTransform::new(&affine).ok_or_else(|| "motion keys are not finite".to_string())
 }
 
 /// Object-space local geometry moved to world space, with the point's error propagated.

@@ -3,17 +3,19 @@
 //! `CameraDesc.world_to_camera` is the CTM at the `Camera` statement (LuxRender and pbrt
 //! convention: camera space looks down +z, +y up; LuxRender's `LookAt` puts +x to the right,
 //! `right = normalize(dir x up)`). Animated cameras (`MotionBegin` around the camera
-//! transform) are interpolated like LuxRender's motion system: translation and scale linearly,
-//! rotation by quaternion slerp, between the keys around the ray's time.
+//! transform) are interpolated like LuxRender's motion system ([`MotionTransform`], shared
+//! with moving shapes and instances): translation and scale linearly, rotation by quaternion
+//! slerp, between the keys around the ray's time.
 
+use crate::geometry::motion::MotionTransform;
 use crate::lxs::Xform;
-use glam::{DAffine3, DMat4, DQuat, DVec3};
+use glam::{DAffine3, DMat4};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum CameraMotion {
     Fixed(DAffine3),
-    /// (time, scale, rotation, translation) of camera-to-world, by increasing time.
-    Keys(Vec<(f32, DVec3, DQuat, DVec3)>),
+    /// Camera-to-world interpolated between its keys.
+    Keys(MotionTransform),
 }
 
 /// Why a camera transform is unusable.
@@ -53,50 +55,19 @@ impl CameraMotion {
                 keys.first().map(|k| k.1).unwrap_or(DAffine3::IDENTITY),
             ));
         }
-        keys.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let keys = keys
-            .into_iter()
-            .map(|(t, a)| {
-                let (s, r, tr) = a.to_scale_rotation_translation();
-                (t, s, r, tr)
-            })
-            .collect();
-        Ok(CameraMotion::Keys(keys))
+        if MotionTransform::loses_shear(&keys) {
+            tracing::warn!("a camera motion key is sheared: it is interpolated without its shear");
+        }
+        MotionTransform::new(&keys)
+            .map(CameraMotion::Keys)
+            .ok_or_else(|| "camera motion keys are not finite".to_string())
     }
 
     /// Camera-to-world at `time`.
     pub fn at(&self, time: f32) -> DAffine3 {
         match self {
             CameraMotion::Fixed(a) => *a,
-            CameraMotion::Keys(keys) => {
-                let compose = |k: &(f32, DVec3, DQuat, DVec3)| {
-                    DAffine3::from_scale_rotation_translation(k.1, k.2, k.3)
-                };
-                let (Some(first), Some(last)) = (keys.first(), keys.last()) else {
-                    return DAffine3::IDENTITY;
-                };
-                if time <= first.0 {
-                    return compose(first);
-                }
-                if time >= last.0 {
-                    return compose(last);
-                }
-                let i = keys
-                    .partition_point(|k| k.0 <= time)
-                    .clamp(1, keys.len() - 1);
-                let (a, b) = (&keys[i - 1], &keys[i]);
-                let span = (b.0 - a.0) as f64;
-                let f = if span > 0.0 {
-                    (time - a.0) as f64 / span
-                } else {
-                    0.0
-                };
-                DAffine3::from_scale_rotation_translation(
-                    a.1.lerp(b.1, f),
-                    a.2.slerp(b.2, f),
-                    a.3.lerp(b.3, f),
-                )
-            }
+            CameraMotion::Keys(m) => m.at(time),
         }
     }
 }

@@ -7,6 +7,7 @@
 
 pub mod frame;
 pub mod interaction;
+pub mod motion;
 pub mod ray;
 pub mod transform;
 

@@ -146,7 +146,7 @@ impl AreaLight {
         u_pick: f32,
         shapes: &dyn ShapeSampler,
     ) -> Option<LightSample> {
-        let (it, uv, pdf_area) = shapes.sample_shape(self.shape, u, u_pick)?;
+        let (it, uv, pdf_area) = shapes.sample_shape(self.shape, u, u_pick, r.time)?;
         let d = it.p - r.p;
         let d2 = d.length_squared();
         if d2 <= 0.0 || pdf_area <= 0.0 {
@@ -191,7 +191,7 @@ impl AreaLight {
         time: f32,
         shapes: &dyn ShapeSampler,
     ) -> Option<super::emission::LightRay> {
-        let (mut it, uv, pdf_pos) = shapes.sample_shape(self.shape, u_pos, u_pick)?;
+        let (mut it, uv, pdf_pos) = shapes.sample_shape(self.shape, u_pos, u_pick, time)?;
         it.time = time;
         let local = match &self.ies {
             None => crate::sampling::cosine_hemisphere(u_dir),
@@ -262,7 +262,13 @@ mod tests {
     /// A unit square at z = 1 facing down.
     struct Square;
     impl ShapeSampler for Square {
-        fn sample_shape(&self, _: u32, u: Vec2, _: f32) -> Option<(Interaction, Vec2, f32)> {
+        fn sample_shape(
+            &self,
+            _: u32,
+            u: Vec2,
+            _: f32,
+            _: f32,
+        ) -> Option<(Interaction, Vec2, f32)> {
             let it = Interaction {
                 p: Vec3A::new(u.x - 0.5, u.y - 0.5, 1.0),
                 n: -Vec3A::Z,

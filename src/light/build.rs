@@ -37,6 +37,14 @@ impl Light {
         let e = &ld.entity;
         let p = &e.params;
         let common = LightCommon::from_params(p, group);
+        if ld.light_to_world.is_animated() {
+            tracing::warn!(
+                "{}: LightSource \"{}\": motion-blurred transform: using its first key (only \
+                 area lights, on their shapes, move)",
+                e.loc,
+                e.kind
+            );
+        }
         let l2w = ld.light_to_world.start().as_mat4();
         if let Some(built) = sunsky::build(&e.kind, p, l2w, common, &e.loc) {
             return built;

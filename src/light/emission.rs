@@ -233,7 +233,13 @@ mod tests {
 
     struct NoShapes;
     impl ShapeSampler for NoShapes {
-        fn sample_shape(&self, _: u32, _: Vec2, _: f32) -> Option<(Interaction, Vec2, f32)> {
+        fn sample_shape(
+            &self,
+            _: u32,
+            _: Vec2,
+            _: f32,
+            _: f32,
+        ) -> Option<(Interaction, Vec2, f32)> {
             None
         }
     }

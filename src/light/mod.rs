@@ -132,10 +132,17 @@ pub struct LightColor {
 }
 
 /// Where area lights find points on their shapes (implemented by the scene over the
-/// geometry): a point uniformly by area on emitter `shape`, its uv (textured emission is
-/// looked up there), and the area pdf.
+/// geometry): a point uniformly by area on emitter `shape` at shutter time `time` (a moving
+/// shape is where it is then), its uv (textured emission is looked up there), and the area
+/// pdf.
 pub trait ShapeSampler {
-    fn sample_shape(&self, shape: u32, u: Vec2, u_pick: f32) -> Option<(Interaction, Vec2, f32)>;
+    fn sample_shape(
+        &self,
+        shape: u32,
+        u: Vec2,
+        u_pick: f32,
+        time: f32,
+    ) -> Option<(Interaction, Vec2, f32)>;
 }
 
 /// One sampled light direction as seen from a reference point.

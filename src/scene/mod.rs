@@ -243,9 +243,15 @@ impl World {
 }
 
 impl ShapeSampler for World {
-    fn sample_shape(&self, shape: u32, u: Vec2, u_pick: f32) -> Option<(Interaction, Vec2, f32)> {
+    fn sample_shape(
+        &self,
+        shape: u32,
+        u: Vec2,
+        u_pick: f32,
+        time: f32,
+    ) -> Option<(Interaction, Vec2, f32)> {
         let id = *self.emitters.get(shape as usize)?;
-        let (it, uv, pdf) = self.geometry.sample(id, u, u_pick);
+        let (it, uv, pdf) = self.geometry.sample(id, u, u_pick, time);
         (pdf > 0.0).then_some((it, uv, pdf))
     }
 }

@@ -135,25 +135,46 @@ impl Shape {
         };
         if desc.object_to_world.is_animated() {
             b.warn(
-                "motion-blurred transform: using its first key (motion blur is not implemented)",
+                "motion-blurred transform not interpolated here (a shape inside an object, or \
+                 keys that cannot be): using its first key; world shapes and object instances \
+                 move with all their keys",
             );
         }
         let o2w = Transform::new(desc.object_to_world.start())
             .ok_or_else(|| b.err("the shape's transform is singular or not finite"))?;
         b.to_space = space_from_world.compose(&o2w);
-        match desc.entity.kind.as_str() {
+        b.dispatch()
+    }
+
+    /// Builds the shape of `desc` in its own object space, ignoring its transform (a moving
+    /// shape: its animated transform places it per ray).
+    pub fn build_local(desc: &ShapeDesc, ctx: &ShapeCtx) -> Result<Shape, BuildError> {
+        Build {
+            desc,
+            ctx,
+            to_space: Transform::IDENTITY,
+        }
+        .dispatch()
+    }
+}
+
+impl Build<'_> {
+    /// Builds the shape by its name; each shape file reads its own parameters.
+    fn dispatch(&self) -> Result<Shape, BuildError> {
+        let b = self;
+        match b.desc.entity.kind.as_str() {
             "trianglemesh" | "mesh" | "waldtrianglemesh" | "barytrianglemesh" | "loopsubdiv" => {
-                trianglemesh::build(&b).map(Shape::Mesh)
+                trianglemesh::build(b).map(Shape::Mesh)
             }
-            "plymesh" => plymesh::build(&b).map(Shape::Mesh),
-            "stlmesh" => stlmesh::build(&b).map(Shape::Mesh),
-            "heightfield" => heightfield::build(&b).map(Shape::Mesh),
-            "sphere" => sphere::build(&b).map(quadric),
-            "disk" => disk::build(&b).map(quadric),
-            "cylinder" => cylinder::build(&b).map(quadric),
-            "cone" => cone::build(&b).map(quadric),
-            "paraboloid" => paraboloid::build(&b).map(quadric),
-            "hyperboloid" => hyperboloid::build(&b).map(quadric),
+            "plymesh" => plymesh::build(b).map(Shape::Mesh),
+            "stlmesh" => stlmesh::build(b).map(Shape::Mesh),
+            "heightfield" => heightfield::build(b).map(Shape::Mesh),
+            "sphere" => sphere::build(b).map(quadric),
+            "disk" => disk::build(b).map(quadric),
+            "cylinder" => cylinder::build(b).map(quadric),
+            "cone" => cone::build(b).map(quadric),
+            "paraboloid" => paraboloid::build(b).map(quadric),
+            "hyperboloid" => hyperboloid::build(b).map(quadric),
             other => Err(b.err(format!("unsupported shape type \"{other}\""))),
         }
     }

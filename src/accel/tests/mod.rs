@@ -3,14 +3,16 @@
 
 mod files;
 pub(crate) mod fixtures;
+mod motion;
 mod robust;
 mod sampling;
 mod shapes;
 
 use super::*;
+use crate::geometry::Interaction;
 use crate::lxs::{ObjectDesc, ParamValue};
 use crate::shape::test_util::{floats, ints, points, quad, shape};
-use glam::{DMat4, DVec3};
+use glam::{DMat4, DVec3, Vec2};
 use std::f32::consts::PI;
 
 pub(super) fn geo(descs: &[ShapeDesc]) -> Geometry {

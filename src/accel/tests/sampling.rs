@@ -7,7 +7,7 @@ fn mean_and_inverse_pdf(g: &Geometry, id: ShapeId, n: usize) -> (Vec3A, f64, Vec
     let (mut sum, mut inv) = (Vec3A::ZERO, 0.0f64);
     let mut pts = Vec::new();
     for _ in 0..n {
-        let (it, _, pdf) = g.sample(id, Vec2::new(rng.f32(), rng.f32()), rng.f32());
+        let (it, _, pdf) = g.sample(id, Vec2::new(rng.f32(), rng.f32()), rng.f32(), 0.0);
         assert!(pdf > 0.0 && pdf.is_finite());
         sum += it.p;
         inv += 1.0 / pdf as f64;
@@ -125,9 +125,9 @@ fn only_shapes_prepared_for_sampling_are_sampled() {
     let mut g = b.build();
     let area = g.area(ShapeId(0));
     assert!((area - 12.0).abs() < 1e-5);
-    assert_eq!(g.sample(ShapeId(0), Vec2::splat(0.5), 0.5).2, 0.0);
+    assert_eq!(g.sample(ShapeId(0), Vec2::splat(0.5), 0.5, 0.0).2, 0.0);
     assert_eq!(g.prepare_sampling(ShapeId(0)), area);
-    let (_, _, pdf) = g.sample(ShapeId(0), Vec2::splat(0.5), 0.5);
+    let (_, _, pdf) = g.sample(ShapeId(0), Vec2::splat(0.5), 0.5, 0.0);
     assert!((pdf - 1.0 / 12.0).abs() < 1e-7);
     assert_eq!(g.prepare_sampling(ShapeId(7)), 0.0);
 }
@@ -144,7 +144,7 @@ fn sampled_mesh_points_carry_their_uv() {
     let g = geo(&[q]);
     let mut rng = fixtures::Rng::new(3);
     for _ in 0..1000 {
-        let (it, uv, pdf) = g.sample(ShapeId(0), Vec2::new(rng.f32(), rng.f32()), rng.f32());
+        let (it, uv, pdf) = g.sample(ShapeId(0), Vec2::new(rng.f32(), rng.f32()), rng.f32(), 0.0);
         assert!(pdf > 0.0);
         assert!(
             (uv.x - it.p.x).abs() < 1e-5 && (uv.y - it.p.y).abs() < 1e-5,

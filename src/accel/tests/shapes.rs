@@ -215,7 +215,7 @@ fn mesh_quads_and_bad_indices() {
 }
 
 #[test]
-fn degenerate_quadrics_are_errors_and_motion_uses_first_key() {
+fn degenerate_quadrics_are_errors_and_motion_starts_at_the_first_key() {
     for bad in [
         sphere(vec![("phimax", floats(&[0.0]))], false),
         shape(
@@ -255,4 +255,10 @@ fn degenerate_quadrics_are_errors_and_motion_uses_first_key() {
     let g = geo(&[moving]);
     let si = hit(&g, [0.0, 0.0, 5.0], [0.0, 0.0, -1.0]).unwrap();
     assert!((si.t - 4.0).abs() < 1e-5);
+    // At the shutter's close it is at its last key.
+    let mut r = Ray::new(Vec3A::new(5.0, 0.0, 5.0), -Vec3A::Z);
+    r.time = 1.0;
+    assert!((g.intersect(&r).unwrap().t - 4.0).abs() < 1e-5);
+    r.o.x = 0.0;
+    assert!(g.intersect(&r).is_none());
 }
