@@ -53,6 +53,8 @@ enum Command {
     Workers(cmd::workers::Args),
     /// Manage the master's user tokens (admin): add, list, revoke.
     Token(cmd::token::Args),
+    /// Make a private CA and the master's TLS certificate (DIR/ca.crt, DIR/master.crt, keys).
+    Certs(cmd::certs::Args),
     /// Run a master (gRPC, REST and the dashboard on one address).
     Server(cmd::server::Args),
     /// Run a worker for a master.
@@ -80,6 +82,7 @@ fn main() -> ExitCode {
         Command::Cancel(a) => cmd::cancel::run(a),
         Command::Workers(a) => cmd::workers::run(a),
         Command::Token(a) => cmd::token::run(a),
+        Command::Certs(a) => cmd::certs::run(a),
         Command::Server(a) => cmd::server::run(a),
         Command::Worker(a) => cmd::worker::run(a),
         Command::Bench(b) => luxfarm_bench::run(b),

@@ -3,6 +3,8 @@
 
 mod farm_common;
 
+use std::path::Path;
+
 use farm_common::*;
 use std::io::Write;
 
@@ -237,63 +239,112 @@ fn multipart_submission_and_documents() {
     );
 }
 
+/// `luxfarm jobs` against `url` trusting `ca` (None: the system's roots).
+fn jobs_over_tls(url: &str, ca: Option<&Path>) -> std::process::Output {
+    let mut cmd = std::process::Command::new(exe());
+    cmd.args(["jobs", "--master", url]);
+    if let Some(ca) = ca {
+        cmd.arg("--ca-cert").arg(ca);
+    }
+    cmd.output().unwrap()
+}
+
+/// `luxfarm certs` makes a private CA and a master certificate; the master serves REST and
+/// gRPC over TLS with it, clients trusting the CA connect, others are told what to do. A
+/// second run keeps the CA, so a certificate for more names needs no new `ca.crt`.
 #[test]
-fn tls_serves_rest_and_grpc() {
+fn certs_make_a_private_ca_and_tls_serves_rest_and_grpc() {
     let dir = tempfile::tempdir().unwrap();
-    let (cert, key) = (dir.path().join("cert.pem"), dir.path().join("key.pem"));
-    // a self-signed end-entity certificate for localhost (needs the openssl CLI)
-    let st = std::process::Command::new("openssl")
-        .args([
-            "req",
-            "-x509",
-            "-newkey",
-            "rsa:2048",
-            "-nodes",
-            "-days",
-            "2",
-            "-subj",
-            "/CN=localhost",
-        ])
-        .args(["-addext", "subjectAltName=DNS:localhost,IP:127.0.0.1"])
-        .args(["-addext", "basicConstraints=critical,CA:FALSE"])
-        .arg("-keyout")
-        .arg(&key)
-        .arg("-out")
-        .arg(&cert)
-        .stderr(std::process::Stdio::null())
-        .status()
-        .expect("the openssl command makes the test certificate");
-    assert!(st.success());
-    let s = server(
-        &dir.path().join("data"),
-        &[
-            "--tls-cert",
-            cert.to_str().unwrap(),
-            "--tls-key",
-            key.to_str().unwrap(),
-        ],
-    );
-    let port = s.addr.rsplit(':').next().unwrap().to_string();
-    let url = format!("https://localhost:{port}");
-    let out = std::process::Command::new(exe())
-        .args([
-            "jobs",
-            "--master",
-            &url,
-            "--ca-cert",
-            cert.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let certs = dir.path().join("certs");
+    let make = |extra: &[&str]| {
+        std::process::Command::new(exe())
+            .args([
+                "certs",
+                "--dir",
+                certs.to_str().unwrap(),
+                "--name",
+                "localhost",
+            ])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let out = make(&[]);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    let (ca, crt, key) = (
+        certs.join("ca.crt"),
+        certs.join("master.crt"),
+        certs.join("master.key"),
+    );
+    #[cfg(unix)]
+    for k in [&key, &certs.join("ca.key")] {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(k).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o600, "{}", k.display());
+    }
+    // A second run refuses to replace the master's key without --force.
+    let again = make(&[]);
+    assert!(!again.status.success());
+    assert!(String::from_utf8_lossy(&again.stderr).contains("--force"));
+    let ca_before = std::fs::read(&ca).unwrap();
+    let out = make(&["--name", "127.0.0.1", "--force"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(std::fs::read(&ca).unwrap(), ca_before, "the CA is kept");
+    let s = server(
+        &dir.path().join("data"),
+        &[
+            "--tls-cert",
+            crt.to_str().unwrap(),
+            "--tls-key",
+            key.to_str().unwrap(),
+        ],
+    );
+    let port = s.addr.rsplit(':').next().unwrap().to_string();
+    // Both names of the reissued certificate, trusted through the kept CA.
+    for host in ["localhost", "127.0.0.1"] {
+        let out = jobs_over_tls(&format!("https://{host}:{port}"), Some(&ca));
+        assert!(
+            out.status.success(),
+            "{host}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    // Without the CA the certificate is unknown: the error says which option to use.
+    let out = jobs_over_tls(&format!("https://localhost:{port}"), None);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--ca-cert"), "{err}");
+    // A worker registers over TLS (gRPC) with the CA.
+    let _w = worker(
+        &format!("https://localhost:{port}"),
+        1,
+        &["--ca-cert", ca.to_str().unwrap()],
+    );
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    let listed = loop {
+        let out = std::process::Command::new(exe())
+            .args(["workers", "--master", &format!("https://localhost:{port}")])
+            .arg("--ca-cert")
+            .arg(&ca)
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        if !text.trim().is_empty() || std::time::Instant::now() > end {
+            break text;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    };
+    assert!(!listed.trim().is_empty(), "no worker registered over TLS");
+    eprintln!("workers over TLS: {listed}");
     // plain HTTP to a TLS port fails
-    let out = std::process::Command::new(exe())
-        .args(["jobs", "--master", &format!("http://localhost:{port}")])
-        .output()
-        .unwrap();
+    let out = jobs_over_tls(&format!("http://localhost:{port}"), None);
     assert!(!out.status.success());
 }

@@ -113,12 +113,14 @@ pub fn explain(s: &Status) -> String {
     } else if text.contains("UnknownIssuer") {
         Some(
             "the master's certificate is signed by a CA this client does not trust: pass that \
-             CA (or the self-signed certificate itself) with --ca-cert",
+             CA with --ca-cert (the ca.crt `luxfarm certs` made, or the self-signed \
+             certificate itself)",
         )
     } else if text.contains("NotValidForName") {
         Some(
             "the master's certificate does not name the host in --master: make its certificate \
-             with that name in subjectAltName, or reach the master by a name it holds",
+             with that name in subjectAltName (`luxfarm certs --force --name HOST ...` keeps the \
+             CA), or reach the master by a name it holds",
         )
     } else if text.contains("Expired") {
         Some("the master's certificate has expired: give the master a new one")

@@ -40,9 +40,9 @@ pub fn runtime() -> anyhow::Result<tokio::runtime::Runtime> {
         .build()?)
 }
 
-/// gRPC status as a readable error.
+/// gRPC status as a readable error (certificate errors say what to do).
 pub fn status(s: tonic::Status) -> anyhow::Error {
-    anyhow::anyhow!("{}: {}", code_name(s.code()), s.message())
+    anyhow::anyhow!("{}: {}", code_name(s.code()), connect::explain(&s))
 }
 
 fn code_name(c: tonic::Code) -> &'static str {

@@ -2,6 +2,7 @@
 //! `luxfarm_wire::bundle`). `luxfarm bench` lives in the `luxfarm-bench` crate.
 
 pub mod cancel;
+pub mod certs;
 pub mod compare_image;
 pub mod farm_remote;
 pub mod farm_render;
