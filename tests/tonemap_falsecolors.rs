@@ -132,3 +132,57 @@ fn std_scale_ends_and_beyond_in_the_film_colour_space() {
         assert_eq!(got, want);
     }
 }
+
+#[test]
+fn flm_header_ids_of_the_kernel_and_its_settings() {
+    use luxfarm::film::flm_header::id;
+    use luxfarm::film::{BufferType, FlmHeader, FlmParam, FlmValue};
+    let header = |params: &[(i32, f32)]| FlmHeader {
+        width: 2,
+        height: 2,
+        groups: 1,
+        buffer_types: vec![BufferType::PerPixel],
+        params: params
+            .iter()
+            .map(|&(pid, v)| FlmParam {
+                id: pid,
+                index: 0,
+                value: FlmValue::Float(v),
+            })
+            .collect(),
+    };
+    // LuxRender's own FLM: kernel 5 and no range (its defaults, 0 and 0)
+    let p = FilmParams::from_flm(&header(&[(id::TONEMAPKERNEL, 5.0), (id::LDR_CLAMP_METHOD, 2.0)]));
+    assert_eq!(p.tonemap.kernel, Kernel::FalseColors);
+    assert_eq!(p.tonemap.false_colors, Default::default());
+    // luxfarm's: method, scale and range by LuxRender's ids 65, 66, 69, 70
+    let p = FilmParams::from_flm(&header(&[
+        (id::TONEMAPKERNEL, 5.0),
+        (id::LDR_CLAMP_METHOD, 2.0),
+        (65, 2.0),
+        (66, 5.0),
+        (69, 3.0),
+        (70, 1.0),
+    ]));
+    let f = p.tonemap.false_colors;
+    assert_eq!((f.method, f.scale), (FalseMethod::Log3, FalseScale::Speos));
+    assert_eq!((f.min, f.max), (1.0, 3.0));
+    // unknown ids fall back as LuxRender's film does: linear, std
+    let p = FilmParams::from_flm(&header(&[(id::LDR_CLAMP_METHOD, 2.0), (65, 7.0), (66, 9.0)]));
+    let f = p.tonemap.false_colors;
+    assert_eq!((f.method, f.scale), (FalseMethod::Linear, FalseScale::Std));
+    // a film tonemapped in false colours before and after writing its FLM
+    let q = film_params("log", "lmk");
+    let f = film();
+    let mut bytes = Vec::new();
+    luxfarm::film::flm::write_flm(&f, &q, &mut bytes).unwrap();
+    let (g, h) = luxfarm::film::flm::read_flm(&bytes[..]).unwrap();
+    for (pid, want) in [(65, 1.0), (66, 1.0), (69, 9.0), (70, 1.0)] {
+        assert_eq!(h.value(pid, 0), Some(want), "id {pid}");
+    }
+    let r = FilmParams::from_flm(&h);
+    assert_eq!(
+        tonemap::tonemap_display(&f, &q.tonemap).rgb,
+        tonemap::tonemap_display(&g, &r.tonemap).rgb
+    );
+}
