@@ -71,7 +71,9 @@ fn png_holds_the_scale_colours_and_survives_the_flm_round_trip() {
             let p = film_params(method.name(), scale.name());
             assert_eq!(p.tonemap.kernel, Kernel::FalseColors);
             let f = film();
-            let base = dir.path().join(format!("{}-{}", method.name(), scale.name()));
+            let base = dir
+                .path()
+                .join(format!("{}-{}", method.name(), scale.name()));
             let written = output::write_outputs(&f, &p, &base).unwrap();
             let png = base.with_extension("png");
             assert!(written.contains(&png), "{written:?}");
@@ -152,7 +154,10 @@ fn flm_header_ids_of_the_kernel_and_its_settings() {
             .collect(),
     };
     // LuxRender's own FLM: kernel 5 and no range (its defaults, 0 and 0)
-    let p = FilmParams::from_flm(&header(&[(id::TONEMAPKERNEL, 5.0), (id::LDR_CLAMP_METHOD, 2.0)]));
+    let p = FilmParams::from_flm(&header(&[
+        (id::TONEMAPKERNEL, 5.0),
+        (id::LDR_CLAMP_METHOD, 2.0),
+    ]));
     assert_eq!(p.tonemap.kernel, Kernel::FalseColors);
     assert_eq!(p.tonemap.false_colors, Default::default());
     // luxfarm's: method, scale and range by LuxRender's ids 65, 66, 69, 70
@@ -168,7 +173,11 @@ fn flm_header_ids_of_the_kernel_and_its_settings() {
     assert_eq!((f.method, f.scale), (FalseMethod::Log3, FalseScale::Speos));
     assert_eq!((f.min, f.max), (1.0, 3.0));
     // unknown ids fall back as LuxRender's film does: linear, std
-    let p = FilmParams::from_flm(&header(&[(id::LDR_CLAMP_METHOD, 2.0), (65, 7.0), (66, 9.0)]));
+    let p = FilmParams::from_flm(&header(&[
+        (id::LDR_CLAMP_METHOD, 2.0),
+        (65, 7.0),
+        (66, 9.0),
+    ]));
     let f = p.tonemap.false_colors;
     assert_eq!((f.method, f.scale), (FalseMethod::Linear, FalseScale::Std));
     // a film tonemapped in false colours before and after writing its FLM

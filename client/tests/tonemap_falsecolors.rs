@@ -50,10 +50,12 @@ fn pixels(path: &Path) -> Vec<[i32; 3]> {
 /// Every 8-bit colour of LuxRender's std scale (1024 steps).
 fn std_colours() -> Vec<[i32; 3]> {
     (0..1024)
-        .map(|s| luxfarm::tonemap::falsecolors::scale_rgb(
-            luxfarm::tonemap::FalseScale::Std,
-            (s as f32 + 0.5) / 1023.0,
-        ))
+        .map(|s| {
+            luxfarm::tonemap::falsecolors::scale_rgb(
+                luxfarm::tonemap::FalseScale::Std,
+                (s as f32 + 0.5) / 1023.0,
+            )
+        })
         .map(|c| c.map(|v| (v * 255.0).round() as i32))
         .collect()
 }
@@ -65,7 +67,14 @@ fn render_and_flm_tonemap_give_the_same_false_colour_png() {
         dir.path(),
         r#""float false_min" [0.01] "float false_max" [2]"#,
     );
-    let out = luxfarm(&["render", s.to_str().unwrap(), "--haltspp", "2", "--seed", "3"]);
+    let out = luxfarm(&[
+        "render",
+        s.to_str().unwrap(),
+        "--haltspp",
+        "2",
+        "--seed",
+        "3",
+    ]);
     assert!(
         out.status.success(),
         "{}",
@@ -111,7 +120,10 @@ fn render_and_flm_tonemap_give_the_same_false_colour_png() {
 fn bad_false_colour_values_are_located_errors() {
     for (extra, name) in [
         (r#""string false_colorscale" ["jet"]"#, "false_colorscale"),
-        (r#""float false_min" [2] "float false_max" [1]"#, "false_max"),
+        (
+            r#""float false_min" [2] "float false_max" [1]"#,
+            "false_max",
+        ),
     ] {
         let dir = tempfile::tempdir().unwrap();
         let s = scene(dir.path(), extra);

@@ -587,7 +587,10 @@ mod tests {
         .unwrap();
         assert_eq!(p.tonemap.kernel, Kernel::FalseColors);
         let fc = p.tonemap.false_colors;
-        assert_eq!((fc.method, fc.scale), (FalseMethod::Log3, FalseScale::Speos));
+        assert_eq!(
+            (fc.method, fc.scale),
+            (FalseMethod::Log3, FalseScale::Speos)
+        );
         assert_eq!((fc.min, fc.max), (0.5, 20.0));
         for m in FalseMethod::ALL {
             assert_eq!(FalseMethod::from_name(m.name()), Some(m));
@@ -600,7 +603,10 @@ mod tests {
         // defaults: linear, std; the range only matters to the falsecolors kernel
         let d = FilmParams::default().tonemap.false_colors;
         assert_eq!(d, FalseColors::default());
-        assert_eq!((d.method, d.scale, d.min, d.max), (FalseMethod::Linear, FalseScale::Std, 0.0, 0.0));
+        assert_eq!(
+            (d.method, d.scale, d.min, d.max),
+            (FalseMethod::Linear, FalseScale::Std, 0.0, 0.0)
+        );
     }
 
     #[test]
@@ -610,7 +616,9 @@ mod tests {
             line,
             col: 3,
         };
-        let with = |params: Vec<(&str, ParamValue, u32)>| {
+        // (name, value, line)
+        type Given<'a> = Vec<(&'a str, ParamValue, u32)>;
+        let with = |params: Given| {
             let mut ps = ParamSet::new();
             for (n, v, line) in params {
                 ps.push(crate::lxs::Param::new(n, v, at(line)));
@@ -624,11 +632,23 @@ mod tests {
         let s = |v: &str| ParamValue::String(vec![v.into()]);
         let f = |v: f32| ParamValue::Float(vec![v]);
         let k = || ("tonemapkernel", s("falsecolors"), 2);
-        let cases: Vec<(Vec<(&str, ParamValue, u32)>, u32, &str)> = vec![
+        let cases: Vec<(Given, u32, &str)> = vec![
             (vec![k(), ("false_method", s("log2"), 5)], 5, "false_method"),
-            (vec![k(), ("false_colorscale", s("jet"), 6)], 6, "false_colorscale"),
-            (vec![k(), ("false_max", f(1.0), 7), ("false_min", f(1.0), 8)], 7, "false_max"),
-            (vec![k(), ("false_max", f(1.0), 7), ("false_min", f(2.0), 8)], 7, "false_max"),
+            (
+                vec![k(), ("false_colorscale", s("jet"), 6)],
+                6,
+                "false_colorscale",
+            ),
+            (
+                vec![k(), ("false_max", f(1.0), 7), ("false_min", f(1.0), 8)],
+                7,
+                "false_max",
+            ),
+            (
+                vec![k(), ("false_max", f(1.0), 7), ("false_min", f(2.0), 8)],
+                7,
+                "false_max",
+            ),
             (vec![k(), ("false_min", f(2.0), 8)], 8, "false_min"),
             (vec![k()], 1, "false_max"),
         ];

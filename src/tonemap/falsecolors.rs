@@ -249,8 +249,16 @@ mod tests {
         let mut px = vec![[9.0, 0.0, 1.0], [0.0, 4.0, 0.0], [5.0, 8.0, 0.0]];
         map(&mut px, &p);
         let want = [[0.0, 0.0, 128.0 / 255.0], [128.0 / 255.0, 0.0, 0.0]];
-        assert!(close(cs.to_rgb(px[0]), want[0], 1e-5), "{:?}", cs.to_rgb(px[0]));
-        assert!(close(cs.to_rgb(px[1]), want[1], 1e-5), "{:?}", cs.to_rgb(px[1]));
+        assert!(
+            close(cs.to_rgb(px[0]), want[0], 1e-5),
+            "{:?}",
+            cs.to_rgb(px[0])
+        );
+        assert!(
+            close(cs.to_rgb(px[1]), want[1], 1e-5),
+            "{:?}",
+            cs.to_rgb(px[1])
+        );
         assert_eq!(px[2], px[1], "above max: the colour of max");
         // D65 white of Adobe RGB: RGB (1, 1, 1) has Y = 1
         assert!((cs.to_xyz([1.0; 3])[1] - 1.0).abs() < 1e-5);

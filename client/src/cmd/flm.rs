@@ -13,8 +13,8 @@ use luxfarm::film::{
     compare, flm, read_flm_file, Channels, ClampMethod, Film, FilmParams, FlmDelta, FlmHeader,
     FlmValue, Kernel, TonemapParams,
 };
-use luxfarm::tonemap::{FalseMethod, FalseScale};
 use luxfarm::output;
+use luxfarm::tonemap::{FalseMethod, FalseScale};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
