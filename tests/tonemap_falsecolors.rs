@@ -1,7 +1,8 @@
 //! The `falsecolors` kernel end to end through the library: read from a Film statement,
 //! applied by the shared output stage (`output::write_outputs`, what `luxfarm render`,
-//! `luxfarm flm tonemap` and the master's outputs call), kept in the FLM header, and the same
-//! PNG written again from the FLM read back.
+//! `luxfarm flm tonemap` and the master's outputs call, and `output::preview_png`, the
+//! master's preview), kept in the FLM header, and the same PNG written again from the FLM
+//! read back.
 
 use luxfarm::film::{read_flm_file, Film, FilmParams};
 use luxfarm::lxs::{Entity, Loc, ParamSet, ParamValue};
@@ -94,6 +95,11 @@ fn png_holds_the_scale_colours_and_survives_the_flm_round_trip() {
                     "{method:?} {scale:?} pixel {i} (Y {y}): {got:?}, want {want:?}"
                 );
             }
+            // the master's preview (preview.png, the dashboard's image) shows the same pixels
+            let preview = output::preview_png(&f, &p.tonemap, None).unwrap();
+            let preview = image::load_from_memory(&preview).unwrap().to_rgb8();
+            let preview: Vec<[u8; 3]> = preview.pixels().map(|p| p.0).collect();
+            assert_eq!(preview, first, "{method:?} {scale:?}: preview");
             // the FLM keeps the kernel and its parameters; tonemapping it again gives the
             // same PNG, byte for byte
             let (g, header) = read_flm_file(&base.with_extension("flm")).unwrap();

@@ -1,6 +1,7 @@
 //! The `falsecolors` kernel through the `luxfarm` binary: a scene whose Film asks for it
-//! renders to a PNG, and `luxfarm flm tonemap` of the FLM written beside it gives the same
-//! PNG; a bad `false_*` value is refused naming the scene's file, line and column.
+//! renders to a PNG (locally, and on a one-worker farm where the master writes it), and
+//! `luxfarm flm tonemap` of the FLM written beside it gives the same PNG; a bad `false_*`
+//! value is refused naming the scene's file, line and column.
 
 mod cli_common;
 
@@ -60,24 +61,27 @@ fn std_colours() -> Vec<[i32; 3]> {
         .collect()
 }
 
-#[test]
-fn render_and_flm_tonemap_give_the_same_false_colour_png() {
+/// Renders the scene (with `extra` arguments), tonemaps its FLM with `luxfarm flm tonemap`,
+/// checks both PNGs are the same bytes and in the std scale's colours; returns the pixels.
+fn render_and_tonemap(extra: &[&str]) -> Vec<[i32; 3]> {
     let dir = tempfile::tempdir().unwrap();
     let s = scene(
         dir.path(),
         r#""float false_min" [0.01] "float false_max" [2]"#,
     );
-    let out = luxfarm(&[
+    let mut args = vec![
         "render",
         s.to_str().unwrap(),
         "--haltspp",
         "2",
         "--seed",
         "3",
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let out = luxfarm(&args);
     assert!(
         out.status.success(),
-        "{}",
+        "{extra:?}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
     let rendered = dir.path().join("frame.png");
@@ -98,7 +102,7 @@ fn render_and_flm_tonemap_give_the_same_false_colour_png() {
     assert_eq!(
         std::fs::read(&rendered).unwrap(),
         std::fs::read(&again).unwrap(),
-        "render and flm tonemap differ"
+        "{extra:?}: render and flm tonemap differ"
     );
     let a = pixels(&rendered);
     // the image is in the std scale's colours (±1 for the colour space round trip), and
@@ -109,11 +113,24 @@ fn render_and_flm_tonemap_give_the_same_false_colour_png() {
             scale
                 .iter()
                 .any(|c| c.iter().zip(p).all(|(c, p)| (c - p).abs() <= 1)),
-            "{p:?} is not a std scale colour"
+            "{extra:?}: {p:?} is not a std scale colour"
         );
     }
     let distinct: std::collections::BTreeSet<_> = a.iter().collect();
-    assert!(distinct.len() > 3, "{distinct:?}");
+    assert!(distinct.len() > 3, "{extra:?}: {distinct:?}");
+    a
+}
+
+#[test]
+fn render_and_flm_tonemap_give_the_same_false_colour_png() {
+    render_and_tonemap(&[]);
+}
+
+/// The master's outputs: a one-worker farm writes the Film's PNG (tonemapped by the master
+/// from the merged film) in the same false colours, and its FLM tonemaps to the same PNG.
+#[test]
+fn a_farm_render_writes_the_same_kind_of_false_colour_png() {
+    render_and_tonemap(&["--workers", "1", "--threads", "1"]);
 }
 
 #[test]
