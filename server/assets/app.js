@@ -243,6 +243,8 @@ const TM_KERNELS = {
   contrast: ["contrast_ywa"],
   maxwhite: [],
   autolinear: [],
+  // offered only when the scene's Film uses it: its range (false_min, false_max) is the scene's
+  falsecolors: [],
 };
 const SLIDER_STEPS = 1000;
 
@@ -263,7 +265,8 @@ function tonemapPanel(settings, onChange) {
   const { scene, defaults } = settings;
   const state = { kernel: scene.kernel, values: {} };
   const kernel = el("select", { id: "tm-kernel" },
-    ...Object.keys(TM_KERNELS).map((k) => el("option", { value: k }, k === scene.kernel ? `${k} (scene)` : k)));
+    ...Object.keys(TM_KERNELS).filter((k) => k !== "falsecolors" || k === scene.kernel)
+      .map((k) => el("option", { value: k }, k === scene.kernel ? `${k} (scene)` : k)));
   const params = el("div", { id: "tm-params", class: "tm-params" });
   const reset = el("button", { id: "tm-reset", type: "button", class: "secondary" }, "Scene default");
   const panel = el("section", { id: "tonemap", class: "panel" },
@@ -274,7 +277,8 @@ function tonemapPanel(settings, onChange) {
     const names = [...TM_KERNELS[state.kernel], "gamma"];
     const same = state.kernel === scene.kernel && names.every((n) => state.values[n] === scene[n]);
     if (same) return "";
-    const q = new URLSearchParams({ kernel: state.kernel });
+    // the scene's kernel goes without `kernel=` (the server keeps it; falsecolors only so)
+    const q = new URLSearchParams(state.kernel === scene.kernel ? {} : { kernel: state.kernel });
     for (const n of names) q.set(n, String(state.values[n]));
     return `?${q}`;
   };

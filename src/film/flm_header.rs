@@ -1,7 +1,7 @@
 //! The FLM v0 header: resolution, buffer groups and configurations, and LuxRender's film
 //! parameters by their `luxComponentParameters` ids; conversion to and from `FilmParams`.
 
-use super::imaging::{ClampMethod, Flavour, GroupParams, Kernel};
+use super::imaging::{ClampMethod, FalseMethod, FalseScale, Flavour, GroupParams, Kernel};
 use super::{BufferType, FilmError, FilmParams};
 use std::io::{Read, Write};
 
@@ -61,6 +61,13 @@ pub mod id {
     pub const CAMERA_RESPONSE_ENABLED: i32 = 62;
     pub const CAMERA_RESPONSE_FILE: i32 = 63;
     pub const LDR_CLAMP_METHOD: i32 = 64;
+    /// The falsecolors kernel's method and colour scale (their ids as values).
+    pub const FALSE_METHOD: i32 = 65;
+    pub const FALSE_COLORSCALE: i32 = 66;
+    /// The falsecolors kernel's luminance range: the Film's `false_max` and `false_min`
+    /// (LuxRender's "MaxSat"/"MinSat"; its ids 67 and 68 are read-only image statistics).
+    pub const FALSE_MAXSAT: i32 = 69;
+    pub const FALSE_MINSAT: i32 = 70;
 }
 
 /// LuxRender's defaults of the noise filters (Chiu: ids 32-34, GREYCStoration: 35-49),
@@ -336,12 +343,15 @@ const CARRIED: [i32; 21] = [
 ];
 
 /// The parameters LuxRender writes, in its order, with the values of `p` and the light group
-/// names: LuxRender 1.x's list, or 0.6/0.7's for a film of that flavour.
+/// names: LuxRender 1.x's list, or 0.6/0.7's for a film of that flavour. The falsecolors
+/// kernel's settings follow LuxRender 1.x's list (LuxRender itself does not write them but
+/// takes them from a header by these ids), so that a film tonemaps the same after a round
+/// trip through an FLM.
 pub fn params_for(p: &FilmParams, groups: &[String]) -> Vec<FlmParam> {
     let legacy = p.tonemap.flavour == Flavour::Lux06;
     let mut v: Vec<FlmParam> = params_1x(p, groups)
         .into_iter()
-        .filter(|q| !legacy || !matches!(q.id, 61..=64))
+        .filter(|q| !legacy || !matches!(q.id, 61..=70))
         .collect();
     for q in &mut v {
         if let Some(x) = p
@@ -407,6 +417,7 @@ fn params_1x(p: &FilmParams, groups: &[String]) -> Vec<FlmParam> {
         float(id::GLARE_THRESHOLD, 0, e.glare_threshold),
     ];
     v.extend(NOISE_DEFAULTS.iter().map(|&(i, x)| float(i, 0, x)));
+    v.extend(false_color_params(t));
     for (i, name) in groups.iter().enumerate() {
         let g = t.group(i);
         let i = i as u32;
@@ -425,6 +436,17 @@ fn params_1x(p: &FilmParams, groups: &[String]) -> Vec<FlmParam> {
         ]);
     }
     v
+}
+
+/// The falsecolors kernel's method, scale and range (ids 65, 66, 69, 70).
+fn false_color_params(t: &super::imaging::TonemapParams) -> [FlmParam; 4] {
+    let f = &t.false_colors;
+    [
+        float(id::FALSE_METHOD, 0, f.method as i32 as f32),
+        float(id::FALSE_COLORSCALE, 0, f.scale as i32 as f32),
+        float(id::FALSE_MAXSAT, 0, f.max),
+        float(id::FALSE_MINSAT, 0, f.min),
+    ]
 }
 
 impl FilmParams {
@@ -469,6 +491,15 @@ impl FilmParams {
         set(&mut t.linear_fstop, id::LINEAR_FSTOP);
         set(&mut t.linear_gamma, id::LINEAR_GAMMA);
         set(&mut t.contrast_ywa, id::CONTRAST_YWA);
+        let fc = &mut t.false_colors;
+        if let Some(m) = get(id::FALSE_METHOD) {
+            fc.method = FalseMethod::from_id(m);
+        }
+        if let Some(c) = get(id::FALSE_COLORSCALE) {
+            fc.scale = FalseScale::from_id(c);
+        }
+        set(&mut fc.max, id::FALSE_MAXSAT);
+        set(&mut fc.min, id::FALSE_MINSAT);
         set(&mut t.gamma, id::GAMMA);
         let cs = &mut t.colorspace;
         set(&mut cs.white[0], id::X_WHITE);

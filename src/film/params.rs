@@ -7,7 +7,10 @@
 
 use super::buffer::check_size;
 pub use super::image_output::{Channels, ExrCompression, ExrOptions, ImageOutput, ZBufNorm};
-use super::imaging::{ClampMethod, ColorSpaceParams, Effects, Kernel, TonemapParams};
+use super::imaging::{
+    ClampMethod, ColorSpaceParams, Effects, FalseColors, FalseMethod, FalseScale, Kernel,
+    TonemapParams,
+};
 use super::FilmError;
 use crate::lxs::{Entity, Loc, ParamSet};
 
@@ -382,14 +385,15 @@ fn kernel_key(ps: &ParamSet, kind: &str) -> &'static str {
 fn tonemap_params(ps: &ParamSet, loc: &Loc, kind: &str) -> Result<TonemapParams, FilmError> {
     let d = TonemapParams::default();
     let cs = ColorSpaceParams::default();
+    let kernel = choice(
+        ps,
+        loc,
+        kernel_key(ps, kind),
+        "autolinear",
+        Kernel::from_name,
+    )?;
     Ok(TonemapParams {
-        kernel: choice(
-            ps,
-            loc,
-            kernel_key(ps, kind),
-            "autolinear",
-            Kernel::from_name,
-        )?,
+        kernel,
         reinhard_prescale: ps.float_or("reinhard_prescale", d.reinhard_prescale),
         reinhard_postscale: ps.float_or("reinhard_postscale", d.reinhard_postscale),
         reinhard_burn: ps.float_or("reinhard_burn", d.reinhard_burn),
@@ -398,6 +402,7 @@ fn tonemap_params(ps: &ParamSet, loc: &Loc, kind: &str) -> Result<TonemapParams,
         linear_fstop: ps.float_or("linear_fstop", d.linear_fstop),
         linear_gamma: ps.float_or("linear_gamma", d.linear_gamma),
         contrast_ywa: ps.float_or("contrast_ywa", d.contrast_ywa),
+        false_colors: false_colors(ps, loc, kernel)?,
         gamma: ps.float_or("gamma", d.gamma),
         colorspace: ColorSpaceParams {
             white: xy(ps, "colorspace_white", cs.white),
@@ -410,6 +415,38 @@ fn tonemap_params(ps: &ParamSet, loc: &Loc, kind: &str) -> Result<TonemapParams,
         flavour: d.flavour,
         effects: Effects::default(),
     })
+}
+
+/// The falsecolors kernel's `false_*` parameters (LuxRender's defaults: linear, std, 0, 0).
+/// An unknown method or scale name is an error where LuxRender warned and used linear or std.
+/// With the falsecolors kernel, a range other than finite `false_min < false_max` is an error
+/// naming `false_max` (or `false_min`, or the Film statement): LuxRender checks nothing and
+/// shows every pixel in one colour (its defaults, 0 and 0, do that).
+fn false_colors(ps: &ParamSet, loc: &Loc, kernel: Kernel) -> Result<FalseColors, FilmError> {
+    let d = FalseColors::default();
+    let fc = FalseColors {
+        method: choice(ps, loc, "false_method", "linear", FalseMethod::from_name)?,
+        scale: choice(ps, loc, "false_colorscale", "std", FalseScale::from_name)?,
+        max: ps.float_or("false_max", d.max),
+        min: ps.float_or("false_min", d.min),
+    };
+    let ordered = fc.min.is_finite() && fc.max.is_finite() && fc.min < fc.max;
+    if kernel != Kernel::FalseColors || ordered {
+        return Ok(fc);
+    }
+    let name = match (ps.float("false_max"), ps.float("false_min")) {
+        (None, Some(_)) => "false_min",
+        _ => "false_max",
+    };
+    Err(bad(
+        &loc_of(ps, name, loc),
+        name,
+        format!(
+            "the falsecolors kernel needs finite false_min < false_max (the luminance range \
+             it colours), got false_min {} and false_max {}",
+            fc.min, fc.max
+        ),
+    ))
 }
 
 /// The image effects; LuxRender's `abberation_*` spelling, and the correct one as an alias.
@@ -534,6 +571,95 @@ mod tests {
         e.params
             .add("tonemapper", ParamValue::String(vec!["nonesuch".into()]));
         assert!(FilmParams::from_entity(Some(&e)).is_err());
+    }
+
+    #[test]
+    fn false_colors_parameters() {
+        let s = |v: &str| ParamValue::String(vec![v.into()]);
+        let f = |v: f32| ParamValue::Float(vec![v]);
+        let p = film(&[
+            ("tonemapkernel", s("falsecolors")),
+            ("false_method", s("log3")),
+            ("false_colorscale", s("speos")),
+            ("false_max", f(20.0)),
+            ("false_min", f(0.5)),
+        ])
+        .unwrap();
+        assert_eq!(p.tonemap.kernel, Kernel::FalseColors);
+        let fc = p.tonemap.false_colors;
+        assert_eq!(
+            (fc.method, fc.scale),
+            (FalseMethod::Log3, FalseScale::Speos)
+        );
+        assert_eq!((fc.min, fc.max), (0.5, 20.0));
+        for m in FalseMethod::ALL {
+            assert_eq!(FalseMethod::from_name(m.name()), Some(m));
+            assert_eq!(FalseMethod::from_id(m as i32 as f64), m);
+        }
+        for c in FalseScale::ALL {
+            assert_eq!(FalseScale::from_name(c.name()), Some(c));
+            assert_eq!(FalseScale::from_id(c as i32 as f64), c);
+        }
+        // defaults: linear, std; the range only matters to the falsecolors kernel
+        let d = FilmParams::default().tonemap.false_colors;
+        assert_eq!(d, FalseColors::default());
+        assert_eq!(
+            (d.method, d.scale, d.min, d.max),
+            (FalseMethod::Linear, FalseScale::Std, 0.0, 0.0)
+        );
+    }
+
+    #[test]
+    fn bad_false_colors_parameters_are_located_errors() {
+        let at = |line| Loc {
+            file: "scene.lxs".into(),
+            line,
+            col: 3,
+        };
+        // (name, value, line)
+        type Given<'a> = Vec<(&'a str, ParamValue, u32)>;
+        let with = |params: Given| {
+            let mut ps = ParamSet::new();
+            for (n, v, line) in params {
+                ps.push(crate::lxs::Param::new(n, v, at(line)));
+            }
+            FilmParams::from_entity(Some(&Entity {
+                kind: "fleximage".into(),
+                params: ps,
+                loc: at(1),
+            }))
+        };
+        let s = |v: &str| ParamValue::String(vec![v.into()]);
+        let f = |v: f32| ParamValue::Float(vec![v]);
+        let k = || ("tonemapkernel", s("falsecolors"), 2);
+        let cases: Vec<(Given, u32, &str)> = vec![
+            (vec![k(), ("false_method", s("log2"), 5)], 5, "false_method"),
+            (
+                vec![k(), ("false_colorscale", s("jet"), 6)],
+                6,
+                "false_colorscale",
+            ),
+            (
+                vec![k(), ("false_max", f(1.0), 7), ("false_min", f(1.0), 8)],
+                7,
+                "false_max",
+            ),
+            (
+                vec![k(), ("false_max", f(1.0), 7), ("false_min", f(2.0), 8)],
+                7,
+                "false_max",
+            ),
+            (vec![k(), ("false_min", f(2.0), 8)], 8, "false_min"),
+            (vec![k()], 1, "false_max"),
+        ];
+        for (params, line, name) in cases {
+            let e = with(params).unwrap_err().to_string();
+            assert!(e.contains(&format!("scene.lxs:{line}:")), "{e}");
+            assert!(e.contains(name), "{e}");
+        }
+        // an unknown name is refused whatever the kernel; the range only with falsecolors
+        assert!(with(vec![("false_method", s("log2"), 5)]).is_err());
+        assert!(with(vec![("false_max", f(-1.0), 5)]).is_ok());
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! Tonemapping kernels (reinhard, linear, autolinear, contrast, maxwhite), colour spaces, gamma
-//! and clamping: LuxRender's imaging pipeline from film sums to RGB.
+//! Tonemapping kernels (reinhard, linear, autolinear, contrast, maxwhite, falsecolors), colour
+//! spaces, gamma and clamping: LuxRender's imaging pipeline from film sums to RGB.
 //!
 //! The pipeline, as LuxRender 1.x's fleximage film runs it:
 //! 1. per pixel and enabled light group, the buffer value (per-pixel buffers: sums / weight
@@ -23,12 +23,14 @@ pub mod blackbody;
 pub mod colorspace;
 pub mod contrast;
 pub mod effects;
+pub mod falsecolors;
 pub mod linear;
 pub mod maxwhite;
 pub mod reinhard;
 
 pub use crate::film::imaging::{
-    ClampMethod, ColorSpaceParams, Flavour, GroupParams, Kernel, TonemapParams,
+    ClampMethod, ColorSpaceParams, FalseColors, FalseMethod, FalseScale, Flavour, GroupParams,
+    Kernel, TonemapParams,
 };
 pub use colorspace::{ColorAdaptation, ColorSystem};
 
@@ -176,6 +178,7 @@ pub fn apply_kernel(img: &mut XyzImage, params: &TonemapParams) {
         Kernel::Contrast => contrast::map(xyz, params.contrast_ywa, MAX_DISPLAY_Y),
         Kernel::MaxWhite => maxwhite::map(xyz),
         Kernel::AutoLinear => autolinear::map(xyz, img.average_luminance, params.gamma),
+        Kernel::FalseColors => falsecolors::map(xyz, &params.false_colors),
     }
 }
 
@@ -254,6 +257,36 @@ mod tests {
             };
             let img = tonemap_display(&film, &p);
             assert!(img.rgb.iter().flatten().all(|&c| c == 0.0), "{k:?}");
+        }
+    }
+
+    /// The dispatch reaches the falsecolors kernel: with the Film's colour space set to the
+    /// kernel's own (Adobe RGB) and gamma 1, the display image holds the scale's colours.
+    #[test]
+    fn falsecolors_through_the_whole_pipeline() {
+        let mut film = Film::new(3, 1, vec![]);
+        for (x, y) in [(0, 0.5f32), (1, 2.0), (2, 40.0)] {
+            film.add_splat(0, x, 0, [y, y, y], 1.0, 1.0);
+        }
+        let p = TonemapParams {
+            kernel: Kernel::FalseColors,
+            false_colors: FalseColors {
+                min: 1.0,
+                max: 3.0,
+                ..FalseColors::default()
+            },
+            colorspace: falsecolors::scale_space(),
+            gamma: 1.0,
+            ..TonemapParams::default()
+        };
+        let img = tonemap_display(&film, &p);
+        let want = [[0.0, 0.0, 128.0], [127.0, 255.0, 128.0], [128.0, 0.0, 0.0]];
+        for (got, want) in img.rgb.iter().zip(want) {
+            let got = got.map(|c| c * 255.0);
+            assert!(
+                got.iter().zip(want).all(|(g, w)| (g - w).abs() < 0.01),
+                "{got:?} {want:?}"
+            );
         }
     }
 

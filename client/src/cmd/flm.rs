@@ -14,6 +14,7 @@ use luxfarm::film::{
     FlmValue, Kernel, TonemapParams,
 };
 use luxfarm::output;
+use luxfarm::tonemap::{FalseMethod, FalseScale};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -60,9 +61,21 @@ pub struct TonemapArgs {
     /// Output file: .png, .tga or .exr.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// reinhard, linear, contrast, maxwhite or autolinear.
+    /// reinhard, linear, contrast, maxwhite, autolinear or falsecolors.
     #[arg(long)]
     pub kernel: Option<String>,
+    /// falsecolors: linear, log or log3.
+    #[arg(long)]
+    pub false_method: Option<String>,
+    /// falsecolors: std, lmk, red, white, yellow or speos.
+    #[arg(long)]
+    pub false_colorscale: Option<String>,
+    /// falsecolors: the luminance shown in the scale's last colour.
+    #[arg(long)]
+    pub false_max: Option<f32>,
+    /// falsecolors: the luminance shown in the scale's first colour.
+    #[arg(long)]
+    pub false_min: Option<f32>,
     #[arg(long)]
     pub prescale: Option<f32>,
     #[arg(long)]
@@ -173,6 +186,16 @@ fn print_tonemap(t: &TonemapParams) {
             t.linear_sensitivity, t.linear_exposure, t.linear_fstop, t.linear_gamma
         ),
         Kernel::Contrast => println!("  contrast ywa {}", t.contrast_ywa),
+        Kernel::FalseColors => {
+            let f = &t.false_colors;
+            println!(
+                "  falsecolors method {}, colour scale {}, min {}, max {}",
+                f.method.name(),
+                f.scale.name(),
+                f.min,
+                f.max
+            )
+        }
         Kernel::MaxWhite | Kernel::AutoLinear => {}
     }
     let c = &t.colorspace;
@@ -276,6 +299,27 @@ fn apply_overrides(a: &TonemapArgs, p: &mut FilmParams) -> anyhow::Result<()> {
     set(&mut t.linear_gamma, a.linear_gamma);
     set(&mut t.contrast_ywa, a.ywa);
     set(&mut t.gamma, a.gamma);
+    let f = &mut t.false_colors;
+    if let Some(m) = &a.false_method {
+        f.method = FalseMethod::from_name(m)
+            .with_context(|| format!("unknown falsecolors method {m:?} (linear, log, log3)"))?;
+    }
+    if let Some(c) = &a.false_colorscale {
+        f.scale = FalseScale::from_name(c).with_context(|| {
+            format!("unknown falsecolors scale {c:?} (std, lmk, red, white, yellow, speos)")
+        })?;
+    }
+    set(&mut f.max, a.false_max);
+    set(&mut f.min, a.false_min);
+    if t.kernel == Kernel::FalseColors && !(f.min.is_finite() && f.max.is_finite() && f.min < f.max)
+    {
+        bail!(
+            "the falsecolors kernel needs finite --false-min < --false-max (the FLM gives min {} \
+             and max {}; LuxRender's own FLMs carry no range)",
+            f.min,
+            f.max
+        );
+    }
     if let Some(c) = &a.clamp {
         t.clamp_method =
             ClampMethod::from_name(c).with_context(|| format!("unknown clamp method {c:?}"))?;

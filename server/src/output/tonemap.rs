@@ -105,12 +105,19 @@ impl TonemapOverride {
     ) -> Result<TonemapOverride> {
         let kernel = match kernel.map(str::trim).filter(|k| !k.is_empty()) {
             None => None,
-            Some(k) => Some(Kernel::from_name(k).ok_or_else(|| {
-                ServerError::BadRequest(format!(
-                    "parameter kernel: unknown kernel {k:?} (reinhard, linear, contrast, \
-                     maxwhite or autolinear)"
-                ))
-            })?),
+            // falsecolors needs its luminance range (false_min, false_max), which only the
+            // scene's Film gives: a scene in false colours is previewed in them by default.
+            Some(k) => Some(
+                Kernel::from_name(k)
+                    .filter(|&k| k != Kernel::FalseColors)
+                    .ok_or_else(|| {
+                        ServerError::BadRequest(format!(
+                            "parameter kernel: unknown kernel {k:?} (reinhard, linear, \
+                             contrast, maxwhite or autolinear; falsecolors only from the \
+                             scene's Film)"
+                        ))
+                    })?,
+            ),
         };
         let mut values = Vec::new();
         for (name, text) in params {
@@ -293,6 +300,7 @@ mod tests {
     #[test]
     fn bad_values_name_the_parameter() {
         assert!(detail(parse(Some("filmic"), &[])).contains("kernel"));
+        assert!(detail(parse(Some("falsecolors"), &[])).contains("scene's Film"));
         for (name, value) in [
             ("linear_exposure", "NaN"),
             ("linear_exposure", "inf"),
