@@ -236,6 +236,54 @@ fn nan_inf_and_trailing_data() {
     assert!(matches!(expect_err(&gz(&d)), FilmError::BadHeader(_)));
 }
 
+/// Peak resident memory of this process in kB (Linux; nextest runs each test in its own
+/// process), after resetting the peak counter.
+fn reset_peak_kb() -> Option<u64> {
+    std::fs::write("/proc/self/clear_refs", "5").ok()?;
+    peak_kb()
+}
+
+fn peak_kb() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// A 100-byte stream whose header declares a 8192×8192 film of two buffers (2.7 GB of f32
+/// sums) and holds none of it: decoding fails at the end of the stream without touching the
+/// memory the header claims (fuzzing found the decoder resizing to it first), a merge
+/// refuses the layout before reading pixels, and the in-memory decoder refuses a trailer
+/// claiming more than deflate can expand the stream to.
+#[test]
+fn a_small_stream_declaring_a_huge_film_allocates_nothing_large() {
+    let mut b = header(8192, 8192, 1, &[0, 1]);
+    b.extend_from_slice(&0u32.to_le_bytes()); // no parameters
+    b.extend_from_slice(&1.0f64.to_le_bytes()); // the group's sample count
+    b.extend_from_slice(&[0u8; 64]); // a few pixel bytes
+    let small = gz(&b);
+    assert!(small.len() < 200, "{}", small.len());
+    let before = reset_peak_kb();
+    let mut d = FlmDelta::default();
+    let e = d.decode(&small[..]).unwrap_err();
+    assert!(matches!(e, FilmError::Corrupt { .. }), "{e}");
+    if let (Some(a), Some(b)) = (before, peak_kb()) {
+        assert!(b.saturating_sub(a) < 100_000, "peak grew by {} kB", b - a);
+    }
+    let mut target = Film::new(4, 4, vec![]);
+    let untouched = target.clone();
+    let e = flm::merge_flm(&mut target, &small[..]).unwrap_err();
+    assert!(matches!(e, FilmError::Mismatch(_)), "{e}");
+    // A forged trailer (ISIZE) matching the header's size.
+    let mut forged = small.clone();
+    let n = forged.len();
+    let declared = (b.len() - 64 + 8192 * 8192 * 5 * 4 * 2) as u32;
+    forged[n - 4..].copy_from_slice(&declared.to_le_bytes());
+    let e = FlmDelta::default().decode_slice(&forged).unwrap_err();
+    assert!(e.to_string().contains("cannot hold"), "{e}");
+    assert!(flm::merge_flm_bytes(&mut target, &forged).is_err());
+    assert_eq!(target, untouched);
+}
+
 #[test]
 fn merge_refuses_other_layouts_unchanged() {
     let mut a = film(4, 4, 1);

@@ -27,6 +27,10 @@ use std::path::Path;
 /// [`write_flm_level`] for a compressed file.
 pub const DEFAULT_LEVEL: u32 = 0;
 
+/// Deflate expands at most about 1032:1 (a 258-byte match coded in 2 bits); a gzip stream
+/// claiming more output than this times its size is not a real stream.
+const MAX_DEFLATE_RATIO: u64 = 1032;
+
 fn corrupt(context: &'static str) -> impl Fn(std::io::Error) -> FilmError {
     move |source| FilmError::Corrupt { context, source }
 }
@@ -124,18 +128,37 @@ fn group_len(h: &FlmHeader) -> usize {
 impl FlmDelta {
     /// Decodes an FLM from a stream (zlib-rs inflate), reusing this delta's memory.
     pub fn decode(&mut self, r: impl Read) -> Result<&FlmHeader, FilmError> {
+        self.decode_for(r, None)
+    }
+
+    /// As [`Self::decode`]; with `into`, a header whose layout differs from that film's is
+    /// refused before any pixel memory is allocated. The pixel bytes grow as they are
+    /// inflated, so a small stream whose header declares a huge film fails at its end
+    /// instead of allocating what the header claims.
+    fn decode_for(&mut self, r: impl Read, into: Option<&Film>) -> Result<&FlmHeader, FilmError> {
         self.header = None;
         let mut r = GzDecoder::new(BufReader::with_capacity(1 << 16, r));
         let header = FlmHeader::read(&mut r)?;
+        if let Some(film) = into {
+            film.check_flm_layout(&header)?;
+        }
         let len = group_len(&header);
         self.bytes.clear();
-        self.bytes.resize(len * header.groups as usize, 0);
         self.samples.clear();
         self.offsets.clear();
-        for (g, chunk) in self.bytes.chunks_exact_mut(len).enumerate() {
+        for g in 0..header.groups as usize {
             self.samples.push(sample_count(&mut r, g)?);
-            self.offsets.push(g * len);
-            r.read_exact(chunk).map_err(corrupt("pixel data"))?;
+            self.offsets.push(self.bytes.len());
+            let got = (&mut r)
+                .take(len as u64)
+                .read_to_end(&mut self.bytes)
+                .map_err(corrupt("pixel data"))?;
+            if got != len {
+                return Err(corrupt("pixel data")(std::io::Error::new(
+                    std::io::ErrorKind::UnexpectedEof,
+                    format!("group {g} holds {got} of its {len} bytes"),
+                )));
+            }
         }
         finish(&mut r)?;
         self.validate(header)
@@ -145,12 +168,38 @@ impl FlmDelta {
     /// than streaming). The header is parsed first, so the output size is known and checked
     /// against the gzip trailer before anything large is allocated.
     pub fn decode_slice(&mut self, gz: &[u8]) -> Result<&FlmHeader, FilmError> {
+        self.decode_slice_for(gz, None)
+    }
+
+    /// As [`Self::decode_slice`]; with `into`, a header whose layout differs from that
+    /// film's is refused before anything large is allocated. Whatever the trailer says, a
+    /// header declaring more than deflate can expand the stream to is refused too.
+    fn decode_slice_for(
+        &mut self,
+        gz: &[u8],
+        into: Option<&Film>,
+    ) -> Result<&FlmHeader, FilmError> {
         self.header = None;
         let header = FlmHeader::read(&mut GzDecoder::new(gz))?;
+        if let Some(film) = into {
+            film.check_flm_layout(&header)?;
+        }
         let mut head = Vec::new();
         header.write(&mut head)?;
         let len = group_len(&header);
         let total = head.len() + header.groups as usize * (8 + len);
+        if total as u64 > (gz.len() as u64).saturating_mul(MAX_DEFLATE_RATIO) {
+            return Err(FilmError::Corrupt {
+                context: "gzip stream",
+                source: std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    format!(
+                        "{} compressed bytes cannot hold the {total} bytes the header declares",
+                        gz.len()
+                    ),
+                ),
+            });
+        }
         let trailer = gz
             .len()
             .checked_sub(4)
@@ -305,7 +354,7 @@ fn add_f32_le(dst: &mut [f64], src: &[u8]) {
 /// is unchanged.
 pub fn merge_flm_bytes(film: &mut Film, gz: &[u8]) -> Result<FlmHeader, FilmError> {
     let mut delta = FlmDelta::default();
-    delta.decode_slice(gz)?;
+    delta.decode_slice_for(gz, Some(film))?;
     film.add_delta(&delta)?;
     delta
         .header
@@ -316,7 +365,7 @@ pub fn merge_flm_bytes(film: &mut Film, gz: &[u8]) -> Result<FlmHeader, FilmErro
 /// unchanged.
 pub fn merge_flm(film: &mut Film, r: impl Read) -> Result<FlmHeader, FilmError> {
     let mut delta = FlmDelta::default();
-    delta.decode(r)?;
+    delta.decode_for(r, Some(film))?;
     film.add_delta(&delta)?;
     delta
         .header
