@@ -38,7 +38,8 @@ pub const BATCH: u64 = 256;
 /// Uniform samples drawn before a session's first step to estimate the normaliser (the mean
 /// luminance), so that no chain's weights depend on its own large steps of the same batch
 /// (a chain that found a bright region would otherwise weigh it up: a bias toward bright
-/// regions). They add nothing to the film.
+/// regions). They add nothing to the film; each chain starts at one of them, drawn in
+/// proportion to its luminance, so a session's chains need no burn-in.
 pub const BOOTSTRAP: u64 = 8192;
 
 /// One contribution of a sample to the film.
@@ -119,47 +120,90 @@ impl MltState {
             })
     }
 
-    /// Estimates the mean luminance from [`BOOTSTRAP`] uniform samples (keys of their own).
+    /// Estimates the mean luminance from [`BOOTSTRAP`] uniform samples (keys of their own)
+    /// and starts each chain at one of them, drawn from the whole set in proportion to its
+    /// luminance. A chain started at a uniform point would weigh the film toward the wrong
+    /// regions until it reached its stationary distribution: a bias that grows with the
+    /// number of sessions a render is cut into (farm leases are sessions). Drawing from all
+    /// of them, not a chain's own share, keeps the resampling's own bias small.
     fn bootstrap(
         &mut self,
         scene: &Renderable,
         pool: &rayon::ThreadPool,
         frame: &Frame,
         params: &MltParams,
+        pixels: f64,
     ) {
         use rayon::prelude::*;
         let per = BOOTSTRAP / CHAINS as u64;
-        let sums: Vec<(f64, u64)> = pool.install(|| {
+        let lums: Vec<Vec<f32>> = pool.install(|| {
             self.slots
                 .par_iter()
                 .map(|slot| {
                     let mut so = SampleOut::new(scene.world.groups().len());
-                    let (mut sum, mut invalid) = (0.0, 0);
-                    let mut rec = Vec::new();
-                    for i in 0..per {
-                        rec.clear();
-                        let key = slot.chain.bootstrap_key(i);
-                        let lum = trace(
-                            scene,
-                            params,
-                            frame,
-                            Vec::new(),
-                            key,
-                            &mut so,
-                            &mut rec,
-                            &mut invalid,
-                        )
-                        .0;
-                        sum += f64::from(lum);
-                    }
-                    (sum, per)
+                    let (mut rec, mut invalid) = (Vec::new(), 0);
+                    (0..per)
+                        .map(|i| {
+                            rec.clear();
+                            let key = slot.chain.bootstrap_key(i);
+                            let v = Vec::new();
+                            trace(
+                                scene,
+                                params,
+                                frame,
+                                v,
+                                key,
+                                &mut so,
+                                &mut rec,
+                                &mut invalid,
+                            )
+                            .0
+                        })
+                        .collect()
                 })
                 .collect()
         });
-        for (s, n) in sums {
-            self.large_sum += s;
-            self.large_count += n as f64;
+        for l in &lums {
+            self.large_sum += l.iter().map(|&x| f64::from(x)).sum::<f64>();
+            self.large_count += l.len() as f64;
         }
+        let all: Vec<f32> = lums.concat();
+        let starts: Vec<Option<u64>> = (self.slots.iter())
+            .map(|slot| {
+                let j = slot.chain.pick_start(&all)? as u64;
+                let owner = self.slots.get((j / per) as usize)?;
+                Some(owner.chain.bootstrap_key(j % per))
+            })
+            .collect();
+        // The large mutation probability of the first batch (see `run_pass`).
+        let p_large = if params.cooldown && (BOOTSTRAP as f64) < pixels {
+            0.5
+        } else {
+            params.large_prob
+        };
+        pool.install(|| {
+            self.slots
+                .par_iter_mut()
+                .zip(starts.par_iter())
+                .for_each(|(slot, start)| {
+                    let Some(key) = *start else { return };
+                    let mut so = SampleOut::new(scene.world.groups().len());
+                    let (mut rec, mut invalid) = (Vec::new(), 0);
+                    let v = Vec::new();
+                    let (lum, values) = trace(
+                        scene,
+                        params,
+                        frame,
+                        v,
+                        key,
+                        &mut so,
+                        &mut rec,
+                        &mut invalid,
+                    );
+                    slot.chain.start_at(values, lum, p_large);
+                    slot.current = rec;
+                })
+        });
     }
 
     fn mean(&self) -> f64 {
@@ -192,7 +236,7 @@ impl MltState {
         let mut invalid = 0;
         let pixels = f64::from(film.width()) * f64::from(film.height());
         if self.large_count == 0.0 {
-            self.bootstrap(scene, pool, &frame, &params);
+            self.bootstrap(scene, pool, &frame, &params, pixels);
         }
         loop {
             if cancel.load(Ordering::Relaxed) {

@@ -189,6 +189,52 @@ impl Chain {
         combine(combine(self.key, 0x626f_6f74), i)
     }
 
+    /// Which of the start-up samples whose targets are `lums` the chain starts from: one
+    /// drawn in proportion to its target (importance resampling), so the chain starts close
+    /// to its stationary distribution instead of at a uniform point. `None` when every target
+    /// is zero (the chain then starts with a large mutation).
+    pub fn pick_start(&self, lums: &[f32]) -> Option<usize> {
+        let usable = |l: f32| {
+            if l.is_finite() && l > 0.0 {
+                f64::from(l)
+            } else {
+                0.0
+            }
+        };
+        let total: f64 = lums.iter().map(|&l| usable(l)).sum();
+        if total <= 0.0 {
+            return None;
+        }
+        let u = f64::from(unit_f32(mix64(combine(self.key, 0x7374_6172)))) * total;
+        let mut acc = 0.0;
+        let mut last = None;
+        for (i, &l) in lums.iter().enumerate() {
+            let w = usable(l);
+            if w > 0.0 {
+                acc += w;
+                last = Some(i);
+                if u < acc {
+                    return Some(i);
+                }
+            }
+        }
+        last
+    }
+
+    /// Starts the chain at `values` (a start-up sample's values, target `lum`) with nothing
+    /// gathered yet; its first proposal is large with probability `p_large`.
+    pub fn start_at(&mut self, values: Vec<f32>, lum: f32, p_large: f32) {
+        self.current = values;
+        self.current_lum = if lum.is_finite() && lum > 0.0 {
+            lum
+        } else {
+            0.0
+        };
+        self.weight = 0.0;
+        // Salt 4: step 0's salts 1 and 2 decide its acceptance and the next step's kind.
+        self.large = self.rand(4) < p_large;
+    }
+
     fn rand(&self, salt: u64) -> f32 {
         unit_f32(mix64(combine(self.step_key(), salt)))
     }
@@ -286,6 +332,38 @@ fn finite_or_zero(w: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn chains_start_at_samples_in_proportion_to_their_target() {
+        let lums = [0.0, 1.0, f32::NAN, 3.0, -2.0];
+        let mut counts = [0u32; 5];
+        for i in 0..20_000 {
+            let j = Chain::new(1, 2, i)
+                .pick_start(&lums)
+                .expect("a usable target");
+            counts[j] += 1;
+        }
+        assert_eq!((counts[0], counts[2], counts[4]), (0, 0, 0), "{counts:?}");
+        let share = f64::from(counts[3]) / 20_000.0;
+        assert!((share - 0.75).abs() < 0.015, "{counts:?}");
+        assert_eq!(Chain::new(1, 2, 0).pick_start(&[0.0, f32::INFINITY]), None);
+    }
+
+    #[test]
+    fn a_started_chain_mutates_its_start_and_deposits_nothing_for_it() {
+        let mut c = Chain::new(5, 0, 0);
+        c.start_at(vec![0.25, 0.5, 0.75], 2.0, 0.0);
+        assert!(!c.is_large());
+        let mut v = Vec::new();
+        c.propose([0.01, 0.01], &mut v);
+        assert_eq!(v.len(), 3);
+        let d = c.judge(&mut v, 2.0, 1.0, 0.0, 512);
+        assert!(d.accepted);
+        assert_eq!(
+            d.current_weight, 0.0,
+            "the start carries no weight of its own"
+        );
+    }
 
     #[test]
     fn mutations_stay_in_the_unit_interval_and_are_small() {
