@@ -1,11 +1,10 @@
 //! Halt rules, checkpoints, the end of a job, cancel and the drain at shutdown.
 //!
 //! The halt rules themselves are the core's (`luxfarm::halt`, shared with `luxfarm render`);
-//! this module asks them at the master's moments, on the merged film: haltspp and haltthreshold
-//! (the convergence test every convergencestep spp) after each merge, halttime (seconds since
-//! the first lease) on every tick. A noise-aware job's sampling map is rebuilt after merges
-//! too (`crate::noisemap`), and every convergence test's moment goes into the job's error
-//! history (`crate::trade`; jobs without haltthreshold get a test of their own for it).
+//! this module asks them at the master's moments, on the merged film: haltspp after each
+//! merge; halttime (seconds since the first lease) and haltthreshold (the convergence test
+//! every convergencestep spp, `crate::analysis`, which also rebuilds a noise-aware job's
+//! sampling map and feeds the job's error history) on every tick.
 //! When a halt rule holds the job enters its halting phase: every lease is told to stop and
 //! the master waits for the last deltas (at most two upload intervals plus
 //! a margin), then writes the outputs the Film asks for (`luxfarm::output`) and marks the job
@@ -24,18 +23,17 @@ use crate::auth::Identity;
 use crate::datadir::checkpoint_rel;
 use crate::db::{JobRow, JobState};
 use crate::error::{Result, ServerError};
-use crate::farm::{lock, now_ms, Farm, JobRt, RunState};
+use crate::farm::{lock, now_ms, Farm, JobRt};
 use crate::scene;
 use crate::scene::Film;
 use luxfarm::halt::HaltRules;
-use luxfarm::tonemap::TonemapParams;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// The job's halt rules: its haltspp, halttime and haltthreshold (the scene's, or the
 /// submission's overrides) and the scene's convergencestep.
-fn rules(row: &JobRow, rt: &JobRt) -> HaltRules {
+pub(crate) fn rules(row: &JobRow, rt: &JobRt) -> HaltRules {
     HaltRules {
         spp: row.haltspp,
         time: row.halttime,
@@ -44,12 +42,10 @@ fn rules(row: &JobRow, rt: &JobRt) -> HaltRules {
     }
 }
 
-/// Checks the halt rules that depend on merged samples.
+/// The cheap checks after a merge, on the upload path: the samples-per-second history and
+/// haltspp. The tests that tonemap the film run on the tick (`crate::analysis`).
 pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
-    let (samples, spp) = {
-        let film = lock(&rt.film);
-        (film.total_samples(), film.spp())
-    };
+    let samples = lock(&rt.film).total_samples();
     {
         let mut st = lock(&rt.state);
         st.history.push_back((Instant::now(), samples));
@@ -62,66 +58,10 @@ pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
             st.history.pop_front();
         }
     }
-    let rules = rules(row, rt);
-    if let Some(reason) = rules.spp_reached(samples, rt.info.pixels as f64) {
+    if let Some(reason) = rules(row, rt).spp_reached(samples, rt.info.pixels as f64) {
         begin_halt(farm, rt, reason.to_string());
-        return Ok(());
     }
-    let due = rules.convergence_due(&lock(&rt.state).convergence, spp);
-    if due {
-        // The test tonemaps a copy: merges into the live film go on meanwhile.
-        let film = lock(&rt.film).clone();
-        let reason = {
-            let mut st = lock(&rt.state);
-            let reason =
-                rules.test_convergence(&mut st.convergence, &film, &rt.info.params.tonemap);
-            let failing = st.convergence.last_failing;
-            observe(&mut st, &film, &rt.info.params.tonemap, failing);
-            reason
-        };
-        if let Some(reason) = reason {
-            begin_halt(farm, rt, reason.to_string());
-        }
-    } else if rules.threshold.is_none() {
-        trade_test(rt, spp);
-    }
-    rebuild_noise_map(rt, spp);
     Ok(())
-}
-
-/// The error estimate of a job without haltthreshold: `crate::trade`'s own convergence test,
-/// every convergencestep spp, on a copy of the merged film.
-fn trade_test(rt: &JobRt, spp: f64) {
-    if !lock(&rt.state).trade.own_due(spp, rt.info.convergence_step) {
-        return;
-    }
-    let film = lock(&rt.film).clone();
-    let mut st = lock(&rt.state);
-    let failing = st.trade.own_test(&film, &rt.info.params.tonemap);
-    observe(&mut st, &film, &rt.info.params.tonemap, failing);
-}
-
-/// Gives a convergence test's moment (the film copy it tested and its failing fraction) to
-/// the job's error history, at the job's clock (seconds since its first lease).
-fn observe(st: &mut RunState, film: &Film, tonemap: &TonemapParams, failing: Option<f64>) {
-    let secs = st
-        .first_lease_ms
-        .map_or(0.0, |t| (now_ms() - t) as f64 / 1000.0);
-    st.trade.observe(film, tonemap, secs.max(0.0), failing);
-}
-
-/// For a noise-aware job, rebuilds the sampling map from a copy of the merged film when
-/// `convergencestep` spp were merged since the last one (`crate::noisemap`).
-fn rebuild_noise_map(rt: &JobRt, spp: f64) {
-    if !rt.info.noise_aware || !lock(&rt.state).noise_map.due(spp) {
-        return;
-    }
-    let film = lock(&rt.film).clone();
-    let mut st = lock(&rt.state);
-    let step = rt.info.convergence_step;
-    if st.noise_map.update(&film, step, &rt.info.params.tonemap) {
-        tracing::debug!(job = %rt.id, spp = film.spp(), "noise-aware sampling map rebuilt");
-    }
 }
 
 /// Starts the halting phase (idempotent): every lease is told to stop.
@@ -170,6 +110,7 @@ fn tick_job(farm: &Farm, rt: &Arc<JobRt>) -> Result<()> {
             return finish(farm, rt, state, &reason);
         }
     }
+    crate::analysis::run(farm, &row, rt);
     let due = {
         let st = lock(&rt.state);
         st.last_checkpoint.elapsed().as_secs_f64() >= farm.cfg.checkpoint_interval

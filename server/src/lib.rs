@@ -8,7 +8,8 @@
 //!   `admission`: what a job may cost and whether it can render; `auth`: identities, roles,
 //!   tokens; `registry`: worker registration (protocol versions, credentials); `lease`:
 //!   leases, uploads, heartbeats; `budget`: per-lease sample budgets (precise haltspp);
-//!   `halt`: halt rules, checkpoints, job end, cancel; `db`: the SQLite store (schema versions
+//!   `halt`: halt rules, checkpoints, job end, cancel; `analysis`: the film's convergence
+//!   tests and noise-aware maps, on the tick rather than the upload path; `db`: the SQLite store (schema versions
 //!   and upgrades in `db::migrate`); `schedule`: which job a worker gets (priority, tags,
 //!   memory, sequence policies); `sequence`: frame sequences; `blocks`: failing workers
 //!   blocked from jobs and quarantined; `noisemap`: noise-aware sampling maps built from the
@@ -35,6 +36,7 @@
 //! [`Running`] ([`SubmitOptions`], [`MergeReport`]); everything else is internal.
 
 pub(crate) mod admission;
+pub(crate) mod analysis;
 pub(crate) mod auth;
 pub(crate) mod blocks;
 pub(crate) mod budget;

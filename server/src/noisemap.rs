@@ -5,7 +5,7 @@
 //! the slaves.
 //!
 //! ```text
-//! merge (lease) --halt::after_merge: due?--> clone of the merged film --MapBuilder-->
+//! merge (lease), then the tick (crate::analysis): due? --> copy of the merged film --MapBuilder-->
 //!   SamplingMap --to_cells (at most MAX_WIRE_CELLS cells, f32 little endian)-->
 //!   pb::SamplingMap (version), kept in the job's run state
 //! ack of a worker whose header says it takes maps at version v --for_worker: newer?-->
@@ -40,21 +40,37 @@ impl NoiseMapState {
         self.builder.as_ref().is_none_or(|b| b.due(spp))
     }
 
-    /// Runs the builder on (a copy of) the merged film, testing every `step` spp; true when
-    /// a new map was built.
-    pub fn update(&mut self, film: &Film, step: f64, tonemap: &TonemapParams) -> bool {
-        let builder = self.builder.get_or_insert_with(|| MapBuilder::new(step));
-        if !builder.due(film.spp()) {
-            return false;
-        }
-        let Some(map) = builder.update(film, tonemap) else {
-            return false;
-        };
-        let version = film.total_samples().max(1.0) as u64;
-        self.current = Some(Arc::new(to_wire(&map, version)));
-        true
+    /// Takes the builder out (a new one testing every `step` spp at the first call), to run
+    /// it without holding the job's state; [`Self::put_back`] returns it.
+    pub fn take_builder(&mut self, step: f64) -> MapBuilder {
+        self.builder.take().unwrap_or_else(|| MapBuilder::new(step))
     }
 
+    /// Returns the builder and, when one was built, the new current map.
+    pub fn put_back(&mut self, builder: MapBuilder, built: Option<pb::SamplingMap>) {
+        self.builder = Some(builder);
+        if let Some(m) = built {
+            self.current = Some(Arc::new(m));
+        }
+    }
+}
+
+/// Runs `builder` on (a copy of) the merged film when it is due: the new map in its wire
+/// form, its version the film's sample count.
+pub fn build(
+    builder: &mut MapBuilder,
+    film: &Film,
+    tonemap: &TonemapParams,
+) -> Option<pb::SamplingMap> {
+    if !builder.due(film.spp()) {
+        return None;
+    }
+    let map = builder.update(film, tonemap)?;
+    let version = film.total_samples().max(1.0) as u64;
+    Some(to_wire(&map, version))
+}
+
+impl NoiseMapState {
     /// The map to send with an acknowledgement: the current one when the worker takes maps
     /// (`have` is the version it renders with) and it is newer.
     pub fn for_worker(&self, have: Option<u64>) -> Option<pb::SamplingMap> {

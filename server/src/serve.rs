@@ -361,6 +361,8 @@ pub async fn start(cfg: crate::config::Config) -> anyhow::Result<Running> {
     let ticker = farm.clone();
     tokio::spawn(async move {
         let mut iv = tokio::time::interval(Duration::from_millis(250));
+        // A tick that ran long (a large film's convergence test) is not followed by a burst.
+        iv.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
         loop {
             iv.tick().await;
             let f = ticker.clone();

@@ -2,8 +2,8 @@
 //! it, the projected time to a target error, and the convergence map as a picture.
 //!
 //! ```text
-//! merge --halt::after_merge--> convergence test every convergencestep spp (the haltthreshold
-//!   test of `luxfarm::halt`, or this module's own test for jobs without a threshold)
+//! merges --tick (crate::analysis)--> convergence test every convergencestep spp (the
+//!   haltthreshold test of `luxfarm::halt`, or this module's own test for jobs without a threshold)
 //!   --copy of the merged film, failing fraction--> TradeState::observe
 //!   --relative error against the previous snapshot--> ErrorHistory::push
 //!      (secs since the first lease, merged spp, relative error, failing fraction)
