@@ -44,6 +44,8 @@ pub struct SubmitOptions {
     pub tags: Vec<String>,
     pub min_memory_mb: Option<u64>,
     pub max_workers: Option<u32>,
+    /// The job's own webhook URL (http or https), posted to when the job ends.
+    pub webhook: Option<String>,
 }
 
 /// What admission decided: the job's halt rules and the notes shown with it.
@@ -62,6 +64,10 @@ pub fn check_overrides(cfg: &Config, o: &SubmitOptions) -> Result<()> {
         return Err(ServerError::BadRequest(format!(
             "priority {p}: priorities run from 0 (default) to 100 (first)"
         )));
+    }
+    if let Some(url) = o.webhook.as_deref().filter(|u| !u.is_empty()) {
+        crate::config::check_hook_url(url)
+            .map_err(|e| ServerError::BadRequest(format!("webhook: {e}")))?;
     }
     check_halts(cfg, o.haltspp, o.halttime, o.haltthreshold)
 }

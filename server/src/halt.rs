@@ -6,7 +6,8 @@
 //! the first lease) on every tick. A noise-aware job's sampling map is rebuilt after merges
 //! too (`crate::noisemap`), and every convergence test's moment goes into the job's error
 //! history (`crate::trade`; jobs without haltthreshold get a test of their own for it).
-//! When a halt rule holds the job enters its halting phase: every lease is told to stop and
+//! When a halt rule holds the job enters its halting phase (its `halted` webhook queued,
+//! `crate::webhooks`): every lease is told to stop and
 //! the master waits for the last deltas (at most two upload intervals plus
 //! a margin), then writes the outputs the Film asks for (`luxfarm::output`) and marks the job
 //! done.
@@ -132,12 +133,15 @@ pub fn begin_halt(farm: &Farm, rt: &JobRt, reason: String) {
             return;
         }
         tracing::info!(job = %rt.id, %reason, "halt condition holds; stopping workers");
-        st.halting = Some((JobState::Done, reason, Instant::now()));
+        st.halting = Some((JobState::Done, reason.clone(), Instant::now()));
     }
     for l in lock(&rt.leases).values_mut() {
         l.stop = true;
     }
     farm.touch();
+    if let Err(e) = lock(&farm.db).queue_halted(&rt.id, &reason, now_ms()) {
+        tracing::error!(job = %rt.id, error = %e, "the halted webhook could not be queued");
+    }
 }
 
 /// Periodic work: worker timeouts, then for every loaded job on its own (one job's fault
