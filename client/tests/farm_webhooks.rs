@@ -3,7 +3,8 @@
 //! accepted once after a first attempt answered 500 (same delivery id both times), signed with
 //! HMAC-SHA256 (checked here with an RFC 2104 HMAC written from sha2, which verifies with the
 //! secret and not with another); a job failing because its only worker is blocked is posted
-//! `failed` with its reason; a per-job URL that is not http(s) is a JSON 400; a cancel whose
+//! `failed` with its reason; a per-job URL that is not http(s) is a JSON 400 (and refused by
+//! `luxfarm submit --webhook`, whose good URL gets the job's `cancelled`); a cancel whose
 //! delivery was not acknowledged before the master was killed is delivered after its restart.
 
 mod farm_common;
@@ -316,6 +317,42 @@ fn job_ends_are_posted_signed_and_retried_once_each() {
         "{reason}"
     );
     assert_eq!(reason, v["reason"].as_str().unwrap());
+
+    // `luxfarm submit --webhook` (gRPC) names the job's own hook; a bad URL is refused.
+    let cli = |hook: &str| {
+        std::process::Command::new(exe())
+            .arg("submit")
+            .arg(&scene)
+            .args(["--master", &s.url(), "--tag", "nobody", "--webhook", hook])
+            .env_remove("LUXFARM_TOKEN")
+            .output()
+            .unwrap()
+    };
+    let refused = cli("ftp://127.0.0.1/x");
+    assert!(!refused.status.success());
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        err.contains("webhook") && err.contains("only http and https"),
+        "{err}"
+    );
+    let out = cli(&rx.url("/hooks/cli"));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let queued = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    let r = http()
+        .delete(s.api(&format!("/jobs/{queued}")))
+        .send()
+        .unwrap();
+    assert_eq!(r.status().as_u16(), 200);
+    delivered(&s, &queued, 2);
+    let got = rx.got.lock().unwrap().clone();
+    let cancelled = of(&got, "/hooks/cli", "cancelled");
+    assert_eq!(cancelled.len(), 2, "{cancelled:?}");
+    assert_eq!(cancelled[1].json()["job"]["id"], queued.as_str());
+    assert_eq!(of(&got, "/hooks/all", "cancelled").len(), 2);
 }
 
 /// Registers a protocol client as a worker tagged `flaky`, takes a lease of `job` and
