@@ -14,13 +14,19 @@
 //! restart with the same delivery id and body, so receivers deduplicate on
 //! `X-Luxfarm-Delivery`. The signature is `sha256=` and the hex HMAC-SHA256 of the body under
 //! the secret of `--webhook-secret-file`; without a secret deliveries are unsigned.
+//!
+//! This file is the delivery task and its settings; `policy` holds what it decides from
+//! (signatures, the backoff, what a status means) and the API's view of a delivery.
 
 use crate::config::Config;
 use crate::db::{Db, HookOutcome, HookRow};
 use crate::error::{Result, ServerError};
-use hmac::{KeyInit, Mac};
 use std::sync::Arc;
 use std::time::Duration;
+
+mod policy;
+
+pub use policy::{backoff, origin, signature, verdict, Verdict, WebhookView};
 
 /// Deliveries attempted at once.
 const BATCH: usize = 16;
@@ -90,122 +96,26 @@ fn read_secret(path: &std::path::Path) -> Result<Vec<u8>> {
     Ok(secret)
 }
 
-/// The `X-Luxfarm-Signature` value of a body: `sha256=` and the hex HMAC-SHA256. (HMAC
-/// takes keys of every length, longer ones hashed first; the error is the library's.)
-pub fn signature(secret: &[u8], body: &[u8]) -> Result<String> {
-    let mut mac = hmac::Hmac::<sha2::Sha256>::new_from_slice(secret)
-        .map_err(|e| ServerError::Internal(format!("webhook signature: {e}")))?;
-    mac.update(body);
-    let tag = mac.finalize().into_bytes();
-    let hex: String = tag.iter().map(|b| format!("{b:02x}")).collect();
-    Ok(format!("sha256={hex}"))
-}
-
-/// The wait after the `made`-th failed attempt (1 for the first): `backoff`, doubled at
-/// each further attempt, at most `max_wait`.
-pub fn backoff(made: u32, backoff: Duration, max_wait: Duration) -> Duration {
-    let doublings = made.saturating_sub(1).min(62);
-    let factor = (1u64 << doublings) as f64;
-    let wait = backoff.as_secs_f64() * factor;
-    if wait.is_finite() && wait < max_wait.as_secs_f64() {
-        Duration::from_secs_f64(wait)
-    } else {
-        max_wait
-    }
-}
-
-/// What an answer's status means for the delivery.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Verdict {
-    Delivered,
-    Retry,
-    Permanent,
-}
-
-/// 2xx delivers; 408 (timeout) and 429 (too many requests) and every status that is not a
-/// client error (5xx, and redirects, which are not followed) are retried; other 4xx are not.
-pub fn verdict(status: u16) -> Verdict {
-    match status {
-        200..=299 => Verdict::Delivered,
-        408 | 429 => Verdict::Retry,
-        400..=499 => Verdict::Permanent,
-        _ => Verdict::Retry,
-    }
-}
-
-/// The origin of a URL (`https://host:port`), what the API and logs show of a hook URL (its
-/// path and query may hold a token).
-pub fn origin(url: &str) -> String {
-    match reqwest::Url::parse(url) {
-        Ok(u) => u.origin().ascii_serialization(),
-        Err(_) => "(invalid URL)".into(),
-    }
-}
-
-/// A delivery as the API shows it (`GET /api/v1/jobs/{id}/webhooks`).
-#[derive(Clone, Debug, serde::Serialize, utoipa::ToSchema)]
-pub struct WebhookView {
-    /// The delivery id (`X-Luxfarm-Delivery`).
-    pub delivery: String,
-    /// done, failed, cancelled or halted.
-    pub event: String,
-    /// `master` (the `--webhook` hook) or `job` (the job's own).
-    pub scope: String,
-    /// The hook's origin (scheme, host, port; the rest of the URL is not shown).
-    pub target: String,
-    /// pending, delivered or failed (given up).
-    pub status: String,
-    pub attempts: u32,
-    /// The HTTP status of the last attempt, when an answer came.
-    pub last_status: Option<u16>,
-    /// Why the last attempt failed (empty after a success).
-    pub last_error: String,
-    pub created_ms: i64,
-    /// When the next attempt is due (pending deliveries).
-    pub next_ms: Option<i64>,
-    pub delivered_ms: Option<i64>,
-    pub gave_up_ms: Option<i64>,
-}
-
-impl WebhookView {
-    pub fn new(row: &HookRow) -> WebhookView {
-        let status = match (row.delivered_ms, row.gave_up_ms) {
-            (Some(_), _) => "delivered",
-            (None, Some(_)) => "failed",
-            _ => "pending",
-        };
-        WebhookView {
-            delivery: row.id.clone(),
-            event: row.event.clone(),
-            scope: row.scope.clone(),
-            target: origin(&row.url),
-            status: status.into(),
-            attempts: row.attempts,
-            last_status: row.last_status,
-            last_error: row.last_error.clone(),
-            created_ms: row.created_ms,
-            next_ms: (status == "pending").then_some(row.next_ms),
-            delivered_ms: row.delivered_ms,
-            gave_up_ms: row.gave_up_ms,
-        }
-    }
-}
-
 fn now_ms() -> i64 {
     std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| i64::try_from(d.as_millis()).unwrap_or(i64::MAX))
 }
 
-/// Starts the delivery task on the current tokio runtime.
-pub fn spawn<S: Outbox>(store: Arc<S>, settings: Settings) -> Result<()> {
-    let client = reqwest::Client::builder()
+/// The HTTP client of deliveries: redirects not followed, the per-attempt timeout.
+fn http_client(settings: &Settings) -> Result<reqwest::Client> {
+    reqwest::Client::builder()
         .redirect(reqwest::redirect::Policy::none())
         .timeout(settings.timeout)
         .connect_timeout(settings.timeout)
         .user_agent(concat!("luxfarm/", env!("CARGO_PKG_VERSION")))
         .build()
-        .map_err(|e| ServerError::Internal(format!("webhook HTTP client: {e}")))?;
+        .map_err(|e| ServerError::Internal(format!("webhook HTTP client: {e}")))
+}
+
+/// Starts the delivery task on the current tokio runtime.
+pub fn spawn<S: Outbox>(store: Arc<S>, settings: Settings) -> Result<()> {
+    let client = http_client(&settings)?;
     let wake = store.with_db(|db| Ok(db.hook_wake()))?;
     tokio::spawn(run(store, Arc::new(settings), client, wake));
     Ok(())
@@ -360,92 +270,6 @@ fn chain(e: &dyn std::error::Error) -> String {
 mod tests {
     use super::*;
 
-    /// True when `header` is the signature of `body` under `secret` (compared in constant time),
-    /// as a receiver checks it.
-    fn verify(secret: &[u8], body: &[u8], header: &str) -> bool {
-        let Some(hex) = header.strip_prefix("sha256=") else {
-            return false;
-        };
-        let Some(tag) = unhex(hex) else {
-            return false;
-        };
-        let Ok(mut mac) = hmac::Hmac::<sha2::Sha256>::new_from_slice(secret) else {
-            return false;
-        };
-        mac.update(body);
-        mac.verify_slice(&tag).is_ok()
-    }
-
-    fn unhex(s: &str) -> Option<Vec<u8>> {
-        if !s.len().is_multiple_of(2) {
-            return None;
-        }
-        (0..s.len())
-            .step_by(2)
-            .map(|i| u8::from_str_radix(s.get(i..i + 2)?, 16).ok())
-            .collect()
-    }
-
-    #[test]
-    fn signature_is_the_rfc_4231_hmac_sha256() {
-        // RFC 4231 test case 2: key "Jefe", data "what do ya want for nothing?".
-        let sig = signature(b"Jefe", b"what do ya want for nothing?").unwrap();
-        assert_eq!(
-            sig,
-            "sha256=5bdcc146bf60754e6a042426089575c75a003f089d2739839dec58b964ec3843"
-        );
-        assert!(verify(b"Jefe", b"what do ya want for nothing?", &sig));
-        assert!(!verify(b"jefe", b"what do ya want for nothing?", &sig));
-        assert!(!verify(b"Jefe", b"what do ya want for nothing!", &sig));
-        assert!(!verify(b"Jefe", b"what do ya want for nothing?", "sha1=00"));
-        assert!(!verify(b"Jefe", b"x", "sha256=zz"));
-        // A key longer than the block is hashed first (RFC 4231 test case 6).
-        let key = [0xaau8; 131];
-        let sig = signature(
-            &key,
-            b"Test Using Larger Than Block-Size Key - Hash Key First",
-        )
-        .unwrap();
-        assert_eq!(
-            sig,
-            "sha256=60e431591ee0b67f0d8a26aacbf5b77f8e0bc6213728c5140546040f0ee37f54"
-        );
-    }
-
-    #[test]
-    fn backoff_doubles_from_the_first_wait_up_to_the_cap() {
-        let s = |x: f64| Duration::from_secs_f64(x);
-        let waits: Vec<f64> = (1..=8)
-            .map(|n| backoff(n, s(1.0), s(30.0)).as_secs_f64())
-            .collect();
-        assert_eq!(waits, [1.0, 2.0, 4.0, 8.0, 16.0, 30.0, 30.0, 30.0]);
-        assert_eq!(backoff(0, s(0.5), s(30.0)), s(0.5));
-        assert_eq!(backoff(u32::MAX, s(1.0), s(600.0)), s(600.0));
-    }
-
-    #[test]
-    fn client_errors_other_than_408_and_429_are_not_retried() {
-        assert_eq!(verdict(200), Verdict::Delivered);
-        assert_eq!(verdict(204), Verdict::Delivered);
-        assert_eq!(verdict(500), Verdict::Retry);
-        assert_eq!(verdict(503), Verdict::Retry);
-        assert_eq!(verdict(408), Verdict::Retry);
-        assert_eq!(verdict(429), Verdict::Retry);
-        assert_eq!(verdict(301), Verdict::Retry);
-        assert_eq!(verdict(400), Verdict::Permanent);
-        assert_eq!(verdict(404), Verdict::Permanent);
-        assert_eq!(verdict(410), Verdict::Permanent);
-    }
-
-    #[test]
-    fn urls_are_shown_by_their_origin_only() {
-        assert_eq!(
-            origin("https://hooks.example/T000/B000/secret?x=1"),
-            "https://hooks.example"
-        );
-        assert_eq!(origin("http://127.0.0.1:8080/h"), "http://127.0.0.1:8080");
-    }
-
     #[test]
     fn a_secret_file_loses_its_line_break_and_may_not_be_empty() {
         let dir = tempfile::tempdir().unwrap();
@@ -456,5 +280,145 @@ mod tests {
         assert!(read_secret(&p).unwrap_err().to_string().contains("empty"));
         let missing = read_secret(&dir.path().join("nope")).unwrap_err();
         assert!(missing.to_string().contains("nope"), "{missing}");
+    }
+
+    /// The store alone, as the delivery task sees it.
+    struct Store(std::sync::Mutex<Db>);
+
+    impl Outbox for Store {
+        fn with_db<T>(&self, f: impl FnOnce(&Db) -> Result<T>) -> Result<T> {
+            f(&self.0.lock().unwrap())
+        }
+    }
+
+    /// A loopback HTTP server answering every request with `answer` (status line and
+    /// headers); returns its URL.
+    async fn answering(answer: &'static str) -> String {
+        use tokio::io::{AsyncReadExt, AsyncWriteExt};
+        let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let url = format!("http://{}/hook", listener.local_addr().unwrap());
+        tokio::spawn(async move {
+            while let Ok((mut conn, _)) = listener.accept().await {
+                let mut buf = Vec::new();
+                let mut chunk = [0u8; 4096];
+                // Read the headers and a body of Content-Length bytes.
+                while let Ok(n) = conn.read(&mut chunk).await {
+                    if n == 0 {
+                        break;
+                    }
+                    buf.extend_from_slice(&chunk[..n]);
+                    let text = String::from_utf8_lossy(&buf).to_string();
+                    if let Some(end) = text.find("\r\n\r\n") {
+                        let len = text
+                            .lines()
+                            .find_map(|l| {
+                                l.to_ascii_lowercase()
+                                    .strip_prefix("content-length:")
+                                    .and_then(|v| v.trim().parse::<usize>().ok())
+                            })
+                            .unwrap_or(0);
+                        if buf.len() >= end + 4 + len {
+                            break;
+                        }
+                    }
+                }
+                let reply = format!("{answer}\r\nContent-Length: 0\r\nConnection: close\r\n\r\n");
+                let _ = conn.write_all(reply.as_bytes()).await;
+            }
+        });
+        url
+    }
+
+    /// A store with one failed job whose `failed` event goes to `url`.
+    fn store_with_hook(dir: &std::path::Path, url: &str) -> Arc<Store> {
+        let mut db = Db::open(&dir.join("farm.sqlite")).unwrap();
+        db.set_hook_targets(Some(url.into()), None);
+        db.insert_job(&crate::db::NewJob {
+            id: "j",
+            name: "j",
+            bundle_hash: "h",
+            scene_path: "s.lxs",
+            width: 2,
+            height: 2,
+            ..Default::default()
+        })
+        .unwrap();
+        db.set_job_state("j", crate::db::JobState::Failed, "why", 1)
+            .unwrap();
+        Arc::new(Store(std::sync::Mutex::new(db)))
+    }
+
+    fn quick(attempts: u32) -> Settings {
+        Settings {
+            secret: Some(b"k".to_vec()),
+            attempts,
+            backoff: Duration::from_millis(10),
+            max_wait: Duration::from_secs(60),
+            timeout: Duration::from_secs(10),
+        }
+    }
+
+    /// Makes one attempt at every pending delivery, whenever due; returns the job's rows.
+    async fn attempt_all(store: &Arc<Store>, settings: &Settings) -> Vec<HookRow> {
+        let client = http_client(settings).unwrap();
+        for row in store.with_db(|db| db.due_hooks(i64::MAX, 10)).unwrap() {
+            deliver(store, settings, &client, row).await;
+        }
+        store.with_db(|db| db.hooks_of_job("j")).unwrap()
+    }
+
+    #[tokio::test]
+    async fn a_client_error_is_given_up_at_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = store_with_hook(dir.path(), &answering("HTTP/1.1 404 Not Found").await);
+        let rows = attempt_all(&store, &quick(5)).await;
+        assert_eq!((rows[0].attempts, rows[0].last_status), (1, Some(404)));
+        assert!(rows[0].gave_up_ms.is_some() && rows[0].delivered_ms.is_none());
+        assert_eq!(rows[0].last_error, "HTTP 404");
+    }
+
+    #[tokio::test]
+    async fn server_errors_are_retried_until_the_attempts_run_out() {
+        let dir = tempfile::tempdir().unwrap();
+        let url = answering("HTTP/1.1 503 Service Unavailable").await;
+        let store = store_with_hook(dir.path(), &url);
+        let settings = quick(3);
+        let before = now_ms();
+        let rows = attempt_all(&store, &settings).await;
+        assert_eq!((rows[0].attempts, rows[0].gave_up_ms), (1, None));
+        assert!(rows[0].next_ms >= before + 10, "the first backoff");
+        attempt_all(&store, &settings).await;
+        let rows = attempt_all(&store, &settings).await;
+        assert_eq!(rows[0].attempts, 3);
+        assert!(rows[0].gave_up_ms.is_some(), "given up after 3 attempts");
+        assert!(attempt_all(&store, &settings).await[0].attempts == 3);
+    }
+
+    #[tokio::test]
+    async fn retry_after_sets_the_next_attempt() {
+        let dir = tempfile::tempdir().unwrap();
+        let url = answering("HTTP/1.1 429 Too Many Requests\r\nRetry-After: 7").await;
+        let store = store_with_hook(dir.path(), &url);
+        let before = now_ms();
+        let rows = attempt_all(&store, &quick(5)).await;
+        assert_eq!(rows[0].last_status, Some(429));
+        assert!(rows[0].next_ms >= before + 7000, "{rows:?}");
+        assert!(rows[0].next_ms < now_ms() + 60_000, "{rows:?}");
+    }
+
+    #[tokio::test]
+    async fn a_refused_connection_is_retried_and_named() {
+        let dir = tempfile::tempdir().unwrap();
+        // A port that was just free: nothing listens there.
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
+        let store = store_with_hook(dir.path(), &format!("http://127.0.0.1:{port}/h"));
+        let rows = attempt_all(&store, &quick(5)).await;
+        assert_eq!((rows[0].attempts, rows[0].last_status), (1, None));
+        assert!(rows[0].last_error.contains("cannot connect"), "{rows:?}");
+        assert!(rows[0].gave_up_ms.is_none());
     }
 }
