@@ -94,6 +94,10 @@ pub struct Config {
     /// LUXFARM_WEBHOOK_SECRET_FILE.
     #[arg(long, env = "LUXFARM_WEBHOOK_SECRET_FILE")]
     pub webhook_secret_file: Option<PathBuf>,
+    /// Refuse submissions naming a webhook of their own (a farm whose submitters should not
+    /// make the master post to URLs of their choosing, e.g. inside its network).
+    #[arg(long)]
+    pub no_job_webhooks: bool,
     /// Attempts at delivering one webhook before it is given up.
     #[arg(long, default_value_t = 10)]
     pub webhook_attempts: u32,
@@ -143,6 +147,7 @@ impl Config {
             workers_per_job: 8,
             webhook: None,
             webhook_secret_file: None,
+            no_job_webhooks: false,
             webhook_attempts: 10,
             webhook_backoff: 1.0,
             webhook_backoff_max: 600.0,

@@ -145,7 +145,12 @@ async fn run<S: Outbox>(
                 let attempts = due
                     .into_iter()
                     .map(|row| deliver(&store, &settings, &client, row));
-                futures_util::future::join_all(attempts).await;
+                let recorded = futures_util::future::join_all(attempts).await;
+                if recorded.contains(&false) {
+                    // The store refused an outcome: those deliveries are still due; pause
+                    // rather than post them again at once.
+                    tokio::time::sleep(Duration::from_secs(5)).await;
+                }
                 continue;
             }
             Ok(_) => {}
@@ -163,13 +168,13 @@ async fn run<S: Outbox>(
     }
 }
 
-/// One attempt at a delivery, and its outcome recorded.
+/// One attempt at a delivery, and its outcome recorded (false when the store refused it).
 async fn deliver<S: Outbox>(
     store: &Arc<S>,
     settings: &Settings,
     client: &reqwest::Client,
     row: HookRow,
-) {
+) -> bool {
     let (status, error, retry_after) = attempt(settings, client, &row).await;
     let made = row.attempts.saturating_add(1);
     let outcome = match status.map(verdict) {
@@ -204,9 +209,10 @@ async fn deliver<S: Outbox>(
         db.record_hook_attempt(&id, status, &error, outcome, now_ms())
     })
     .await;
-    if let Err(e) = recorded {
+    if let Err(e) = &recorded {
         tracing::error!(delivery = %row.id, error = %e, "webhook outcome not recorded");
     }
+    recorded.is_ok()
 }
 
 /// Posts the delivery once: the answer's status (if one came), what went wrong (empty on a
