@@ -44,6 +44,8 @@ pub struct SubmitOptions {
     pub tags: Vec<String>,
     pub min_memory_mb: Option<u64>,
     pub max_workers: Option<u32>,
+    /// The job's own webhook URL (http or https), posted to when the job ends.
+    pub webhook: Option<String>,
 }
 
 /// What admission decided: the job's halt rules and the notes shown with it.
@@ -56,12 +58,24 @@ pub struct Admitted {
 }
 
 /// Refuses halt overrides that are not finite positive numbers, or beyond the master's
-/// limits.
+/// limits, a priority outside 0–100, and a job webhook that is not an http(s) URL of at most
+/// 2048 bytes (or any job webhook with `--no-job-webhooks`).
 pub fn check_overrides(cfg: &Config, o: &SubmitOptions) -> Result<()> {
     if let Some(p) = o.priority.filter(|p| !(0..=100).contains(p)) {
         return Err(ServerError::BadRequest(format!(
             "priority {p}: priorities run from 0 (default) to 100 (first)"
         )));
+    }
+    if let Some(url) = o.webhook.as_deref().filter(|u| !u.is_empty()) {
+        if cfg.no_job_webhooks {
+            return Err(ServerError::BadRequest(
+                "webhook: this master takes no webhooks of single jobs (--no-job-webhooks); \
+                 its own hook, if any, reports every job"
+                    .into(),
+            ));
+        }
+        crate::config::check_hook_url(url)
+            .map_err(|e| ServerError::BadRequest(format!("webhook: {e}")))?;
     }
     check_halts(cfg, o.haltspp, o.halttime, o.haltthreshold)
 }
@@ -377,5 +391,26 @@ mod tests {
         assert!(t(&[&"x".repeat(65)]).is_err());
         let many: Vec<String> = (0..33).map(|i| format!("t{i}")).collect();
         assert!(clean_tags(&many).is_err());
+    }
+
+    #[test]
+    fn a_job_webhook_must_be_a_short_http_url_and_allowed() {
+        let mut c = cfg();
+        let hook = |u: &str| SubmitOptions {
+            webhook: Some(u.into()),
+            ..SubmitOptions::default()
+        };
+        assert!(check_overrides(&c, &hook("https://hooks.example/x")).is_ok());
+        let e = check_overrides(&c, &hook("gopher://x/")).unwrap_err();
+        assert!(
+            matches!(e, ServerError::BadRequest(ref m) if m.starts_with("webhook:")),
+            "{e}"
+        );
+        let long = format!("http://h/{}", "x".repeat(3000));
+        assert!(check_overrides(&c, &hook(&long)).is_err());
+        c.no_job_webhooks = true;
+        let e = check_overrides(&c, &hook("https://hooks.example/x")).unwrap_err();
+        assert!(e.to_string().contains("--no-job-webhooks"), "{e}");
+        assert!(check_overrides(&c, &SubmitOptions::default()).is_ok());
     }
 }

@@ -84,6 +84,37 @@ pub struct Config {
     /// `luxfarm_leases_wanted` gauge (what an autoscaler scales workers on).
     #[arg(long, default_value_t = 8)]
     pub workers_per_job: u32,
+    /// URL every job's end is posted to (events done, failed, cancelled and halted; see
+    /// `crate::webhooks`). Jobs may name their own hook as well. Also read from
+    /// LUXFARM_WEBHOOK.
+    #[arg(long, env = "LUXFARM_WEBHOOK")]
+    pub webhook: Option<String>,
+    /// File holding the secret webhook deliveries are signed with (HMAC-SHA256 of the body in
+    /// `X-Luxfarm-Signature`); without it deliveries are unsigned. Also read from
+    /// LUXFARM_WEBHOOK_SECRET_FILE.
+    #[arg(long, env = "LUXFARM_WEBHOOK_SECRET_FILE")]
+    pub webhook_secret_file: Option<PathBuf>,
+    /// Refuse submissions naming a webhook of their own (a farm whose submitters should not
+    /// make the master post to URLs of their choosing, e.g. inside its network).
+    #[arg(long)]
+    pub no_job_webhooks: bool,
+    /// Attempts at delivering one webhook before it is given up.
+    #[arg(long, default_value_t = 10)]
+    pub webhook_attempts: u32,
+    /// Seconds before the first retry of a webhook; each retry waits twice as long as the one
+    /// before, up to --webhook-backoff-max.
+    #[arg(long, default_value_t = 1.0)]
+    pub webhook_backoff: f64,
+    /// Longest wait between two attempts at a webhook (seconds).
+    #[arg(long, default_value_t = 600.0)]
+    pub webhook_backoff_max: f64,
+    /// Seconds one webhook attempt may take (connecting, sending, the answer's headers).
+    #[arg(long, default_value_t = 10.0)]
+    pub webhook_timeout: f64,
+    /// The master's address as receivers reach it (`https://farm.example:7878`): webhook
+    /// payloads name output URLs under it. Without it they are paths (`/api/v1/jobs/...`).
+    #[arg(long)]
+    pub public_url: Option<String>,
 }
 
 impl Config {
@@ -114,6 +145,14 @@ impl Config {
             quarantine_after: 3,
             quarantine_ttl: 3600.0,
             workers_per_job: 8,
+            webhook: None,
+            webhook_secret_file: None,
+            no_job_webhooks: false,
+            webhook_attempts: 10,
+            webhook_backoff: 1.0,
+            webhook_backoff_max: 600.0,
+            webhook_timeout: 10.0,
+            public_url: None,
         }
     }
 
@@ -144,6 +183,9 @@ impl Config {
             ("--idle-timeout", self.idle_timeout),
             ("--request-timeout", self.request_timeout),
             ("--quarantine-ttl", self.quarantine_ttl),
+            ("--webhook-backoff", self.webhook_backoff),
+            ("--webhook-backoff-max", self.webhook_backoff_max),
+            ("--webhook-timeout", self.webhook_timeout),
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0) {
@@ -156,9 +198,86 @@ impl Config {
         if self.max_connections == 0 || self.max_unpacking == 0 {
             return Err("--max-connections and --max-unpacking must be at least 1".into());
         }
+        if self.webhook_attempts == 0 {
+            return Err("--webhook-attempts must be at least 1".into());
+        }
+        if let Some(url) = &self.webhook {
+            check_hook_url(url).map_err(|e| format!("--webhook: {e}"))?;
+        }
+        if let Some(url) = &self.public_url {
+            check_hook_url(url).map_err(|e| format!("--public-url: {e}"))?;
+        }
         if self.default_haltspp > self.max_haltspp {
             return Err("--default-haltspp must not exceed --max-haltspp".into());
         }
         Ok(())
+    }
+}
+
+/// Longest webhook URL accepted (the master's or a job's).
+pub const MAX_HOOK_URL: usize = 2048;
+
+/// Checks a webhook URL (the master's, or a job's from its submitter): an absolute `http` or
+/// `https` URL with a host, at most [`MAX_HOOK_URL`] bytes, without spaces or control
+/// characters. The error says what is wrong, without repeating a long URL.
+pub fn check_hook_url(url: &str) -> Result<(), String> {
+    if url.len() > MAX_HOOK_URL {
+        return Err(format!(
+            "the URL is {} bytes long; at most {MAX_HOOK_URL} are accepted",
+            url.len()
+        ));
+    }
+    if url.chars().any(|c| c.is_whitespace() || c.is_control()) {
+        return Err("the URL holds a space or a control character".into());
+    }
+    let parsed = reqwest::Url::parse(url).map_err(|e| format!("{url:?} is not a URL: {e}"))?;
+    if !matches!(parsed.scheme(), "http" | "https") {
+        return Err(format!(
+            "scheme {:?}: only http and https URLs are accepted",
+            parsed.scheme()
+        ));
+    }
+    if parsed.host_str().is_none_or(str::is_empty) {
+        return Err(format!("{url:?} names no host"));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hook_urls_must_be_http_or_https_with_a_host_and_short() {
+        assert!(check_hook_url("http://127.0.0.1:9/hook").is_ok());
+        assert!(check_hook_url("https://hooks.example/a?b=c").is_ok());
+        for bad in [
+            "ftp://x/y",
+            "file:///etc/passwd",
+            "javascript:alert(1)",
+            "hooks",
+            "",
+        ] {
+            assert!(check_hook_url(bad).is_err(), "{bad}");
+        }
+        assert!(check_hook_url("http://a b/").is_err());
+        let long = format!("https://h/{}", "a".repeat(MAX_HOOK_URL));
+        let e = check_hook_url(&long).unwrap_err();
+        assert!(e.contains("at most 2048"), "{e}");
+    }
+
+    #[test]
+    fn webhook_options_are_checked() {
+        let mut c = Config::local("d".into());
+        c.webhook = Some("gopher://x".into());
+        assert!(c.validate().unwrap_err().contains("--webhook"));
+        c.webhook = Some("http://127.0.0.1:1/h".into());
+        c.webhook_attempts = 0;
+        assert!(c.validate().unwrap_err().contains("--webhook-attempts"));
+        c.webhook_attempts = 3;
+        c.webhook_backoff = f64::NAN;
+        assert!(c.validate().is_err());
+        c.webhook_backoff = 0.05;
+        assert!(c.validate().is_ok());
     }
 }

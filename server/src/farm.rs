@@ -175,7 +175,8 @@ impl Farm {
     /// jobs, their workers and leases for resumption.
     pub fn open(cfg: Config) -> Result<Arc<Farm>> {
         datadir::prepare_layout(&cfg.data_dir)?;
-        let db = Db::open(&cfg.data_dir.join("farm.sqlite"))?;
+        let mut db = Db::open(&cfg.data_dir.join("farm.sqlite"))?;
+        db.set_hook_targets(cfg.webhook.clone(), cfg.public_url.clone());
         datadir::check_identity(&db, &cfg.data_dir)?;
         datadir::check_jobs(&db, &cfg.data_dir, now_ms())?;
         let workers = datadir::resume_workers(&db)?
@@ -343,6 +344,7 @@ impl Farm {
             tags: &tags,
             min_memory_mb: opts.min_memory_mb.unwrap_or(0),
             max_workers: opts.max_workers.unwrap_or(0),
+            webhook: opts.webhook.as_deref().unwrap_or(""),
         })?;
         tracing::info!(job = %id, %name, bundle = %hash, "job queued");
         self.metrics.jobs_submitted.fetch_add(1, Ordering::Relaxed);
@@ -361,5 +363,11 @@ impl Farm {
             recent: self.metrics.recent_merges(),
             lost_workers: lock(&self.workers).values().filter(|w| w.lost).count(),
         })
+    }
+}
+
+impl crate::webhooks::Outbox for Farm {
+    fn with_db<T>(&self, f: impl FnOnce(&Db) -> Result<T>) -> Result<T> {
+        f(&lock(&self.db))
     }
 }

@@ -105,6 +105,7 @@ impl pb::jobs_server::Jobs for JobsService {
             tags: h.tags,
             min_memory_mb: h.min_memory_mb,
             max_workers: h.max_workers,
+            webhook: Some(h.webhook).filter(|u| !u.is_empty()),
         };
         let _unpacking = self
             .0

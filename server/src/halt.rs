@@ -5,7 +5,8 @@
 //! merge; halttime (seconds since the first lease) and haltthreshold (the convergence test
 //! every convergencestep spp, `crate::analysis`, which also rebuilds a noise-aware job's
 //! sampling map and feeds the job's error history) on every tick.
-//! When a halt rule holds the job enters its halting phase: every lease is told to stop and
+//! When a halt rule holds the job enters its halting phase (its `halted` webhook queued,
+//! `crate::webhooks`): every lease is told to stop and
 //! the master waits for the last deltas (at most two upload intervals plus
 //! a margin), then writes the outputs the Film asks for (`luxfarm::output`) and marks the job
 //! done.
@@ -72,12 +73,15 @@ pub fn begin_halt(farm: &Farm, rt: &JobRt, reason: String) {
             return;
         }
         tracing::info!(job = %rt.id, %reason, "halt condition holds; stopping workers");
-        st.halting = Some((JobState::Done, reason, Instant::now()));
+        st.halting = Some((JobState::Done, reason.clone(), Instant::now()));
     }
     for l in lock(&rt.leases).values_mut() {
         l.stop = true;
     }
     farm.touch();
+    if let Err(e) = lock(&farm.db).queue_halted(&rt.id, &reason, now_ms()) {
+        tracing::error!(job = %rt.id, error = %e, "the halted webhook could not be queued");
+    }
 }
 
 /// Periodic work: worker timeouts, then for every loaded job on its own (one job's fault

@@ -29,7 +29,8 @@
 //!   share.
 //! - `scene`: what the master asks of the render core; `output`: outputs on demand.
 //! - `rest`, `grpc`, `views`, `metrics`, `error`; `dashboard`: the web page; `events`: the
-//!   Server-Sent Events stream the dashboard listens to.
+//!   Server-Sent Events stream the dashboard listens to; `webhooks`: jobs' ends posted to
+//!   hook URLs (signed, retried, from an outbox in the store that survives restarts).
 //!
 //! The public surface is what the `luxfarm` command needs to run or embed a master
 //! ([`Config`], [`run`], [`start`], [`Running`]) and what the capacity benchmark reads through
@@ -67,6 +68,7 @@ pub(crate) mod sequence;
 pub(crate) mod serve;
 pub(crate) mod trade;
 pub(crate) mod views;
+pub(crate) mod webhooks;
 
 /// The delta codec, as `crate::codec` (checkpoints are written and read through it).
 pub(crate) use luxfarm_wire::codec;

@@ -157,6 +157,7 @@ mod tests {
             tags: vec![],
             min_memory_mb: 0,
             max_workers: 0,
+            webhook: String::new(),
         }
     }
 

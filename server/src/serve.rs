@@ -354,9 +354,11 @@ pub async fn start(cfg: crate::config::Config) -> anyhow::Result<Running> {
         header_timeout: Duration::from_secs_f64(cfg.header_timeout),
         idle_timeout: Duration::from_secs_f64(cfg.idle_timeout),
     };
+    let hooks = crate::webhooks::Settings::from_config(&cfg)?;
     let listener = TcpListener::bind(cfg.listen).await?;
     let addr = listener.local_addr()?;
     let farm = tokio::task::spawn_blocking(move || Farm::open(cfg)).await??;
+    crate::webhooks::spawn(farm.clone(), hooks)?;
     let app = app(farm.clone());
     let ticker = farm.clone();
     tokio::spawn(async move {

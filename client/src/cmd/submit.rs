@@ -1,7 +1,7 @@
 //! `luxfarm submit SCENE... [--haltspp N] [--halttime S] [--haltthreshold T] [--seed S]
 //! [--priority P] [--frame N | --frames A-B[:step]] [--policy spread|earliest] [--tag T]...
-//! [--min-memory-mb M] [--max-workers W] [--watch]`: bundles each scene with every file it
-//! references and queues a job, or a frame sequence.
+//! [--min-memory-mb M] [--max-workers W] [--webhook URL] [--watch]`: bundles each scene with
+//! every file it references and queues a job, or a frame sequence.
 //!
 //! ```text
 //! one scene                         -> one job
@@ -67,6 +67,10 @@ pub struct Args {
     /// The most workers on each job at once.
     #[arg(long)]
     pub max_workers: Option<u32>,
+    /// A URL (http or https) the master posts each job's end to (events done, failed,
+    /// cancelled, halted), besides its own `--webhook`.
+    #[arg(long)]
+    pub webhook: Option<String>,
     /// Follow the jobs until they end (as `luxfarm watch`).
     #[arg(long)]
     pub watch: bool,
@@ -135,6 +139,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         tags: a.tags.clone(),
         min_memory_mb: a.min_memory_mb,
         max_workers: a.max_workers,
+        webhook: a.webhook.clone().unwrap_or_default(),
     };
     let ids = match (a.scenes.as_slice(), a.frames) {
         ([scene], None) => {

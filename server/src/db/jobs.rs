@@ -10,9 +10,9 @@ impl Db {
         self.conn.execute(
             "INSERT INTO jobs (id, ord, name, state, priority, bundle_hash, scene_path, seed, \
              haltspp, halttime, haltthreshold, width, height, submitted_ms, frame, owner, notes, \
-             sequence_id, sequence_frame, tags, min_memory_mb, max_workers) \
+             sequence_id, sequence_frame, tags, min_memory_mb, max_workers, webhook) \
              VALUES (?1, (SELECT COALESCE(MAX(ord), 0) + 1 FROM jobs), ?2, 'queued', ?3, ?4, ?5, \
-             ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20)",
+             ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21)",
             params![
                 j.id,
                 j.name,
@@ -34,6 +34,7 @@ impl Db {
                 j.tags.join(","),
                 j.min_memory_mb.min(i64::MAX as u64) as i64,
                 j.max_workers,
+                j.webhook,
             ],
         )?;
         Ok(())
@@ -60,7 +61,10 @@ impl Db {
             .query_row("SELECT COUNT(*) FROM jobs", [], |r| r.get::<_, i64>(0))? as u64)
     }
 
-    /// Sets a job's state, reason and (for final states) finish time.
+    /// Sets a job's state, reason and (for final states) finish time. This is the one place a
+    /// job's end is written: when the job enters a final state its webhook deliveries are
+    /// queued in the same transaction (`outbox`), so a master that stops right after still
+    /// sends them when it is back.
     pub fn set_job_state(
         &self,
         id: &str,
@@ -69,11 +73,28 @@ impl Db {
         now_ms: i64,
     ) -> Result<()> {
         let finished = state.is_final().then_some(now_ms);
-        self.conn.execute(
+        let tx = self.conn.unchecked_transaction()?;
+        let before: Option<String> = tx
+            .query_row("SELECT state FROM jobs WHERE id = ?1", [id], |r| r.get(0))
+            .optional()?;
+        tx.execute(
             "UPDATE jobs SET state = ?2, reason = ?3, finished_ms = COALESCE(?4, finished_ms) \
              WHERE id = ?1",
             params![id, state.as_str(), reason, finished],
         )?;
+        let was_final = before
+            .as_deref()
+            .and_then(JobState::parse)
+            .is_some_and(JobState::is_final);
+        let queued = if state.is_final() && !was_final && before.is_some() {
+            self.queue_hooks(id, state.as_str(), None, now_ms)?
+        } else {
+            0
+        };
+        tx.commit()?;
+        if queued > 0 {
+            self.hooks.wake.notify_one();
+        }
         Ok(())
     }
 

@@ -9,6 +9,7 @@
 //!      --upgrade to 2: frame sequences (table `sequences`, jobs' sequence_id/sequence_frame)
 //!      --upgrade to 3: pools (workers' tags/memory/build, jobs' tags/min_memory/max_workers)
 //!                      and failing workers (table `failures`, workers' forgiven_ms)
+//!      --upgrade to 4: webhooks (jobs' own hook URL, the outbox table `webhooks`)
 //! ```
 //!
 //! Every upgrade runs in one transaction together with the new version number, so a store is
@@ -19,7 +20,7 @@ use crate::error::{Result, ServerError};
 use rusqlite::Connection;
 
 /// The schema version this master writes.
-pub const CURRENT: i64 = 3;
+pub const CURRENT: i64 = 4;
 
 /// Columns a store written by a master before versions were kept may lack:
 /// (table, column, type).
@@ -65,6 +66,31 @@ CREATE TABLE IF NOT EXISTS failures (
 );
 ";
 
+/// Version 4: webhooks. A job's own hook URL, and the outbox of deliveries: one row per
+/// (job, event, URL), written in the transaction that records the job's end, kept until it
+/// is delivered or given up (`crate::webhooks`).
+const VERSION_4: &str = "
+ALTER TABLE jobs ADD COLUMN webhook TEXT NOT NULL DEFAULT '';
+CREATE TABLE IF NOT EXISTS webhooks (
+    id TEXT PRIMARY KEY,
+    job_id TEXT NOT NULL,
+    event TEXT NOT NULL,
+    scope TEXT NOT NULL,
+    url TEXT NOT NULL,
+    payload TEXT NOT NULL,
+    created_ms INTEGER NOT NULL,
+    attempts INTEGER NOT NULL DEFAULT 0,
+    next_ms INTEGER NOT NULL,
+    last_status INTEGER,
+    last_error TEXT NOT NULL DEFAULT '',
+    delivered_ms INTEGER,
+    gave_up_ms INTEGER
+);
+CREATE UNIQUE INDEX IF NOT EXISTS webhooks_once ON webhooks (job_id, event, url);
+CREATE INDEX IF NOT EXISTS webhooks_pending ON webhooks (next_ms)
+    WHERE delivered_ms IS NULL AND gave_up_ms IS NULL;
+";
+
 /// The store's schema version.
 pub fn version(conn: &Connection) -> Result<i64> {
     Ok(conn.query_row("PRAGMA user_version", [], |r| r.get(0))?)
@@ -89,7 +115,8 @@ pub fn upgrade(conn: &mut Connection) -> Result<()> {
                 }
             }
             2 => tx.execute_batch(VERSION_2)?,
-            _ => tx.execute_batch(VERSION_3)?,
+            3 => tx.execute_batch(VERSION_3)?,
+            _ => tx.execute_batch(VERSION_4)?,
         }
         tx.pragma_update(None, "user_version", next)?;
         tx.commit()?;

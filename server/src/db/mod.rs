@@ -9,18 +9,21 @@
 //! power loss as its file does.
 //!
 //! Queries live by subject: [`jobs`] (jobs), [`sequences`] (frame sequences), [`work`]
-//! (workers, leases, ledger, checkpoints), [`tokens`] (user tokens); [`migrate`] upgrades a
+//! (workers, leases, ledger, checkpoints), [`tokens`] (user tokens), [`outbox`] (webhook
+//! deliveries, queued with a job's end in one transaction); [`migrate`] upgrades a
 //! store of an older master (schema versions); this file holds the types, the base schema and
 //! opening.
 
 mod blocks;
 mod jobs;
 pub mod migrate;
+mod outbox;
 mod sequences;
 mod tokens;
 mod work;
 
 pub use blocks::FailureRow;
+pub use outbox::{HookOutcome, HookRow, HookTargets};
 pub use sequences::SequenceRow;
 
 use crate::error::Result;
@@ -106,6 +109,8 @@ pub struct JobRow {
     pub min_memory_mb: u64,
     /// The most workers holding leases of the job at once (0: no limit).
     pub max_workers: u32,
+    /// The job's own webhook URL (empty: none).
+    pub webhook: String,
 }
 
 impl JobRow {
@@ -142,6 +147,7 @@ pub struct NewJob<'a> {
     pub tags: &'a [String],
     pub min_memory_mb: u64,
     pub max_workers: u32,
+    pub webhook: &'a str,
 }
 
 /// One lease as stored.
@@ -183,6 +189,8 @@ pub struct TokenRow {
 /// The store: one connection, used under the caller's lock.
 pub struct Db {
     conn: Connection,
+    /// Where the outbox sends a job's events, and the wake-up of the delivery task.
+    hooks: HookTargets,
 }
 
 const SCHEMA: &str = "
@@ -251,7 +259,8 @@ CREATE TABLE IF NOT EXISTS tokens (
 
 const JOB_COLS: &str = "id, name, state, reason, priority, bundle_hash, scene_path, seed, \
     haltspp, halttime, haltthreshold, width, height, submitted_ms, first_lease_ms, finished_ms, \
-    ckpt_gen, frame, owner, notes, sequence_id, sequence_frame, tags, min_memory_mb, max_workers";
+    ckpt_gen, frame, owner, notes, sequence_id, sequence_frame, tags, min_memory_mb, max_workers, \
+    webhook";
 
 fn job_from_row(r: &Row<'_>) -> rusqlite::Result<JobRow> {
     let state: String = r.get(2)?;
@@ -285,6 +294,7 @@ fn job_from_row(r: &Row<'_>) -> rusqlite::Result<JobRow> {
         tags: split_tags(&r.get::<_, String>(22)?),
         min_memory_mb: r.get::<_, i64>(23)?.max(0) as u64,
         max_workers: r.get::<_, i64>(24)?.clamp(0, u32::MAX as i64) as u32,
+        webhook: r.get(25)?,
     })
 }
 
@@ -319,7 +329,10 @@ impl Db {
             conn.execute_batch(SCHEMA)?;
         }
         migrate::upgrade(&mut conn)?;
-        Ok(Db { conn })
+        Ok(Db {
+            conn,
+            hooks: HookTargets::default(),
+        })
     }
 
     /// The farm's id, set once when the store is created (None for a store without one).
@@ -368,6 +381,7 @@ mod tests {
             tags: &[],
             min_memory_mb: 0,
             max_workers: 0,
+            webhook: "",
         }
     }
 

@@ -40,6 +40,7 @@ type AppState = Arc<Farm>;
         preview_png,
         job_tonemap,
         job_trade,
+        job_webhooks,
         convergence_png,
         film_flm,
         image_exr,
@@ -59,6 +60,7 @@ type AppState = Arc<Farm>;
         WorkerView,
         ErrorBody,
         views::JobWorkerView,
+        crate::webhooks::WebhookView,
         crate::sequence::SequenceView,
         crate::sequence::FrameView,
         crate::blocks::FailureView,
@@ -86,6 +88,7 @@ pub fn router(farm: AppState) -> Router {
         .route("/api/v1/jobs/{id}/preview.png", get(preview_png))
         .route("/api/v1/jobs/{id}/tonemap", get(job_tonemap))
         .route("/api/v1/jobs/{id}/trade", get(job_trade))
+        .route("/api/v1/jobs/{id}/webhooks", get(job_webhooks))
         .route("/api/v1/jobs/{id}/convergence.png", get(convergence_png))
         .route("/api/v1/jobs/{id}/film.flm", get(film_flm))
         .route("/api/v1/jobs/{id}/image.exr", get(image_exr))
@@ -182,6 +185,9 @@ pub struct SubmitQuery {
     /// The most workers on the job at once.
     #[param(value_type = Option<u32>)]
     pub max_workers: Option<String>,
+    /// The job's own webhook: an http or https URL (at most 2048 bytes) posted to when the
+    /// job ends (events done, failed, cancelled, halted).
+    pub webhook: Option<String>,
 }
 
 impl SubmitQuery {
@@ -204,6 +210,7 @@ impl SubmitQuery {
             ("tags", &self.tags),
             ("min_memory_mb", &self.min_memory_mb),
             ("max_workers", &self.max_workers),
+            ("webhook", &self.webhook),
         ];
         for (name, value) in fields {
             if let Some(v) = value {
@@ -240,6 +247,7 @@ pub fn set_option(o: &mut SubmitOptions, name: &str, text: &str) -> Result<()> {
             o.min_memory_mb = Some(parse(name, text, "a whole number of MiB")?);
         }
         "max_workers" => o.max_workers = Some(parse(name, text, "a whole number")?),
+        "webhook" => o.webhook = Some(text.to_string()),
         "name" => o.name = Some(text.to_string()),
         "scene" => o.scene = Some(text.to_string()),
         _ => {}
@@ -255,7 +263,8 @@ fn query<T>(q: std::result::Result<Query<T>, QueryRejection>) -> Result<T> {
 
 /// Submit a job: a raw .lxs, a .zip or .tar bundle, or multipart/form-data with a `file` part
 /// (and optional `haltspp`, `halttime`, `haltthreshold`, `seed`, `priority`, `name`, `scene`,
-/// `frame`, `sequence`, `sequence_frame`, `tags`, `min_memory_mb`, `max_workers` fields).
+/// `frame`, `sequence`, `sequence_frame`, `tags`, `min_memory_mb`, `max_workers`, `webhook`
+/// fields).
 /// Query parameters give the same options. Priorities run from 0 to 100.
 #[utoipa::path(post, path = "/api/v1/jobs", params(SubmitQuery),
     request_body(content = Vec<u8>, description = "scene (.lxs), .zip or .tar; or multipart/form-data",
@@ -369,6 +378,25 @@ async fn cancel_job(
         blocking(move || {
             let row = crate::halt::cancel(&farm, &id, &who)?;
             views::job_view(&farm, &row)
+        })
+        .await?,
+    ))
+}
+
+/// The job's webhook deliveries: event, hook origin, attempts, last status or error, and
+/// whether each was delivered, is pending a retry, or was given up.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/webhooks", params(("id" = String, Path)),
+    responses((status = 200, body = Vec<crate::webhooks::WebhookView>),
+              (status = 404, body = ErrorBody)))]
+async fn job_webhooks(
+    State(farm): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Json<Vec<crate::webhooks::WebhookView>>> {
+    Ok(Json(
+        blocking(move || {
+            let row = farm.job_row(&id)?;
+            let rows = crate::farm::lock(&farm.db).hooks_of_job(&row.id)?;
+            Ok(rows.iter().map(crate::webhooks::WebhookView::new).collect())
         })
         .await?,
     ))
