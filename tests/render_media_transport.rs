@@ -1,0 +1,111 @@
+//! Participating media in every integrator: bidirectional and directlighting against the
+//! path tracer in a closed room filled with a scattering medium, and attenuation against
+//! Beer–Lambert by hand.
+//!
+//! The room (a matte box, camera inside, an area light under the ceiling) is filled with the
+//! medium "world" (the camera's and every unbounded space's), and holds a null sphere that
+//! bounds a denser medium, so paths, shadow rays and connections cross medium boundaries.
+//!
+//! Which paths each integrator counts (a path has a vertex on the light, its scattering
+//! vertices, and the camera):
+//! - `path` with `maxdepth` D: paths of up to D + 2 vertices; with `single` at most one of
+//!   them in a medium, with `multi` any number.
+//! - `bidirectional` with `eyedepth` E and `lightdepth` L: paths of up to E + L vertices;
+//!   each subpath may scatter in media `max_scatters` times (`single`: once). With L = 1
+//!   (no light vertices beyond the light) every path's medium vertices come from the eye
+//!   subpath; with E = 1 (light tracing) from the light subpath: in both cases at most one
+//!   with `single`, the path tracer's set for D = E + L − 2.
+//! - `directlighting` (no specular surfaces here): emission seen along the camera ray and
+//!   direct light at its first scattering point, surface or medium — `path` with
+//!   `maxdepth` 1 (one vertex lit, no bounce after it).
+//!
+//! Block means of independent runs are compared with z-scores as in `transport_bidir.rs`.
+
+mod transport_common;
+
+use std::path::PathBuf;
+use transport_common::*;
+
+/// An axis-aligned box of centre `c` and half sides `h` as a trianglemesh, normals outward.
+fn box_mesh(c: [f32; 3], h: [f32; 3]) -> String {
+    let corner = |i: usize| {
+        let sx = if matches!(i, 1 | 2 | 5 | 6) {
+            h[0]
+        } else {
+            -h[0]
+        };
+        let sy = if matches!(i, 2 | 3 | 6 | 7) {
+            h[1]
+        } else {
+            -h[1]
+        };
+        let sz = if i >= 4 { h[2] } else { -h[2] };
+        format!("{} {} {}", c[0] + sx, c[1] + sy, c[2] + sz)
+    };
+    let points: Vec<String> = (0..8).map(corner).collect();
+    let faces = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [1, 2, 6, 5],
+        [2, 3, 7, 6],
+        [3, 0, 4, 7],
+    ];
+    let indices: Vec<String> = faces
+        .iter()
+        .flat_map(|[a, b, c, d]| [a, b, c, a, c, d])
+        .map(ToString::to_string)
+        .collect();
+    format!(
+        "Shape \"trianglemesh\" \"integer indices\" [{}] \"point P\" [{}]",
+        indices.join(" "),
+        points.join(" ")
+    )
+}
+
+/// The foggy room at 24 × 24 with `setup` (Sampler, SurfaceIntegrator, VolumeIntegrator).
+fn fog_room(setup: &str) -> String {
+    let light = "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
+                 [-0.3 -0.3 0.95  -0.3 0.3 0.95  0.3 0.3 0.95  0.3 -0.3 0.95]";
+    format!(
+        "LookAt 0 -0.9 0  0 1 0  0 0 1\n\
+         Camera \"perspective\" \"float fov\" [75]\n\
+         Film \"fleximage\" \"integer xresolution\" [24] \"integer yresolution\" [24]\n\
+         {setup}\nWorldBegin\n\
+         MakeNamedVolume \"world\" \"homogeneous\" \"color sigma_a\" [0.1 0.15 0.2] \
+         \"color sigma_s\" [0.6 0.5 0.4] \"float g\" [0.5]\n\
+         MakeNamedVolume \"dense\" \"homogeneous\" \"color sigma_a\" [0.3 0.3 0.3] \
+         \"color sigma_s\" [2 2.5 3] \"float g\" [-0.3]\n\
+         AttributeBegin\nMaterial \"matte\" \"color Kd\" [0.6 0.6 0.6]\n{room}\nAttributeEnd\n\
+         AttributeBegin\nAreaLightSource \"area\" \"color L\" [4 4 4] \"float power\" [0]\n{light}\nAttributeEnd\n\
+         AttributeBegin\nMaterial \"null\"\nInterior \"dense\"\nExterior \"world\"\n\
+         Translate 0.3 0.4 -0.4\nShape \"sphere\" \"float radius\" [0.35]\nAttributeEnd\n\
+         WorldEnd\n",
+        room = box_mesh([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]),
+    )
+}
+
+fn here() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Block means (6 × 6 pixel blocks) of `n` runs of the foggy room with `setup`.
+fn fog_runs(setup: &str, first: u64, n: u64) -> Vec<Vec<f64>> {
+    let d = scene_text(&fog_room(setup), &here());
+    runs(&d, &here(), first, n, 1, 6)
+}
+
+const PATH_MULTI: &str = "Sampler \"random\" \"integer pixelsamples\" [16]\n\
+     SurfaceIntegrator \"path\" \"integer maxdepth\" [6]\nVolumeIntegrator \"multi\"";
+const BIDIR_MULTI: &str = "Sampler \"random\" \"integer pixelsamples\" [8]\n\
+     SurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [4] \"integer lightdepth\" [4]\n\
+     VolumeIntegrator \"multi\"";
+
+/// Multiple scattering: bidirectional (eye and light depth 4: paths of up to 8 vertices)
+/// against path at `maxdepth` 6 (the same paths).
+#[test]
+fn fog_room_bidirectional_multi_matches_path() {
+    let rp = fog_runs(PATH_MULTI, 0, 6);
+    let rb = fog_runs(BIDIR_MULTI, 100, 6);
+    assert_agree("fog multi bidir/path", &rp, &rb, 4.0, 0.0);
+}
