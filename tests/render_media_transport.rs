@@ -65,15 +65,25 @@ fn box_mesh(c: [f32; 3], h: [f32; 3]) -> String {
 
 /// The foggy room at 24 × 24 with `setup` (Sampler, SurfaceIntegrator, VolumeIntegrator).
 fn fog_room(setup: &str) -> String {
+    room(setup, WORLD_FOG)
+}
+
+/// The room's medium "world".
+const WORLD_FOG: &str =
+    "MakeNamedVolume \"world\" \"homogeneous\" \"color sigma_a\" [0.1 0.15 0.2] \
+     \"color sigma_s\" [0.6 0.5 0.4] \"float g\" [0.5]";
+/// A vacuum "world": only the sphere holds a medium.
+const WORLD_VACUUM: &str = "MakeNamedVolume \"world\" \"clear\" \"color absorption\" [0 0 0]";
+
+/// The room with `world` defining its medium "world".
+fn room(setup: &str, world: &str) -> String {
     let light = "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
                  [-0.3 -0.3 0.95  -0.3 0.3 0.95  0.3 0.3 0.95  0.3 -0.3 0.95]";
     format!(
         "LookAt 0 -0.9 0  0 1 0  0 0 1\n\
          Camera \"perspective\" \"float fov\" [75]\n\
          Film \"fleximage\" \"integer xresolution\" [24] \"integer yresolution\" [24]\n\
-         {setup}\nWorldBegin\n\
-         MakeNamedVolume \"world\" \"homogeneous\" \"color sigma_a\" [0.1 0.15 0.2] \
-         \"color sigma_s\" [0.6 0.5 0.4] \"float g\" [0.5]\n\
+         {setup}\nWorldBegin\n{world}\n\
          MakeNamedVolume \"dense\" \"homogeneous\" \"color sigma_a\" [0.3 0.3 0.3] \
          \"color sigma_s\" [2 2.5 3] \"float g\" [-0.3]\n\
          AttributeBegin\nMaterial \"matte\" \"color Kd\" [0.6 0.6 0.6]\n{room}\nAttributeEnd\n\
@@ -91,7 +101,11 @@ fn here() -> PathBuf {
 
 /// Block means (6 × 6 pixel blocks) of `n` runs of the foggy room with `setup`.
 fn fog_runs(setup: &str, first: u64, n: u64) -> Vec<Vec<f64>> {
-    let d = scene_text(&fog_room(setup), &here());
+    room_runs(&fog_room(setup), first, n)
+}
+
+fn room_runs(text: &str, first: u64, n: u64) -> Vec<Vec<f64>> {
+    let d = scene_text(text, &here());
     runs(&d, &here(), first, n, 1, 6)
 }
 
@@ -108,4 +122,126 @@ fn fog_room_bidirectional_multi_matches_path() {
     let rp = fog_runs(PATH_MULTI, 0, 6);
     let rb = fog_runs(BIDIR_MULTI, 100, 6);
     assert_agree("fog multi bidir/path", &rp, &rb, 4.0, 0.0);
+}
+
+/// The scene's setup warnings (none may say the integrator was replaced).
+fn setup_warnings(text: &str) -> Vec<String> {
+    let d = scene_text(text, &here());
+    luxfarm::render::setup::Renderable::build(&d, &here())
+        .expect("scene builds")
+        .warnings
+        .into_iter()
+        .map(|w| w.message)
+        .collect()
+}
+
+#[test]
+fn bidirectional_and_directlighting_keep_their_integrator_with_media() {
+    for setup in [
+        BIDIR_MULTI,
+        "SurfaceIntegrator \"directlighting\"\nVolumeIntegrator \"single\"",
+    ] {
+        let w = setup_warnings(&fog_room(setup));
+        assert!(
+            !w.iter()
+                .any(|m| m.contains("rendering with") || m.contains("media")),
+            "{setup}: {w:?}"
+        );
+    }
+}
+
+const PATH_SINGLE: &str = "Sampler \"random\" \"integer pixelsamples\" [16]\n\
+     SurfaceIntegrator \"path\" \"integer maxdepth\" [4]\nVolumeIntegrator \"single\"";
+
+/// Single scattering, medium vertices from the eye subpath: bidirectional with `lightdepth`
+/// 1 and `eyedepth` 6 against path at `maxdepth` 4 (paths of up to 6 vertices, at most one
+/// in a medium).
+#[test]
+fn fog_room_bidirectional_single_eye_side_matches_path() {
+    let bidir = "Sampler \"random\" \"integer pixelsamples\" [16]\n\
+         SurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [6] \"integer lightdepth\" [1]\n\
+         VolumeIntegrator \"single\"";
+    let rp = fog_runs(PATH_SINGLE, 0, 6);
+    let rb = fog_runs(bidir, 100, 6);
+    assert_agree("fog single eye bidir/path", &rp, &rb, 4.0, 0.0);
+}
+
+/// directlighting (single scattering along the eye ray) against path at `maxdepth` 1.
+#[test]
+fn fog_room_directlighting_matches_path_at_depth_one() {
+    let dl = "Sampler \"random\" \"integer pixelsamples\" [16]\n\
+         SurfaceIntegrator \"directlighting\"\nVolumeIntegrator \"single\"";
+    let path = "Sampler \"random\" \"integer pixelsamples\" [16]\n\
+         SurfaceIntegrator \"path\" \"integer maxdepth\" [1]\nVolumeIntegrator \"single\"";
+    let rp = fog_runs(path, 0, 16);
+    let rd = fog_runs(dl, 100, 16);
+    assert_agree("fog directlighting/path", &rp, &rd, 4.0, 0.0);
+}
+
+/// A matte floor lit by a sharp distant light from straight above, seen from above by an
+/// orthographic camera, with a null slab of thickness `d` holding the medium `ink` defines
+/// between them: camera ray and shadow ray each cross the slab once.
+fn slab_scene(setup: &str, ink: &str, d: f32) -> String {
+    let floor = "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
+                 [-5 -5 0  5 -5 0  5 5 0  -5 5 0]";
+    format!(
+        "LookAt 0 0 5  0 0 0  0 1 0\n\
+         Camera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n\
+         Film \"fleximage\" \"integer xresolution\" [4] \"integer yresolution\" [4]\n\
+         Sampler \"random\" \"integer pixelsamples\" [4]\n\
+         {setup}\nWorldBegin\n\
+         LightSource \"distant\" \"point from\" [0 0 1] \"point to\" [0 0 0] \"color L\" [1 1 1]\n\
+         {ink}\n\
+         AttributeBegin\nMaterial \"matte\" \"color Kd\" [0.5 0.5 0.5]\n{floor}\nAttributeEnd\n\
+         AttributeBegin\nMaterial \"null\"\nInterior \"ink\"\n{slab}\nAttributeEnd\n\
+         WorldEnd\n",
+        slab = box_mesh([0.0, 0.0, 1.0 + d / 2.0], [3.0, 3.0, d / 2.0]),
+    )
+}
+
+/// Mean luminance of a render.
+fn mean_y(text: &str) -> f64 {
+    let d = scene_text(text, &here());
+    let y = luminance(&render(&d, &here(), 0, 1));
+    y.iter().sum::<f64>() / y.len() as f64
+}
+
+/// With `emission` (attenuation only) the slab dims the floor by exp(-2·sigma_a·d), per
+/// Beer–Lambert along the shadow ray and again along the camera ray, in directlighting and
+/// bidirectional alike (a scattering coefficient only attenuates too).
+#[test]
+fn emission_only_slab_attenuates_by_beer_lambert() {
+    let (a, s, d) = (0.4f32, 0.3f32, 0.75f32);
+    let ink = format!(
+        "MakeNamedVolume \"ink\" \"homogeneous\" \"color sigma_a\" [{a} {a} {a}] \
+         \"color sigma_s\" [{s} {s} {s}]"
+    );
+    let want = (-2.0 * f64::from((a + s) * d)).exp();
+    for integ in [
+        "SurfaceIntegrator \"directlighting\"",
+        "SurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [3] \"integer lightdepth\" [3]",
+        "SurfaceIntegrator \"path\" \"integer maxdepth\" [1]",
+    ] {
+        let setup = format!("{integ}\nVolumeIntegrator \"emission\"");
+        let with = mean_y(&slab_scene(&setup, &ink, d));
+        let vacuum = "MakeNamedVolume \"ink\" \"clear\" \"color absorption\" [0 0 0]";
+        let without = mean_y(&slab_scene(&setup, vacuum, d));
+        let ratio = with / without;
+        eprintln!("{integ}: {with} / {without} = {ratio:.5}, Beer–Lambert {want:.5}");
+        assert!(without > 0.0, "{integ}: black floor");
+        assert!(
+            (ratio - want).abs() < 0.01 * want,
+            "{integ}: {ratio} vs {want}"
+        );
+    }
+}
+
+/// Multiple scattering with the medium only inside the sphere (the camera and the light in
+/// vacuum): every medium vertex is reached across the sphere's boundary, and connections
+/// enter and leave it.
+#[test]
+fn sphere_bidirectional_multi_matches_path() {
+    let rp = room_runs(&room(PATH_MULTI, WORLD_VACUUM), 0, 6);
+    let rb = room_runs(&room(BIDIR_MULTI, WORLD_VACUUM), 100, 6);
+    assert_agree("sphere multi bidir/path", &rp, &rb, 4.0, 0.0);
 }
