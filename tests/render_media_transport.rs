@@ -75,10 +75,22 @@ const WORLD_FOG: &str =
 /// A vacuum "world": only the sphere holds a medium.
 const WORLD_VACUUM: &str = "MakeNamedVolume \"world\" \"clear\" \"color absorption\" [0 0 0]";
 
-/// The room with `world` defining its medium "world".
+/// The area light under the ceiling (facing down, radiance 4).
+const CEILING_LIGHT: &str = "AreaLightSource \"area\" \"color L\" [4 4 4] \"float power\" [0]\n\
+     Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
+     [-0.3 -0.3 0.95  -0.3 0.3 0.95  0.3 0.3 0.95  0.3 -0.3 0.95]";
+/// A small area light inside the sphere (facing down, radiance 20).
+const INNER_LIGHT: &str = "AreaLightSource \"area\" \"color L\" [20 20 20] \"float power\" [0]\n\
+     Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
+     [0.2 0.3 -0.4  0.2 0.5 -0.4  0.4 0.5 -0.4  0.4 0.3 -0.4]";
+
+/// The room with `world` defining its medium "world", lit from the ceiling.
 fn room(setup: &str, world: &str) -> String {
-    let light = "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
-                 [-0.3 -0.3 0.95  -0.3 0.3 0.95  0.3 0.3 0.95  0.3 -0.3 0.95]";
+    room_lit(setup, world, CEILING_LIGHT)
+}
+
+/// The room with `world` defining its medium "world" and `light` its light.
+fn room_lit(setup: &str, world: &str, light: &str) -> String {
     format!(
         "LookAt 0 -0.9 0  0 1 0  0 0 1\n\
          Camera \"perspective\" \"float fov\" [75]\n\
@@ -87,7 +99,7 @@ fn room(setup: &str, world: &str) -> String {
          MakeNamedVolume \"dense\" \"homogeneous\" \"color sigma_a\" [0.3 0.3 0.3] \
          \"color sigma_s\" [2 2.5 3] \"float g\" [-0.3]\n\
          AttributeBegin\nMaterial \"matte\" \"color Kd\" [0.6 0.6 0.6]\n{room}\nAttributeEnd\n\
-         AttributeBegin\nAreaLightSource \"area\" \"color L\" [4 4 4] \"float power\" [0]\n{light}\nAttributeEnd\n\
+         AttributeBegin\n{light}\nAttributeEnd\n\
          AttributeBegin\nMaterial \"null\"\nInterior \"dense\"\nExterior \"world\"\n\
          Translate 0.3 0.4 -0.4\nShape \"sphere\" \"float radius\" [0.35]\nAttributeEnd\n\
          WorldEnd\n",
@@ -127,7 +139,7 @@ fn fog_room_bidirectional_multi_matches_path() {
 /// The scene's setup warnings (none may say the integrator was replaced).
 fn setup_warnings(text: &str) -> Vec<String> {
     let d = scene_text(text, &here());
-    luxfarm::render::setup::Renderable::build(&d, &here())
+    luxfarm::render::setup::Renderable::build(&d, here())
         .expect("scene builds")
         .warnings
         .into_iter()
@@ -244,4 +256,16 @@ fn sphere_bidirectional_multi_matches_path() {
     let rp = room_runs(&room(PATH_MULTI, WORLD_VACUUM), 0, 6);
     let rb = room_runs(&room(BIDIR_MULTI, WORLD_VACUUM), 100, 6);
     assert_agree("sphere multi bidir/path", &rp, &rb, 4.0, 0.0);
+}
+
+/// A light inside the medium: light subpaths start in the sphere's medium (found from the
+/// sphere's boundary, the first surface their rays meet), so they are attenuated and scatter
+/// before they leave it.
+#[test]
+fn light_inside_a_medium_bidirectional_multi_matches_path() {
+    // The path tracer finds the small light inside the medium rarely: more samples.
+    let path = PATH_MULTI.replace("[16]", "[64]");
+    let rp = room_runs(&room_lit(&path, WORLD_VACUUM, INNER_LIGHT), 0, 6);
+    let rb = room_runs(&room_lit(BIDIR_MULTI, WORLD_VACUUM, INNER_LIGHT), 100, 6);
+    assert_agree("inner light multi bidir/path", &rp, &rb, 4.0, 0.0);
 }
