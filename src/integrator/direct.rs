@@ -5,7 +5,9 @@
 //!
 //! Light is scattered toward the path at a surface (its BSDF) or at a point of a participating
 //! medium (its phase function), [`Scatterer`]; in a scene with media, shadow rays carry the
-//! transmittance of the media they cross.
+//! transmittance of the media they cross ([`World::transmittance`], which walks the segment
+//! through null surfaces and medium boundaries with [`World::walk_segment`], the walk that
+//! bidirectional connections use too).
 //!
 //! `depth` is the number of bounces before a shading point (0 at the camera ray's hit): a
 //! light's shadow-ray count may drop from a depth on (`lownsamples` at `lowlevel`).

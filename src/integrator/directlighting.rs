@@ -1,15 +1,26 @@
 //! The `directlighting` integrator: emission plus direct lighting (light samples and one BSDF
 //! sample, combined with MIS) at the first hit, and recursion along perfectly specular
 //! reflection/refraction up to `maxdepth` (5) times.
+//!
+//! In a scene with participating media ([`crate::volume`]) the eye path knows the medium it
+//! is in (the camera's, changed where it crosses a medium boundary, specular bounces
+//! included): every segment, shadow ray and BSDF-sampled ray is attenuated by the media it
+//! crosses (the `emission` volume integrator and up). With `single` or `multi` the eye path
+//! may instead scatter once in a medium (distance sampling, as `path` does it): that point
+//! receives direct lighting through the phase function (light samples and one phase sample,
+//! combined with MIS) and ends the path, as a surface's direct lighting does. This is
+//! LuxRender 1.x's single scattering along the eye ray.
 
 use super::direct::{add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival, Scatterer};
+use super::volume::VolumeIntegrator;
 use super::DirectSettings;
-use crate::geometry::{Interaction, Ray, SurfaceInteraction};
-use crate::material::Bsdf;
+use crate::geometry::{Interaction, Ray};
 use crate::plugin::Stmt;
 use crate::sampler::SampleStream;
 use crate::scene::World;
 use crate::spectrum::Rgb;
+use crate::volume::MediumId;
+use glam::Vec3A;
 
 const MAX_PASS_THROUGH: u32 = 64;
 
@@ -17,6 +28,17 @@ const MAX_PASS_THROUGH: u32 = 64;
 pub struct DirectLightingIntegrator {
     pub max_depth: u32,
     pub direct: DirectSettings,
+    /// How far media are rendered (the scene's VolumeIntegrator).
+    pub volume: VolumeIntegrator,
+}
+
+/// A direction sampled at a scattering point for the BSDF (or phase) half of the MIS
+/// estimate: the ray, the medium it starts in, its throughput factor f·|cos|/pdf and density.
+struct Continuation {
+    ray: Ray,
+    medium: Option<MediumId>,
+    weight: Rgb,
+    pdf: f32,
 }
 
 impl DirectLightingIntegrator {
@@ -25,6 +47,7 @@ impl DirectLightingIntegrator {
         DirectLightingIntegrator {
             max_depth: s.params().int_or("maxdepth", 5).max(0) as u32,
             direct: DirectSettings::build(s),
+            volume: VolumeIntegrator::default(),
         }
     }
 
@@ -35,6 +58,9 @@ impl DirectLightingIntegrator {
         let mut pass = 0;
         // The last specular vertex (the camera ray has none).
         let mut prev = Interaction::default();
+        let media = scene.media();
+        let mut medium = media.and_then(|m| m.camera);
+        let scatters = self.volume.max_scatters() > 0;
         loop {
             // Matched by reference: moving the hit out of the Option would copy it.
             let hit = scene.intersect(&ray);
@@ -43,10 +69,40 @@ impl DirectLightingIntegrator {
             } else {
                 Arrival::Unweighted(&prev)
             };
-            let t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+            let mut t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+            let mut scattered = None;
+            if let Some(m) = medium.and_then(|id| media.and_then(|ms| ms.get(id))) {
+                if scatters && m.scatters() {
+                    let ms = m.sample(&ray, t_hit, s.next_1d(), s.next_1d());
+                    beta *= ms.weight;
+                    if let Some(t) = ms.scatter_t {
+                        t_hit = t;
+                        scattered = Some(m);
+                    }
+                } else {
+                    beta *= m.tr(&ray, t_hit);
+                }
+            }
             scene.crossed_lights(&ray, t_hit, |i, c| {
                 add_emission(scene, &self.direct, i, c, arrival, beta, l)
             });
+            if let Some(m) = scattered {
+                if !beta.is_black() && beta.is_finite() {
+                    let it = Interaction {
+                        p: ray.at(t_hit),
+                        time: ray.time,
+                        ..Interaction::default()
+                    };
+                    let at = Scatterer::Medium {
+                        it: &it,
+                        d_in: ray.d.normalize_or_zero(),
+                        phase: m.phase(),
+                    };
+                    sample_lights(scene, &self.direct, &at, medium, s, beta, false, depth, l);
+                    self.mis_sample(scene, &at, medium, s, beta, depth, l);
+                }
+                break;
+            }
             let Some(si) = &hit else {
                 if depth == 0 {
                     alpha = 0.0;
@@ -63,6 +119,9 @@ impl DirectLightingIntegrator {
                 if pass > MAX_PASS_THROUGH {
                     break;
                 }
+                if let Some(ms) = media {
+                    medium = ms.after(si.prim, si.it.n, ray.d, medium);
+                }
                 ray = si.it.spawn_ray(ray.d);
                 continue;
             }
@@ -70,8 +129,8 @@ impl DirectLightingIntegrator {
             let bsdf = material.bsdf(si, s.next_1d());
             if bsdf.has_non_specular() {
                 let at = Scatterer::Surface { si, bsdf: &bsdf };
-                sample_lights(scene, &self.direct, &at, None, s, beta, false, depth, l);
-                self.bsdf_sample(scene, si, &bsdf, s, beta, depth, l);
+                sample_lights(scene, &self.direct, &at, medium, s, beta, false, depth, l);
+                self.mis_sample(scene, &at, medium, s, beta, depth, l);
             }
             if depth >= self.max_depth {
                 break;
@@ -82,6 +141,9 @@ impl DirectLightingIntegrator {
                     beta *= bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
                     prev = si.it;
                     ray = si.it.spawn_ray(bs.wi);
+                    if let Some(ms) = media {
+                        medium = ms.after(si.prim, si.it.n, bs.wi, medium);
+                    }
                     depth += 1;
                 }
                 _ => break,
@@ -93,44 +155,102 @@ impl DirectLightingIntegrator {
         alpha
     }
 
-    /// The BSDF-sampling half of the direct-lighting MIS estimate at a shading point `depth`
-    /// specular bounces from the camera.
+    /// Samples the BSDF (non-specular part) or the phase function at `at` for the MIS
+    /// half of direct lighting; `None` when nothing usable was drawn.
+    fn continuation(
+        at: &Scatterer,
+        medium: Option<MediumId>,
+        scene: &World,
+        s: &mut SampleStream,
+    ) -> Option<Continuation> {
+        let (u, u2) = (s.next_1d(), s.next_2d());
+        match at {
+            Scatterer::Surface { si, bsdf } => {
+                let bs = bsdf.sample_f(si.wo, u, u2)?;
+                if bs.specular || bs.pdf <= 0.0 || bs.f.is_black() {
+                    return None;
+                }
+                let medium = scene
+                    .media()
+                    .map_or(medium, |ms| ms.after(si.prim, si.it.n, bs.wi, medium));
+                Some(Continuation {
+                    ray: si.it.spawn_ray(bs.wi),
+                    medium,
+                    weight: bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf),
+                    pdf: bs.pdf,
+                })
+            }
+            Scatterer::Medium { it, d_in, phase } => {
+                let (wi, pdf) = phase.sample(*d_in, u2);
+                if pdf <= 0.0 || wi == Vec3A::ZERO {
+                    return None;
+                }
+                // The phase function is sampled exactly: f / pdf = 1.
+                Some(Continuation {
+                    ray: it.spawn_ray(wi),
+                    medium,
+                    weight: Rgb::WHITE,
+                    pdf,
+                })
+            }
+        }
+    }
+
+    /// The BSDF- (or phase-) sampling half of the direct-lighting MIS estimate at `at`, a
+    /// scattering point `depth` specular bounces from the camera in `medium`: the sampled
+    /// ray crosses null surfaces (and the media they bound, attenuated) to the emitter it
+    /// meets.
     #[allow(clippy::too_many_arguments)]
-    fn bsdf_sample(
+    fn mis_sample(
         &self,
         scene: &World,
-        si: &SurfaceInteraction,
-        bsdf: &Bsdf,
+        at: &Scatterer,
+        medium: Option<MediumId>,
         s: &mut SampleStream,
         beta: Rgb,
         depth: u32,
         l: &mut [Rgb],
     ) {
-        let (u, u2) = (s.next_1d(), s.next_2d());
-        let Some(bs) = bsdf.sample_f(si.wo, u, u2) else {
+        let Some(c) = Self::continuation(at, medium, scene, s) else {
             return;
         };
-        if bs.specular || bs.pdf <= 0.0 || bs.f.is_black() {
-            return;
-        }
-        let tp = beta * bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
-        let ray = si.it.spawn_ray(bs.wi);
-        let hit = scene.intersect(&ray);
-        let arrival = Arrival::Bsdf(&si.it, bs.pdf, depth);
-        let t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
-        scene.crossed_lights(&ray, t_hit, |i, c| {
-            add_emission(scene, &self.direct, i, c, arrival, tp, l)
-        });
-        match &hit {
-            Some(hit) => {
-                if let Some((i, _)) = scene.area_light(hit.prim) {
-                    add_emission(scene, &self.direct, i, hit, arrival, tp, l);
-                }
+        let origin = match at {
+            Scatterer::Surface { si, .. } => &si.it,
+            Scatterer::Medium { it, .. } => *it,
+        };
+        let media = scene.media();
+        let (mut ray, mut medium, mut tp) = (c.ray, c.medium, beta * c.weight);
+        let arrival = Arrival::Bsdf(origin, c.pdf, depth);
+        for _ in 0..MAX_PASS_THROUGH {
+            let hit = scene.intersect(&ray);
+            let t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+            if let Some(m) = medium.and_then(|id| media.and_then(|ms| ms.get(id))) {
+                tp *= m.tr(&ray, t_hit);
             }
-            None => escaped(scene, &ray, tp, l, |i| {
-                let pl = scene.lights()[i].pdf_li(&si.it, bs.wi, None);
-                bsdf_hit_weight(scene, &self.direct, i, bs.pdf, pl, depth)
-            }),
+            if tp.is_black() {
+                return;
+            }
+            scene.crossed_lights(&ray, t_hit, |i, cr| {
+                add_emission(scene, &self.direct, i, cr, arrival, tp, l)
+            });
+            let Some(hit) = &hit else {
+                let d = ray.d.normalize_or_zero();
+                escaped(scene, &ray, tp, l, |i| {
+                    let pl = scene.lights()[i].pdf_li(origin, d, None);
+                    bsdf_hit_weight(scene, &self.direct, i, c.pdf, pl, depth)
+                });
+                return;
+            };
+            if let Some((i, _)) = scene.area_light(hit.prim) {
+                add_emission(scene, &self.direct, i, hit, arrival, tp, l);
+            }
+            if !scene.material(hit.prim).is_null() {
+                return;
+            }
+            if let Some(ms) = media {
+                medium = ms.after(hit.prim, hit.it.n, ray.d, medium);
+            }
+            ray = hit.it.spawn_ray(ray.d);
         }
     }
 }

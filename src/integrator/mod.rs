@@ -198,15 +198,22 @@ impl Integrator {
 
     /// Tells the integrator how far media are rendered (the scene's VolumeIntegrator).
     pub fn set_volume(&mut self, v: VolumeIntegrator) {
-        if let Integrator::Path(p) = self {
-            p.volume = v;
+        match self {
+            Integrator::Path(p) => p.volume = v,
+            Integrator::DirectLighting(d) => d.volume = v,
+            Integrator::Bidirectional(b) => b.volume = v,
         }
     }
 
-    /// Whether the integrator carries paths through participating media (path does;
-    /// directlighting and bidirectional do not yet).
+    /// Whether the integrator carries paths through participating media (all three do:
+    /// path and bidirectional with as many scattering events as the volume integrator
+    /// allows, directlighting with single scattering along the eye path).
     pub fn renders_media(&self) -> bool {
-        matches!(self, Integrator::Path(_))
+        match self {
+            Integrator::Path(_) | Integrator::DirectLighting(_) | Integrator::Bidirectional(_) => {
+                true
+            }
+        }
     }
 
     /// Whether samples may contribute away from their own film position ([`Splat`]s: the

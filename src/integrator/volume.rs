@@ -8,7 +8,9 @@
 //! - `multi`: as many scattering events as the path's depth allows.
 //!
 //! `stepsize` (default 1) is read for LuxRender's region volumes; heterogeneous media carry
-//! their own step. The path integrator asks [`VolumeIntegrator::max_scatters`] per path.
+//! their own step. The path integrator asks [`VolumeIntegrator::max_scatters`] per path,
+//! bidirectional per subpath (and its weights drop the strategies that would need more),
+//! directlighting whether its eye ray may scatter (once, whatever the limit above one).
 
 use crate::lxs::{Diagnostic, Entity};
 use crate::plugin::Stmt;

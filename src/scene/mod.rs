@@ -25,8 +25,8 @@ use crate::geometry::{Interaction, Ray, SurfaceInteraction};
 use crate::light::{AreaLight, BoundingSphere, Light, LightSample, LightSelector, ShapeSampler};
 use crate::material::{Material, MaterialSet};
 use crate::spectrum::Rgb;
-use crate::volume::{MediaSet, MediumId};
-use glam::Vec2;
+use crate::volume::{MediaSet, Medium, MediumId};
+use glam::{Vec2, Vec3A};
 
 pub use build::{BuiltSummary, WorldOptions};
 
@@ -64,6 +64,14 @@ pub struct World {
     media: Option<Box<MediaSet>>,
     /// Whether some material disperses light: paths through it then carry a wavelength.
     spectral: bool,
+}
+
+/// Where a segment walked by [`World::walk_segment`] ends: at a point (stopping just short
+/// of it), or never (the unbounded ray along a direction).
+#[derive(Clone, Copy, Debug)]
+pub enum SegmentEnd<'a> {
+    Point(&'a Interaction),
+    Direction(Vec3A),
 }
 
 /// Null-material surfaces a visibility test passes through before giving up.
@@ -160,39 +168,82 @@ impl World {
         ls: &LightSample,
         medium: Option<MediumId>,
     ) -> Rgb {
-        let Some(media) = self.media() else {
-            return if self.unoccluded(from, ls) {
-                Rgb::WHITE
-            } else {
-                Rgb::BLACK
-            };
+        let end = if ls.infinite {
+            SegmentEnd::Direction(ls.wi)
+        } else {
+            SegmentEnd::Point(&ls.p_light)
         };
-        let spawn = |it: &Interaction| {
-            if ls.infinite {
-                it.spawn_ray(ls.wi)
-            } else {
-                it.spawn_ray_to(&ls.p_light)
-            }
-        };
-        let mut ray = spawn(from);
-        let mut medium = medium;
+        self.transmittance_along(from, end, medium)
+    }
+
+    /// The fraction of light carried along the segment from `from` to `end` that starts in
+    /// `medium` ([`Self::walk_segment`]): black when blocked, else the media's transmittance.
+    pub fn transmittance_along(
+        &self,
+        from: &Interaction,
+        end: SegmentEnd,
+        medium: Option<MediumId>,
+    ) -> Rgb {
         let mut tr = Rgb::WHITE;
+        let open = self.walk_segment(from, end, medium, |m, ray, t_end| {
+            if let Some(m) = m.filter(|_| !tr.is_black()) {
+                tr *= m.tr(ray, t_end);
+            }
+        });
+        if open {
+            tr
+        } else {
+            Rgb::BLACK
+        }
+    }
+
+    /// Walks the segment from `from` to `end` through surfaces of the null material (which
+    /// light passes unchanged), starting in `medium` and changing medium where it crosses a
+    /// medium boundary. `piece(medium, ray, t_end)` is called for every part between two
+    /// crossings, in order, with the medium it runs in (`None`: vacuum) and its ray's extent.
+    /// Returns false when a surface that is not null blocks the segment. Shadow rays, the
+    /// connections of bidirectional path tracing and their densities all walk segments here.
+    pub fn walk_segment(
+        &self,
+        from: &Interaction,
+        end: SegmentEnd,
+        medium: Option<MediumId>,
+        mut piece: impl FnMut(Option<&Medium>, &Ray, f32),
+    ) -> bool {
+        let spawn = |it: &Interaction| match end {
+            SegmentEnd::Point(p) => it.spawn_ray_to(p),
+            SegmentEnd::Direction(d) => it.spawn_ray(d),
+        };
+        let media = self.media();
+        let mut ray = spawn(from);
+        if media.is_none() && !self.has_null {
+            if self.geometry.intersect_p(&ray) {
+                return false;
+            }
+            piece(None, &ray, ray.t_max);
+            return true;
+        }
+        let mut medium = medium;
         for _ in 0..MAX_NULL_CROSSINGS {
             let hit = self.geometry.intersect(&ray);
             let t_end = hit.as_ref().map_or(ray.t_max, |h| h.t);
-            if let Some(m) = medium.and_then(|id| media.get(id)) {
-                tr *= m.tr(&ray, t_end);
-            }
+            piece(
+                medium.and_then(|id| media.and_then(|ms| ms.get(id))),
+                &ray,
+                t_end,
+            );
             let Some(si) = hit else {
-                return tr;
+                return true;
             };
-            if !self.material(si.prim).is_null() || tr.is_black() {
-                return Rgb::BLACK;
+            if !self.material(si.prim).is_null() {
+                return false;
             }
-            medium = media.after(si.prim, si.it.n, ray.d, medium);
+            if let Some(ms) = media {
+                medium = ms.after(si.prim, si.it.n, ray.d, medium);
+            }
             ray = spawn(&si.it);
         }
-        Rgb::BLACK
+        false
     }
 
     /// The scene's bounding sphere (lights at infinity emit from its radius).

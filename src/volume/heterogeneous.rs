@@ -117,6 +117,12 @@ impl Heterogeneous {
         (step, (dist_max / step).ceil() as u32)
     }
 
+    /// The extinction coefficient sigma_a + sigma_s at world point `p`.
+    pub fn sigma_t(&self, p: Vec3A) -> Rgb {
+        let (sa, ss) = self.density.at(p);
+        sa + ss
+    }
+
     /// Transmittance over the ray's parametric extent [0, `t_max`].
     pub fn tr(&self, ray: &Ray, t_max: f32) -> Rgb {
         let len = ray.d.length();

@@ -29,7 +29,8 @@ impl Homogeneous {
         })
     }
 
-    fn sigma_t(&self) -> Rgb {
+    /// The extinction coefficient sigma_a + sigma_s (the same everywhere).
+    pub fn sigma_t(&self) -> Rgb {
         self.sigma_a + self.sigma_s
     }
 

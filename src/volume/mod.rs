@@ -136,6 +136,17 @@ impl Medium {
         }
     }
 
+    /// The extinction coefficient sigma_a + sigma_s at world point `p` (distance sampling's
+    /// density of stopping at `p` is its channel average times the transmittance to `p`).
+    pub fn sigma_t(&self, p: Vec3A) -> Rgb {
+        match self {
+            Medium::Clear(c) => c.absorption,
+            Medium::Homogeneous(h) => h.sigma_t(),
+            Medium::Marched(m) => m.sigma_t(p),
+            Medium::Region(r) => r.sigma_t(p),
+        }
+    }
+
     /// Samples a scattering point along [0, `t_max`] (`u`, `u_channel` uniform in [0, 1)).
     /// Media that do not scatter only attenuate.
     pub fn sample(&self, ray: &Ray, t_max: f32, u: f32, u_channel: f32) -> MediumSample {

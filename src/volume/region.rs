@@ -112,6 +112,16 @@ impl Region {
         (t0 < t1).then_some((t0, t1))
     }
 
+    /// The inner medium's extinction at world point `p` inside the box, 0 outside it.
+    pub fn sigma_t(&self, p: Vec3A) -> Rgb {
+        let q = self.to_volume.transform_point3a(p);
+        if q.cmpge(self.lo).all() && q.cmple(self.hi).all() {
+            self.inner.sigma_t(p)
+        } else {
+            Rgb::BLACK
+        }
+    }
+
     /// Transmittance over [0, `t_max`]: the inner medium's over the part inside the box.
     pub fn tr(&self, ray: &Ray, t_max: f32) -> Rgb {
         match self.clip(ray, t_max) {

@@ -10,6 +10,10 @@
 //! that could have found it: within the eye and light depths, connecting two non-delta
 //! vertices, reaching the camera only when light paths may (t = 1), and never s = t = 1.
 //!
+//! In a scene with media, a subpath may scatter in media at most `max_scatters` times (the
+//! volume integrator's limit): a strategy whose light part or eye part holds more medium
+//! vertices than that cannot build the path and takes no weight.
+//!
 //! Densities "through" a delta vertex are stored as 0 and count as 1 in the ratios (they
 //! are the same discrete choice on both sides); the ratios p_{s'}/p_s are built one vertex
 //! at a time from the current strategy outwards, so the products never overflow.
@@ -23,6 +27,8 @@ pub struct PathDensities {
     pub pe: Vec<f32>,
     /// Vertices whose scattering in this path was a delta distribution.
     pub delta: Vec<bool>,
+    /// Vertices that are scattering points in a medium.
+    pub medium: Vec<bool>,
     /// Density of x₀ under direct lighting (strategy s = 1).
     pub pdir0: f32,
     /// x₀ is a delta position or direction: no ray can hit it (s = 0 impossible).
@@ -38,6 +44,8 @@ pub struct Limits {
     pub max_eye: usize,
     /// Light subpaths may be joined to the camera (t = 1).
     pub camera: bool,
+    /// Medium vertices one subpath may hold.
+    pub max_scatters: usize,
 }
 
 fn remap0(v: f32) -> f32 {
@@ -54,9 +62,11 @@ impl PathDensities {
         self.pl.clear();
         self.pe.clear();
         self.delta.clear();
+        self.medium.clear();
         self.pl.resize(k, 0.0);
         self.pe.resize(k, 0.0);
         self.delta.resize(k, false);
+        self.medium.resize(k, false);
         self.pdir0 = 0.0;
         self.light_delta = false;
     }
@@ -76,6 +86,11 @@ impl PathDensities {
             return false;
         }
         if t == 1 && !lim.camera {
+            return false;
+        }
+        let light_scatters = self.medium.iter().take(s).filter(|&&m| m).count();
+        let eye_scatters = self.medium.iter().skip(s).filter(|&&m| m).count();
+        if light_scatters > lim.max_scatters || eye_scatters > lim.max_scatters {
             return false;
         }
         match s {
@@ -184,6 +199,7 @@ mod tests {
             max_light: 4,
             max_eye: 5,
             camera: true,
+            max_scatters: usize::MAX,
         };
         for k in 2..=9 {
             for seed in 1..20 {
@@ -220,11 +236,35 @@ mod tests {
             max_light: 8,
             max_eye: 8,
             camera: false,
+            max_scatters: usize::MAX,
         };
         let mut d = densities(3, 7);
         d.light_delta = true;
         // k = 3: s = 0 (delta light: no), s = 1 (direct), s = 2 (t = 1: no camera).
         assert!(!d.valid(0, &lim) && d.valid(1, &lim) && !d.valid(2, &lim));
         assert!((d.weight(1, &lim) - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn scatter_limit_drops_strategies_with_too_many_medium_vertices_on_one_side() {
+        let lim = Limits {
+            max_light: 8,
+            max_eye: 8,
+            camera: true,
+            max_scatters: 1,
+        };
+        // x0 light, x1 and x2 medium points, x3 camera.
+        let mut d = densities(4, 3);
+        d.medium[1] = true;
+        d.medium[2] = true;
+        // s = 0, 1: both medium vertices on the eye side; s = 3: both on the light side.
+        assert!(!d.valid(0, &lim) && !d.valid(1, &lim) && !d.valid(3, &lim));
+        assert!(d.valid(2, &lim));
+        assert!((d.weight(2, &lim) - 1.0).abs() < 1e-6);
+        let multi = Limits {
+            max_scatters: usize::MAX,
+            ..lim
+        };
+        assert!((0..4).all(|s| d.valid(s, &multi)));
     }
 }

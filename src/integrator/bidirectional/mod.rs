@@ -11,6 +11,10 @@
 //! film's per-screen "light" buffer; the others go to the sample's own position ("eye"
 //! buffer). Weights follow [`mis`].
 //!
+//! Participating media: both subpaths carry the medium they are in; see [`walk`] (medium
+//! vertices, distance sampling), [`vertex`] (their densities) and [`strategies`]
+//! (transmittance along connections).
+//!
 //! Parameters (LuxRender's names and defaults): `eyedepth` (8) and `lightdepth` (8) vertices
 //! per subpath (the camera and the light included, at most [`MAX_DEPTH`]),
 //! `eyerrthreshold` and `lightrrthreshold` (0: Russian roulette on each vertex's scattering
@@ -21,7 +25,7 @@ pub mod strategies;
 pub mod vertex;
 pub mod walk;
 
-use super::{DirectSettings, SampleOut};
+use super::{DirectSettings, SampleOut, VolumeIntegrator};
 use crate::camera::Camera;
 use crate::geometry::Ray;
 use crate::light::{LightSelector, LightStrategy};
@@ -56,6 +60,9 @@ pub struct BidirIntegrator {
     pub direct_strategy: LightStrategy,
     /// Light subpaths' light choice (`lightpathstrategy`).
     pub path_strategy: LightStrategy,
+    /// How far media are rendered (the scene's VolumeIntegrator): attenuation only with
+    /// `emission`, medium vertices (up to `max_scatters` per subpath) with `single`/`multi`.
+    pub volume: VolumeIntegrator,
     path_selector: LightSelector,
     path_count: u32,
     layout: Layout,
@@ -104,6 +111,7 @@ impl BidirIntegrator {
             light_rr: threshold(s, "lightrrthreshold")?,
             direct_strategy: strategy(s, "lightstrategy"),
             path_strategy: strategy(s, "lightpathstrategy"),
+            volume: VolumeIntegrator::default(),
             path_selector: LightSelector::All,
             path_count: 0,
             layout: Layout::new(eye_depth, light_depth, 0),

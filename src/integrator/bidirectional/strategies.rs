@@ -9,6 +9,12 @@
 //!
 //! [`weight`] gathers the path's densities into [`PathDensities`] — the stored walk
 //! densities, recomputed near the connection — and returns the power-heuristic weight.
+//!
+//! In a scene with media, connections (shadow rays, and the joins of s ≥ 2) carry the
+//! transmittance of the media between their two ends, walked through null surfaces and
+//! medium boundaries by [`Ctx::segment`]; the connection's distance-sampling factors go
+//! into the recomputed densities. A medium vertex scatters with its phase function (no
+//! cosine), on either side of a connection.
 
 use super::mis::{Limits, PathDensities};
 use super::vertex::{Ctx, Kind, Vertex};
@@ -28,7 +34,24 @@ fn light_at<'a>(light: &'a [Vertex], sampled: Option<&'a Vertex>, j: usize) -> O
     light.get(j)
 }
 
+/// The distance-sampling factors of a connection (1 without scattering media): of the light
+/// side generating E_{t−1} from L_{s−1}, and of the eye side generating L_{s−1} from E_{t−1}.
+#[derive(Clone, Copy, Debug)]
+pub struct Link {
+    pub to_eye: f32,
+    pub to_light: f32,
+}
+
+impl Link {
+    /// No connection segment (s = 0).
+    pub const NONE: Link = Link {
+        to_eye: 1.0,
+        to_light: 1.0,
+    };
+}
+
 /// The power-heuristic weight of strategy (s, t); `sampled` replaces L₀ for s = 1.
+#[allow(clippy::too_many_arguments)]
 pub fn weight(
     ctx: &Ctx,
     dens: &mut PathDensities,
@@ -37,6 +60,7 @@ pub fn weight(
     light: &[Vertex],
     s: usize,
     sampled: Option<&Vertex>,
+    link: Link,
 ) -> f32 {
     let k = s + t;
     if k < 2 || t == 0 || t > eye.len() {
@@ -64,6 +88,7 @@ pub fn weight(
             dens.pl[j] = v.pdf_rev;
         }
         dens.delta[j] = v.delta;
+        dens.medium[j] = v.kind == Kind::Medium;
     }
     let (Some(x0), Some(xs)) = (x(0), x(s)) else {
         return 0.0;
@@ -74,7 +99,7 @@ pub fn weight(
     dens.delta[s] = false;
     if s == 0 {
         if let Some(x1) = x(1) {
-            dens.pl[1] = ctx.emit_pdf(x0, x1);
+            dens.pl[1] = ctx.emit_pdf(x0, x1) * x0.dist_rev;
         }
     } else {
         dens.delta[s - 1] = false;
@@ -82,24 +107,26 @@ pub fn weight(
             return 0.0;
         };
         // The camera side reaching x_{s-1} and x_{s-2}.
-        dens.pe[s - 1] = match x(s + 1) {
-            Some(e_prev) if t >= 2 => ctx.scatter_pdf(xs, e_prev, ls),
-            _ => ctx.camera_pdf(xs, ls),
-        };
+        dens.pe[s - 1] = link.to_light
+            * match x(s + 1) {
+                Some(e_prev) if t >= 2 => ctx.scatter_pdf(xs, e_prev, ls),
+                _ => ctx.camera_pdf(xs, ls),
+            };
         if s >= 2 {
             if let Some(l2) = x(s - 2) {
-                dens.pe[s - 2] = ctx.scatter_pdf(ls, xs, l2);
+                dens.pe[s - 2] = ctx.scatter_pdf(ls, xs, l2) * ls.dist_rev;
             }
         }
         // The light side reaching x_s and x_{s+1}.
-        dens.pl[s] = if s == 1 {
-            ctx.emit_pdf(ls, xs)
-        } else {
-            x(s - 2).map_or(0.0, |l2| ctx.scatter_pdf(ls, l2, xs))
-        };
+        dens.pl[s] = link.to_eye
+            * if s == 1 {
+                ctx.emit_pdf(ls, xs)
+            } else {
+                x(s - 2).map_or(0.0, |l2| ctx.scatter_pdf(ls, l2, xs))
+            };
         if t >= 2 {
             if let Some(e_prev) = x(s + 1) {
-                dens.pl[s + 1] = ctx.scatter_pdf(xs, ls, e_prev);
+                dens.pl[s + 1] = ctx.scatter_pdf(xs, ls, e_prev) * xs.dist_rev;
             }
         }
     }
@@ -107,6 +134,7 @@ pub fn weight(
         max_light: ctx.bidir.light_depth as usize,
         max_eye: ctx.bidir.eye_depth as usize,
         camera: ctx.camera.connectable(),
+        max_scatters: ctx.bidir.volume.max_scatters() as usize,
     };
     dens.weight(s, &lim)
 }
@@ -147,7 +175,8 @@ pub fn emission(
                 if le.is_black() {
                     continue;
                 }
-                let w = *w.get_or_insert_with(|| weight(ctx, dens, eye, t, &[], 0, None));
+                let w =
+                    *w.get_or_insert_with(|| weight(ctx, dens, eye, t, &[], 0, None, Link::NONE));
                 add_eye(out, l.group(), v.beta * le * w, w);
             }
         }
@@ -159,7 +188,7 @@ pub fn emission(
             if le.is_black() {
                 return;
             }
-            let w = weight(ctx, dens, eye, t, &[], 0, None);
+            let w = weight(ctx, dens, eye, t, &[], 0, None, Link::NONE);
             add_eye(out, area.common.group, v.beta * le * w, w);
         }
         _ => {}
@@ -194,10 +223,7 @@ pub fn direct(
     stream: &mut SampleStream,
     out: &mut SampleOut,
 ) {
-    let Some(v) = eye.get(t - 1) else {
-        return;
-    };
-    let Some(bsdf) = v.bsdf.as_ref().filter(|_| v.connectable()) else {
+    let Some(v) = eye.get(t - 1).filter(|v| v.connectable()) else {
         return;
     };
     let layout = &ctx.bidir.layout;
@@ -221,21 +247,20 @@ pub fn direct(
         let Some(ls) = light.sample_li_ignoring_portals(&v.si.it, u, u_shape, ctx.world) else {
             continue;
         };
-        let f = bsdf.f(v.si.wo, ls.wi) * ls.wi.dot(bsdf.frame.n).abs();
+        let f = v.f_eye(ls.wi);
         if f.is_black() {
             continue;
         }
-        let ray = if ls.infinite {
-            v.si.it.spawn_ray(ls.wi)
-        } else {
-            v.si.it.spawn_ray_to(&ls.p_light)
-        };
-        if !ctx.world.transmits(&ray) {
-            continue;
-        }
         let sampled = sampled_light(i as u32, light, &ls);
-        let w = weight(ctx, dens, eye, t, &[], 1, Some(&sampled));
-        let c = v.beta * f * ls.li * (w / (ls.pdf * q));
+        let Some(g) = ctx.segment(v, &sampled).filter(|g| !g.tr.is_black()) else {
+            continue;
+        };
+        let link = Link {
+            to_eye: g.b_to_a,
+            to_light: g.a_to_b,
+        };
+        let w = weight(ctx, dens, eye, t, &[], 1, Some(&sampled), link);
+        let c = v.beta * f * g.tr * ls.li * (w / (ls.pdf * q));
         add_eye(out, light.group(), c, w);
     }
 }
@@ -280,21 +305,17 @@ pub fn connect(
     if !(e.connectable() && l.connectable()) {
         return;
     }
-    let (Some(be), Some(bl)) = (e.bsdf.as_ref(), l.bsdf.as_ref()) else {
-        return;
-    };
     let d = l.p() - e.p();
     let d2 = d.length_squared();
     if d2 == 0.0 {
         return;
     }
     let w_el = d / d2.sqrt();
-    let fe = be.f(e.si.wo, w_el) * w_el.dot(be.frame.n).abs();
+    let fe = e.f_eye(w_el);
     if fe.is_black() {
         return;
     }
-    let w_le = -w_el;
-    let fl = bl.f(w_le, l.si.wo) * shading_correction(l, w_le);
+    let fl = f_light(l, -w_el);
     if fl.is_black() {
         return;
     }
@@ -302,11 +323,29 @@ pub fn connect(
     if c.is_black() || !c.is_finite() {
         return;
     }
-    if !ctx.world.transmits(&e.si.it.spawn_ray_to(&l.si.it)) {
+    let Some(g) = ctx.segment(e, l).filter(|g| !g.tr.is_black()) else {
         return;
-    }
-    let w = weight(ctx, dens, eye, t, light, s, None);
+    };
+    let c = c * g.tr;
+    let link = Link {
+        to_eye: g.b_to_a,
+        to_light: g.a_to_b,
+    };
+    let w = weight(ctx, dens, eye, t, light, s, None, link);
     add_eye(out, group_of(ctx, index), c * w, w);
+}
+
+/// The light side's value of light vertex `l` scattering the light that reached it toward
+/// unit direction `w`: the adjoint BSDF with its shading-normal factor at a surface, the
+/// phase function at a medium point.
+fn f_light(l: &Vertex, w: glam::Vec3A) -> Rgb {
+    if let Some(ph) = l.phase {
+        return Rgb::splat(ph.eval(-l.si.wo, w));
+    }
+    match &l.bsdf {
+        Some(b) => b.f(w, l.si.wo) * shading_correction(l, w),
+        None => Rgb::BLACK,
+    }
 }
 
 /// At light vertex `l` scattering toward `w` (unit): the adjoint's shading-normal factor
@@ -340,27 +379,24 @@ pub fn to_camera(
     if !l.connectable() {
         return;
     }
-    let Some(bl) = l.bsdf.as_ref() else {
-        return;
-    };
     let Some(hit) = ctx.camera.connect(cam.p(), l.p(), ctx.time) else {
         return;
     };
     let w_lc = -hit.dir;
-    let fl = bl.f(w_lc, l.si.wo) * shading_correction(l, w_lc);
+    let fl = f_light(l, w_lc);
     let c = l.beta * fl * hit.weight;
     if c.is_black() || !c.is_finite() {
         return;
     }
-    let target = crate::geometry::Interaction {
-        p: cam.p(),
-        time: ctx.time,
-        ..Default::default()
-    };
-    if !ctx.world.transmits(&l.si.it.spawn_ray_to(&target)) {
+    let Some(g) = ctx.segment(cam, l).filter(|g| !g.tr.is_black()) else {
         return;
-    }
-    let w = weight(ctx, dens, eye, 1, light, s, None);
+    };
+    let c = c * g.tr;
+    let link = Link {
+        to_eye: g.b_to_a,
+        to_light: g.a_to_b,
+    };
+    let w = weight(ctx, dens, eye, 1, light, s, None, link);
     let c = c * w;
     if c.is_black() || !c.is_finite() {
         return;

@@ -8,17 +8,26 @@
 //! these densities.
 //!
 //! The density of generating one vertex from another is asked in three ways:
-//! [`Ctx::scatter_pdf`] (a surface's BSDF sampling), [`Ctx::camera_pdf`] (the camera's rays)
-//! and [`Ctx::emit_pdf`] (a light's emitted rays); [`to_area`] converts a solid-angle density
-//! at one vertex to an area density at the next.
+//! [`Ctx::scatter_pdf`] (a surface's BSDF or a medium point's phase function),
+//! [`Ctx::camera_pdf`] (the camera's rays) and [`Ctx::emit_pdf`] (a light's emitted rays);
+//! [`to_area`] converts a solid-angle density at one vertex to an area density at the next
+//! (with no cosine at a point in a medium).
+//!
+//! In a scene with scattering media a ray's end is itself sampled (distance sampling: it stops
+//! in a medium or passes through to a surface), so every area density also carries the
+//! probability of that end: [`Ctx::segment`] walks the segment between two vertices through
+//! null surfaces and medium boundaries and returns, besides the segment's transmittance, this
+//! factor in both directions. Each vertex keeps the medium it was reached in (`medium`) and
+//! the factor of the reverse direction of the segment that reached it (`dist_rev`).
 
 use super::BidirIntegrator;
 use crate::camera::Camera;
 use crate::geometry::{Interaction, SurfaceInteraction};
 use crate::light::{Light, LightSelector};
 use crate::material::Bsdf;
-use crate::scene::World;
+use crate::scene::{SegmentEnd, World};
 use crate::spectrum::Rgb;
+use crate::volume::{channel_avg, HenyeyGreenstein, Medium, MediumId};
 use glam::Vec3A;
 
 /// What a vertex is.
@@ -35,6 +44,8 @@ pub enum Kind {
     Sky,
     /// A surface hit; `emitter` is its area light's index when it has one.
     Surface { emitter: Option<u32> },
+    /// A scattering point in a medium (`medium`, with its phase function).
+    Medium,
 }
 
 /// One vertex of a subpath.
@@ -51,6 +62,14 @@ pub struct Vertex {
     pub delta: bool,
     pub pdf_fwd: f32,
     pub pdf_rev: f32,
+    /// The medium the vertex lies in (a medium point) or was reached through (a surface: the
+    /// medium on the arriving side); for the camera and lights, the one their rays start in.
+    pub medium: Option<MediumId>,
+    /// The phase function of a medium point.
+    pub phase: Option<HenyeyGreenstein>,
+    /// The distance-sampling factor of generating the previous vertex of this subpath from
+    /// this one (1 without scattering media).
+    pub dist_rev: f32,
 }
 
 impl Vertex {
@@ -64,6 +83,9 @@ impl Vertex {
             delta: false,
             pdf_fwd,
             pdf_rev: 0.0,
+            medium: None,
+            phase: None,
+            dist_rev: 1.0,
         }
     }
 
@@ -82,10 +104,36 @@ impl Vertex {
         matches!(self.kind, Kind::Sky | Kind::LightDir(_))
     }
 
-    /// A surface whose BSDF has a non-delta part (a connection may end here).
+    /// A surface whose BSDF has a non-delta part, or a point in a medium (a connection may
+    /// end here).
     pub fn connectable(&self) -> bool {
-        matches!(self.kind, Kind::Surface { .. })
-            && self.bsdf.as_ref().is_some_and(|b| b.has_non_specular())
+        match self.kind {
+            Kind::Surface { .. } => self.bsdf.as_ref().is_some_and(|b| b.has_non_specular()),
+            Kind::Medium => self.phase.is_some(),
+            _ => false,
+        }
+    }
+
+    /// The eye side's value of the vertex's scattering of light arriving from unit direction
+    /// `wi` toward `si.wo`: f·|wi·ns| at a surface, the phase function at a medium point.
+    pub fn f_eye(&self, wi: Vec3A) -> Rgb {
+        if let Some(ph) = self.phase {
+            return Rgb::splat(ph.eval(-self.si.wo, wi));
+        }
+        match &self.bsdf {
+            Some(b) => b.f(self.si.wo, wi) * wi.dot(b.frame.n).abs(),
+            None => Rgb::BLACK,
+        }
+    }
+
+    /// The medium a ray leaving this vertex in direction `d` starts in.
+    pub fn medium_toward(&self, world: &World, d: Vec3A) -> Option<MediumId> {
+        match (self.kind, world.media()) {
+            (Kind::Surface { .. }, Some(ms)) => {
+                ms.after(self.si.prim, self.si.it.n, d, self.medium)
+            }
+            _ => self.medium,
+        }
     }
 
     /// The geometric normal that densities on this vertex are measured with (none for the
@@ -129,6 +177,25 @@ pub fn to_area(pdf: f32, from: &Vertex, to: &Vertex) -> f32 {
     pdf * cos / d2
 }
 
+/// A segment between two vertices: its transmittance and the distance-sampling factors of
+/// generating each end from the other (1 without scattering media).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment {
+    pub tr: Rgb,
+    pub a_to_b: f32,
+    pub b_to_a: f32,
+}
+
+impl Segment {
+    fn reversed(self) -> Segment {
+        Segment {
+            tr: self.tr,
+            a_to_b: self.b_to_a,
+            b_to_a: self.a_to_b,
+        }
+    }
+}
+
 /// What densities need besides the vertices: the world, the camera, the integrator's
 /// light selections and the sample's time.
 pub struct Ctx<'a> {
@@ -155,12 +222,97 @@ impl Ctx<'_> {
 
     /// Area density of generating `next` by sampling the BSDF at surface `cur` that was
     /// reached from `prev`.
+    /// (Geometry only: the distance-sampling factor of the segment is the caller's.)
     pub fn scatter_pdf(&self, cur: &Vertex, prev: &Vertex, next: &Vertex) -> f32 {
-        let Some(bsdf) = &cur.bsdf else {
+        let pdf = if let Some(ph) = cur.phase {
+            ph.eval(-cur.dir_to(prev), cur.dir_to(next))
+        } else if let Some(bsdf) = &cur.bsdf {
+            bsdf.pdf(cur.dir_to(prev), cur.dir_to(next))
+        } else {
             return 0.0;
         };
-        let pdf = bsdf.pdf(cur.dir_to(prev), cur.dir_to(next));
         to_area(pdf, cur, next)
+    }
+
+    /// Whether the scene's media are sampled for scattering (some medium scatters and the
+    /// volume integrator lets paths scatter): distance-sampling factors differ from 1.
+    pub fn scattering(&self) -> bool {
+        self.bidir.volume.max_scatters() > 0 && self.world.media().is_some_and(|m| m.scatters)
+    }
+
+    /// Whether rays in medium `m` are distance sampled (else only attenuated).
+    pub fn samples_distance(&self, m: &Medium) -> bool {
+        self.bidir.volume.max_scatters() > 0 && m.scatters()
+    }
+
+    /// Walks the segment between `a` and `b` ([`World::walk_segment`]); `None` when a
+    /// surface blocks it.
+    pub fn segment(&self, a: &Vertex, b: &Vertex) -> Option<Segment> {
+        if a.is_at_infinity() {
+            return self.segment(b, a).map(Segment::reversed);
+        }
+        let dir = a.dir_to(b);
+        let start = a.medium_toward(self.world, dir);
+        let end = if b.is_at_infinity() {
+            SegmentEnd::Direction(b.dir)
+        } else {
+            SegmentEnd::Point(&b.si.it)
+        };
+        let scattering = self.scattering();
+        let mut tr = Rgb::WHITE;
+        // Channel-averaged transmittance of the pieces in distance-sampled media: the first
+        // piece's, the last one's, and the products of all but the first / last.
+        let (mut first, mut last) = (None::<Rgb>, None::<Rgb>);
+        let (mut but_first, mut but_last) = (1.0f32, 1.0f32);
+        let open = self
+            .world
+            .walk_segment(&a.si.it, end, start, |m, ray, t_end| {
+                let Some(m) = m else {
+                    return;
+                };
+                let t = m.tr(ray, t_end);
+                tr *= t;
+                if !scattering {
+                    return;
+                }
+                let piece = if self.samples_distance(m) {
+                    t
+                } else {
+                    Rgb::WHITE
+                };
+                if let Some(lt) = last {
+                    but_last *= channel_avg(lt);
+                }
+                if first.is_none() {
+                    first = Some(piece);
+                } else {
+                    but_first *= channel_avg(piece);
+                }
+                last = Some(piece);
+            });
+        if !open {
+            return None;
+        }
+        // Stopping at a medium point: sigma_t there times the transmittance of its piece.
+        let end_factor = |v: &Vertex, piece: Option<Rgb>| -> f32 {
+            match (v.kind, piece) {
+                (Kind::Medium, Some(t)) => {
+                    let st = v
+                        .medium
+                        .and_then(|id| self.world.media().and_then(|ms| ms.get(id)))
+                        .map_or(Rgb::BLACK, |m| m.sigma_t(v.p()));
+                    channel_avg(st * t)
+                }
+                (Kind::Medium, None) => 0.0,
+                (_, Some(t)) => channel_avg(t),
+                (_, None) => 1.0,
+            }
+        };
+        Some(Segment {
+            tr,
+            a_to_b: but_last * end_factor(b, last),
+            b_to_a: but_first * end_factor(a, first),
+        })
     }
 
     /// Area density of the camera vertex `cam` generating `next`.
@@ -184,7 +336,7 @@ impl Ctx<'_> {
                 let pdf = l.pdf_dir_from(&light.si.it, light.dir_to(next));
                 to_area(pdf, light, next)
             }
-            Kind::Camera | Kind::Surface { emitter: None } => 0.0,
+            Kind::Camera | Kind::Surface { emitter: None } | Kind::Medium => 0.0,
         }
     }
 
@@ -218,7 +370,7 @@ impl Ctx<'_> {
             Kind::LightPoint(i) | Kind::Surface { emitter: Some(i) } => {
                 count(i as usize) * self.light(i).map_or(0.0, Light::area_density)
             }
-            Kind::Camera | Kind::Surface { emitter: None } => 0.0,
+            Kind::Camera | Kind::Surface { emitter: None } | Kind::Medium => 0.0,
         }
     }
 

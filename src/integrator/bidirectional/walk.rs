@@ -2,6 +2,11 @@
 //! (radiance) and the light subpath from a light (importance).
 //!
 //! Each walk stores its vertices with their throughput and densities (see [`super::vertex`]).
+//! In a scene with media a walk knows the medium it is in (the camera's; a light's is found
+//! from the first surface its ray meets), attenuates every segment by it and, in media that
+//! scatter (volume integrator `single` or `multi`), samples the segment's end: a scattering
+//! point becomes a medium vertex whose phase function is sampled as a surface's BSDF, as
+//! long as the subpath has scattering events left (`max_scatters`).
 //! Null-material surfaces are crossed without a vertex; an eye walk crossing an emitting null
 //! surface remembers it (`crossings`), since the eye path sees its light there. Russian
 //! roulette follows LuxRender: after the third vertex a subpath continues with probability
@@ -13,6 +18,7 @@ use crate::geometry::{Ray, SurfaceInteraction};
 use crate::light::Light;
 use crate::sampler::SampleStream;
 use crate::spectrum::Rgb;
+use crate::volume::MediumId;
 use glam::Vec3A;
 
 /// Vertices after which Russian roulette may end a subpath (LuxRender's `rrStart`).
@@ -32,24 +38,25 @@ pub struct Layout {
 
 impl Layout {
     pub fn new(max_eye: u32, max_light: u32, direct_count: u32) -> Layout {
-        let eye_stride = 5 + 4 * direct_count;
+        let eye_stride = 7 + 4 * direct_count;
         Layout {
             direct_count,
             eye_stride,
             light_base: 5 + max_eye.saturating_sub(1) * eye_stride,
-            light_stride: 6 + max_light.saturating_sub(1) * 5,
+            light_stride: 6 + max_light.saturating_sub(1) * 7,
         }
     }
 
-    /// First dimension of eye vertex `i` (1 = the first hit): component, lobe, direction
-    /// (2D), roulette, then per light sample: choice, position (2D), mesh triangle.
+    /// First dimension of eye vertex `i` (1 = the first hit): distance sampling (2, for the
+    /// segment reaching it), component, lobe, direction (2D), roulette, then per light
+    /// sample: choice, position (2D), mesh triangle.
     pub fn eye(&self, i: usize) -> u32 {
         5 + (i as u32).saturating_sub(1) * self.eye_stride
     }
 
     /// First dimension of light sample `d` at eye vertex `i`.
     pub fn direct(&self, i: usize, d: u32) -> u32 {
-        self.eye(i) + 5 + 4 * d
+        self.eye(i) + 7 + 4 * d
     }
 
     /// First dimension of light subpath `p`: choice, position (2D), direction (2D), mesh
@@ -58,10 +65,10 @@ impl Layout {
         self.light_base + p * self.light_stride
     }
 
-    /// First dimension of vertex `i` >= 1 of light subpath `p`: component, lobe, direction
-    /// (2D), roulette.
+    /// First dimension of vertex `i` >= 1 of light subpath `p`: distance sampling (2),
+    /// component, lobe, direction (2D), roulette.
     pub fn light_vertex(&self, p: u32, i: usize) -> u32 {
-        self.light_origin(p) + 6 + (i as u32).saturating_sub(1) * 5
+        self.light_origin(p) + 6 + (i as u32).saturating_sub(1) * 7
     }
 
     /// Dimensions a sample uses with `paths` light subpaths.
@@ -70,24 +77,134 @@ impl Layout {
     }
 }
 
-/// The closest hit that is not a null surface; emitting null surfaces crossed on the way
-/// are reported to `crossed`.
+/// Dimensions of the distance samples of a segment's pieces after its first (a segment
+/// crossing null surfaces into other media): outside every vertex block, 2 per piece.
+const EXTRA_PIECES: u32 = 1 << 24;
+
+/// The medium a traced ray starts in.
+#[derive(Clone, Copy, Debug)]
+enum Start {
+    Known(Option<MediumId>),
+    /// A light's ray, whose medium is not known from the light: the one on the arriving side
+    /// of the first surface it meets when that is a medium boundary, else the camera's (the
+    /// scene's outer medium, as LuxBlend's "world").
+    FirstHit,
+}
+
+/// Where a traced ray stopped.
+enum Stop {
+    Surface(SurfaceInteraction),
+    /// A scattering point in a medium.
+    Medium {
+        p: Vec3A,
+    },
+    /// It left the scene.
+    Escaped,
+    /// Distance sampling chose a scattering point the subpath may not use (its scattering
+    /// budget is spent): the subpath ends there (unbiased, as Russian roulette).
+    Absorbed,
+}
+
+/// The result of [`trace`]: where it stopped, the medium it arrived in, and the throughput
+/// factor of the way there (transmittance over the distance sampling's density).
+struct Traced {
+    stop: Stop,
+    /// The medium the ray started in (resolved for [`Start::FirstHit`]).
+    start: Option<MediumId>,
+    medium: Option<MediumId>,
+    weight: Rgb,
+}
+
+/// Traces `ray` to the closest surface that is not null, or to a scattering point in a
+/// medium sampled on the way (distance sampling in media that scatter, with dimensions
+/// from `dim`; `may_scatter` false when the subpath's scattering budget is spent). Emitting
+/// null surfaces crossed on the way are reported to `crossed` with the throughput factor and
+/// the medium up to them.
 fn trace(
     ctx: &Ctx,
     mut ray: Ray,
-    mut crossed: impl FnMut(&SurfaceInteraction, u32),
-) -> Option<SurfaceInteraction> {
-    for _ in 0..MAX_PASS_THROUGH {
-        let si = ctx.world.intersect(&ray)?;
+    start: Start,
+    may_scatter: bool,
+    s: &mut SampleStream,
+    dim: u32,
+    mut crossed: impl FnMut(&SurfaceInteraction, u32, Rgb, Option<MediumId>),
+) -> Traced {
+    let media = ctx.world.media();
+    let mut weight = Rgb::WHITE;
+    let mut medium = match start {
+        Start::Known(m) => m,
+        Start::FirstHit => None,
+    };
+    let mut resolve = matches!(start, Start::FirstHit) && media.is_some();
+    let mut first = medium;
+    for piece in 0..MAX_PASS_THROUGH {
+        let hit = ctx.world.intersect(&ray);
+        if resolve {
+            resolve = false;
+            let fallback = media.and_then(|ms| ms.camera);
+            medium = match (&hit, media) {
+                (Some(h), Some(ms)) => ms.after(h.prim, h.it.n, -ray.d, fallback),
+                _ => fallback,
+            };
+            first = medium;
+        }
+        let t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+        if let Some(m) = medium.and_then(|id| media.and_then(|ms| ms.get(id))) {
+            if ctx.samples_distance(m) {
+                s.set_dimension(if piece == 0 {
+                    dim
+                } else {
+                    EXTRA_PIECES + dim.saturating_mul(2 * MAX_PASS_THROUGH) + 2 * piece
+                });
+                let ms = m.sample(&ray, t_hit, s.next_1d(), s.next_1d());
+                weight *= ms.weight;
+                if let Some(t) = ms.scatter_t {
+                    let stop = if may_scatter {
+                        Stop::Medium { p: ray.at(t) }
+                    } else {
+                        Stop::Absorbed
+                    };
+                    return Traced {
+                        stop,
+                        start: first,
+                        medium,
+                        weight,
+                    };
+                }
+            } else {
+                weight *= m.tr(&ray, t_hit);
+            }
+        }
+        let Some(si) = hit else {
+            return Traced {
+                stop: Stop::Escaped,
+                start: first,
+                medium,
+                weight,
+            };
+        };
         if !ctx.world.material(si.prim).is_null() {
-            return Some(si);
+            return Traced {
+                stop: Stop::Surface(si),
+                start: first,
+                medium,
+                weight,
+            };
         }
         if let Some((i, _)) = ctx.world.area_light(si.prim) {
-            crossed(&si, i as u32);
+            crossed(&si, i as u32, weight, medium);
+        }
+        if let Some(ms) = media {
+            medium = ms.after(si.prim, si.it.n, ray.d, medium);
         }
         ray = si.it.spawn_ray(ray.d);
     }
-    None
+    Traced {
+        stop: Stop::Absorbed,
+        start: first,
+        medium,
+        weight,
+    }
 }
 
 fn roulette(n: usize, threshold: f32, weight: Rgb, u: f32) -> Option<f32> {
@@ -98,17 +215,121 @@ fn roulette(n: usize, threshold: f32, weight: Rgb, u: f32) -> Option<f32> {
     (q > 0.0 && u < q).then_some(q)
 }
 
-/// A surface vertex for hit `si` reached with throughput `beta` from `prev` by a direction
-/// of solid-angle density `pdf_dir` (or, after a light at infinity, the disc's density).
-fn surface(ctx: &Ctx, si: SurfaceInteraction, beta: Rgb, prev: &Vertex, pdf_dir: f32) -> Vertex {
-    let emitter = ctx.world.area_light(si.prim).map(|(i, _)| i as u32);
-    let mut v = Vertex::new(Kind::Surface { emitter }, si, beta, 0.0);
-    v.pdf_fwd = if prev.is_at_infinity() {
-        pdf_dir * si.it.n.dot(prev.dir).abs()
+/// Sets `v.pdf_fwd` for a vertex reached from `prev` by a direction of solid-angle density
+/// `pdf_dir` (or, after a light at infinity, the disc's density), and `v.dist_rev`: both
+/// with the distance-sampling factors of the segment between them.
+fn set_fwd(ctx: &Ctx, v: &mut Vertex, prev: &Vertex, pdf_dir: f32) {
+    let geo = if prev.is_at_infinity() {
+        match v.kind {
+            Kind::Medium => pdf_dir,
+            _ => pdf_dir * v.si.it.n.dot(prev.dir).abs(),
+        }
     } else {
-        to_area(pdf_dir, prev, &v)
+        to_area(pdf_dir, prev, v)
     };
-    v
+    let (fwd, rev) = if ctx.scattering() {
+        ctx.segment(prev, v)
+            .map_or((0.0, 0.0), |g| (g.a_to_b, g.b_to_a))
+    } else {
+        (1.0, 1.0)
+    };
+    v.pdf_fwd = geo * fwd;
+    v.dist_rev = rev;
+}
+
+/// The vertex where a traced ray stopped (`None`: it left the scene or was absorbed),
+/// reached with throughput `beta` from `prev` by a direction of density `pdf_dir`.
+fn vertex_at(
+    ctx: &Ctx,
+    t: &Traced,
+    ray: &Ray,
+    beta: Rgb,
+    prev: &Vertex,
+    pdf_dir: f32,
+) -> Option<Vertex> {
+    let mut v = match &t.stop {
+        Stop::Surface(si) => {
+            let emitter = ctx.world.area_light(si.prim).map(|(i, _)| i as u32);
+            Vertex::new(Kind::Surface { emitter }, *si, beta, 0.0)
+        }
+        Stop::Medium { p } => {
+            let mut si = SurfaceInteraction::default();
+            si.it.p = *p;
+            si.it.time = ray.time;
+            si.wo = -ray.d.normalize_or_zero();
+            let mut v = Vertex::new(Kind::Medium, si, beta, 0.0);
+            v.phase = t
+                .medium
+                .and_then(|id| ctx.world.media().and_then(|ms| ms.get(id)))
+                .map(|m| m.phase());
+            v
+        }
+        Stop::Escaped | Stop::Absorbed => return None,
+    };
+    v.medium = t.medium;
+    set_fwd(ctx, &mut v, prev, pdf_dir);
+    Some(v)
+}
+
+/// A direction sampled at a vertex: its throughput factor (f·|cos|/pdf, the adjoint's for
+/// light subpaths), its density and the reverse one, and whether it was a delta choice.
+struct Scattered {
+    wi: Vec3A,
+    weight: Rgb,
+    pdf: f32,
+    pdf_rev: f32,
+    specular: bool,
+}
+
+/// Samples the continuation at vertex `v` (a surface's BSDF, or a medium point's phase
+/// function); `adjoint` for light subpaths.
+fn scatter(v: &Vertex, adjoint: bool, u: f32, u2: glam::Vec2) -> Option<Scattered> {
+    let wo = v.si.wo;
+    if let Some(ph) = v.phase {
+        let (wi, pdf) = ph.sample(-wo, u2);
+        if pdf <= 0.0 || wi == Vec3A::ZERO {
+            return None;
+        }
+        // Sampled exactly (f / pdf = 1) and symmetric (the reverse density is the same).
+        return Some(Scattered {
+            wi,
+            weight: Rgb::WHITE,
+            pdf,
+            pdf_rev: pdf,
+            specular: false,
+        });
+    }
+    let bsdf = v.bsdf.as_ref()?;
+    let bs = bsdf.sample_f(wo, u, u2)?;
+    if bs.pdf <= 0.0 || bs.f.is_black() {
+        return None;
+    }
+    let weight = if adjoint {
+        let cos_o_g = wo.dot(v.si.it.n).abs();
+        if cos_o_g == 0.0 {
+            return None;
+        }
+        // Importance: the adjoint BSDF, and the shading-normal correction
+        // |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|) times the |wi·ns| of the sample.
+        bs.f * (bsdf.adjoint_scale(wo, bs.wi)
+            * wo.dot(bsdf.frame.n).abs()
+            * bs.wi.dot(v.si.it.n).abs()
+            / (cos_o_g * bs.pdf))
+    } else {
+        bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf)
+    };
+    Some(Scattered {
+        wi: bs.wi,
+        weight,
+        pdf: bs.pdf,
+        pdf_rev: bsdf.pdf(bs.wi, wo),
+        specular: bs.specular,
+    })
+}
+
+/// The ray leaving vertex `v` in direction `d`.
+fn spawn(v: &Vertex, d: Vec3A) -> Ray {
+    v.si.it.spawn_ray(d)
 }
 
 /// Traces the eye subpath of camera ray `ray` leaving lens point `lens` into `path`;
@@ -128,8 +349,10 @@ pub fn eye_walk(
     let mut cam = Vertex::new(Kind::Camera, SurfaceInteraction::default(), Rgb::WHITE, 1.0);
     cam.si.it.p = lens;
     cam.si.it.time = ray.time;
+    cam.medium = ctx.world.media().and_then(|m| m.camera);
     path.push(cam);
     let max = bidir.eye_depth as usize;
+    let mut scatters_left = bidir.volume.max_scatters();
     let mut alpha = 1.0;
     let mut ray = ray;
     let mut beta = Rgb::WHITE;
@@ -139,68 +362,82 @@ pub fn eye_walk(
             break;
         };
         let n = path.len();
-        let hit = trace(ctx, ray, |si, light| {
-            let mut v = Vertex::new(
-                Kind::Surface {
-                    emitter: Some(light),
-                },
-                *si,
-                beta,
-                0.0,
-            );
-            v.pdf_fwd = to_area(pdf_dir, &prev, &v);
-            crossings.push((n, v));
-        });
-        let Some(si) = hit else {
+        let start = Start::Known(prev.medium_toward(ctx.world, ray.d));
+        let traced = trace(
+            ctx,
+            ray,
+            start,
+            scatters_left > 0,
+            s,
+            layout.eye(n),
+            |si, light, w, medium| {
+                let mut v = Vertex::new(
+                    Kind::Surface {
+                        emitter: Some(light),
+                    },
+                    *si,
+                    beta * w,
+                    0.0,
+                );
+                v.medium = medium;
+                set_fwd(ctx, &mut v, &prev, pdf_dir);
+                crossings.push((n, v));
+            },
+        );
+        beta *= traced.weight;
+        if matches!(traced.stop, Stop::Escaped) {
             if n == 1 {
                 alpha = 0.0;
             }
-            if !ctx.world.infinite_lights().is_empty() {
+            if !ctx.world.infinite_lights().is_empty() && !beta.is_black() {
                 let dir = ray.d.normalize_or_zero();
-                path.push(Vertex::at_infinity(Kind::Sky, dir, beta, pdf_dir));
+                let mut v = Vertex::at_infinity(Kind::Sky, dir, beta, 0.0);
+                v.medium = traced.medium;
+                set_fwd(ctx, &mut v, &prev, pdf_dir);
+                path.push(v);
             }
             break;
+        }
+        let Some(mut v) = vertex_at(ctx, &traced, &ray, beta, &prev, pdf_dir) else {
+            break;
         };
-        let mut v = surface(ctx, si, beta, &prev, pdf_dir);
-        s.set_dimension(layout.eye(n));
-        v.bsdf = Some(ctx.world.material(si.prim).bsdf(&si, s.next_1d()));
+        s.set_dimension(layout.eye(n) + 2);
+        let u_comp = s.next_1d();
+        if let Stop::Surface(si) = &traced.stop {
+            v.bsdf = Some(ctx.world.material(si.prim).bsdf(si, u_comp));
+        } else {
+            scatters_left = scatters_left.saturating_sub(1);
+        }
         path.push(v);
-        if path.len() >= max {
+        if path.len() >= max || beta.is_black() {
             break;
         }
         let (u, u2, u_rr) = (s.next_1d(), s.next_2d(), s.next_1d());
-        let Some(bsdf) = path.last().and_then(|v| v.bsdf.as_ref()) else {
+        let Some(sc) = path.last().and_then(|v| scatter(v, false, u, u2)) else {
             break;
         };
-        let Some(bs) = bsdf.sample_f(si.wo, u, u2) else {
-            break;
-        };
-        if bs.pdf <= 0.0 || bs.f.is_black() {
-            break;
-        }
-        let weight = bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
-        let mut pdf_rev = bsdf.pdf(bs.wi, si.wo);
-        pdf_dir = bs.pdf;
-        if bs.specular {
+        let (mut pdf_rev, specular) = (sc.pdf_rev, sc.specular);
+        pdf_dir = sc.pdf;
+        if specular {
             pdf_dir = 0.0;
             pdf_rev = 0.0;
         }
-        let Some(q) = roulette(n + 1, bidir.eye_rr, weight, u_rr) else {
+        let Some(q) = roulette(n + 1, bidir.eye_rr, sc.weight, u_rr) else {
             break;
         };
-        beta = beta * weight / q;
+        beta = beta * sc.weight / q;
         let cur = n;
         if let Some(last) = path.get_mut(cur) {
-            last.delta = bs.specular;
+            last.delta = specular;
         }
         if let (Some(p), Some(here)) = (cur.checked_sub(1), path.get(cur)) {
-            let r = to_area(pdf_rev, here, &path[p]);
+            let r = to_area(pdf_rev, here, &path[p]) * here.dist_rev;
             path[p].pdf_rev = r;
         }
         if !beta.is_finite() || beta.is_black() {
             break;
         }
-        ray = si.it.spawn_ray(bs.wi);
+        ray = spawn(&path[cur], sc.wi);
     }
     alpha
 }
@@ -268,60 +505,62 @@ pub fn light_walk(
         return;
     };
     path.push(origin);
+    let mut scatters_left = bidir.volume.max_scatters();
     while path.len() < max {
         if !beta.is_finite() || beta.is_black() {
             break;
         }
         let n = path.len();
-        let Some(si) = trace(ctx, ray, |_, _| {}) else {
-            break;
+        let start = if n == 1 {
+            Start::FirstHit
+        } else {
+            Start::Known(path[n - 1].medium_toward(ctx.world, ray.d))
         };
+        let dim = layout.light_vertex(p, n);
+        let traced = trace(ctx, ray, start, scatters_left > 0, s, dim, |_, _, _, _| {});
         if n == 1 {
-            let falloff = ctx.light(index).map_or(1.0, |l| {
-                l.falloff_correction((si.it.p - path[n - 1].p()).length_squared())
-            });
+            path[0].medium = traced.start;
+            let falloff = match &traced.stop {
+                Stop::Surface(si) => ctx.light(index).map_or(1.0, |l| {
+                    l.falloff_correction((si.it.p - path[0].p()).length_squared())
+                }),
+                _ => 1.0,
+            };
             beta *= falloff;
         }
-        let mut v = surface(ctx, si, beta, &path[n - 1], pdf_dir);
-        s.set_dimension(layout.light_vertex(p, n));
-        v.bsdf = Some(ctx.world.material(si.prim).bsdf(&si, s.next_1d()));
+        beta *= traced.weight;
+        let Some(mut v) = vertex_at(ctx, &traced, &ray, beta, &path[n - 1], pdf_dir) else {
+            break;
+        };
+        s.set_dimension(dim + 2);
+        let u_comp = s.next_1d();
+        if let Stop::Surface(si) = &traced.stop {
+            v.bsdf = Some(ctx.world.material(si.prim).bsdf(si, u_comp));
+        } else {
+            scatters_left = scatters_left.saturating_sub(1);
+        }
         path.push(v);
         if path.len() >= max {
             break;
         }
         let (u, u2, u_rr) = (s.next_1d(), s.next_2d(), s.next_1d());
-        let Some(bsdf) = path.last().and_then(|v| v.bsdf.as_ref()) else {
+        let Some(sc) = scatter(&path[n], true, u, u2) else {
             break;
         };
-        let wo = si.wo;
-        let Some(bs) = bsdf.sample_f(wo, u, u2) else {
-            break;
-        };
-        let cos_o_g = wo.dot(si.it.n).abs();
-        if bs.pdf <= 0.0 || bs.f.is_black() || cos_o_g == 0.0 {
-            break;
-        }
-        // Importance: the adjoint BSDF, and the shading-normal correction
-        // |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|) times the |wi·ns| of the sample.
-        let weight = bs.f
-            * (bsdf.adjoint_scale(wo, bs.wi)
-                * wo.dot(bsdf.frame.n).abs()
-                * bs.wi.dot(si.it.n).abs()
-                / (cos_o_g * bs.pdf));
-        let mut pdf_rev = bsdf.pdf(bs.wi, wo);
-        pdf_dir = bs.pdf;
-        if bs.specular {
+        let (mut pdf_rev, specular) = (sc.pdf_rev, sc.specular);
+        pdf_dir = sc.pdf;
+        if specular {
             pdf_dir = 0.0;
             pdf_rev = 0.0;
         }
-        let Some(q) = roulette(n + 1, bidir.light_rr, weight, u_rr) else {
+        let Some(q) = roulette(n + 1, bidir.light_rr, sc.weight, u_rr) else {
             break;
         };
-        beta = beta * weight / q;
-        path[n].delta = bs.specular;
-        let r = to_area(pdf_rev, &path[n], &path[n - 1]);
+        beta = beta * sc.weight / q;
+        path[n].delta = specular;
+        let r = to_area(pdf_rev, &path[n], &path[n - 1]) * path[n].dist_rev;
         path[n - 1].pdf_rev = r;
-        ray = si.it.spawn_ray(bs.wi);
+        ray = spawn(&path[n], sc.wi);
     }
 }
 
@@ -333,11 +572,11 @@ mod tests {
     fn layout_blocks_do_not_overlap() {
         let l = Layout::new(8, 6, 2);
         assert_eq!(l.eye(1), 5);
-        assert_eq!(l.direct(1, 0), 10);
+        assert_eq!(l.direct(1, 0), 12);
         assert_eq!(l.direct(1, 1) + 4, l.eye(2));
-        assert_eq!(l.eye(7) + 13, l.light_origin(0));
+        assert_eq!(l.eye(7) + 15, l.light_origin(0));
         assert_eq!(l.light_vertex(0, 1), l.light_origin(0) + 6);
-        assert_eq!(l.light_vertex(0, 5) + 5, l.light_origin(1));
+        assert_eq!(l.light_vertex(0, 5) + 7, l.light_origin(1));
         assert_eq!(l.total(2), l.light_origin(2));
     }
 }
