@@ -205,17 +205,6 @@ impl Integrator {
         }
     }
 
-    /// Whether the integrator carries paths through participating media (all three do:
-    /// path and bidirectional with as many scattering events as the volume integrator
-    /// allows, directlighting with single scattering along the eye path).
-    pub fn renders_media(&self) -> bool {
-        match self {
-            Integrator::Path(_) | Integrator::DirectLighting(_) | Integrator::Bidirectional(_) => {
-                true
-            }
-        }
-    }
-
     /// Whether samples may contribute away from their own film position ([`Splat`]s: the
     /// film then needs a per-screen "light" buffer).
     pub fn splats(&self) -> bool {

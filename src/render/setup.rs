@@ -124,9 +124,6 @@ impl Renderable {
         if integrator.splats() && world.lights().iter().any(|l| l.portals().is_some()) {
             warn_bidir_portals(desc, &mut warnings);
         }
-        if world.media().is_some() && !integrator.renders_media() {
-            integrator = media_fallback(desc, &mut warnings)?;
-        }
         integrator.set_volume(volume);
         integrator.prepare(&world);
         if camera.needs_autofocus() {
@@ -169,33 +166,6 @@ fn warn_bidir_portals(desc: &SceneDescription, warnings: &mut Vec<Diagnostic>) {
         "portals are not used by SurfaceIntegrator \"bidirectional\" (its light paths sample \
          the sky over the whole sphere); \"path\" and \"directlighting\" sample through them",
     );
-}
-
-/// The path integrator standing in for a surface integrator that cannot carry paths through
-/// the scene's participating media, with a located warning.
-fn media_fallback(
-    desc: &SceneDescription,
-    warnings: &mut Vec<Diagnostic>,
-) -> Result<Integrator, BuildError> {
-    let (loc, kind) = desc
-        .surface_integrator
-        .as_ref()
-        .map(|e| (e.loc.clone(), e.kind.as_str()))
-        .unwrap_or_default();
-    warn(
-        warnings,
-        &loc,
-        format!(
-            "SurfaceIntegrator \"{kind}\" does not render participating media yet; the scene \
-             has media: rendering with \"path\""
-        ),
-    );
-    let path = Entity {
-        kind: "path".into(),
-        loc,
-        ..Default::default()
-    };
-    Integrator::build(Some(&path), warnings)
 }
 
 /// Statements luxfarm parses but does not render (region volumes) or has no use for (its own
