@@ -22,6 +22,7 @@ use crate::db::JobRow;
 use crate::farm::{lock, now_ms, Farm, JobRt};
 use crate::halt::{begin_halt, rules};
 use crate::scene::Film;
+use std::sync::Arc;
 
 /// Which analyses are due for the film at `spp`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -37,8 +38,20 @@ impl Due {
     }
 }
 
+/// The analyses due for every loaded job, on the master's tick after `crate::halt::tick`
+/// (one job's fault never stops another's).
+pub fn tick(farm: &Farm) {
+    let jobs: Vec<Arc<JobRt>> = lock(&farm.jobs).values().cloned().collect();
+    for rt in jobs {
+        match farm.job_row(&rt.id) {
+            Ok(row) => run(farm, &row, &rt),
+            Err(e) => tracing::error!(job = %rt.id, error = %e, "job analysis skipped"),
+        }
+    }
+}
+
 /// Runs the analyses due for the job's merged film (none once the job is halting).
-pub fn run(farm: &Farm, row: &JobRow, rt: &JobRt) {
+fn run(farm: &Farm, row: &JobRow, rt: &JobRt) {
     let spp = lock(&rt.film).spp();
     let rules = rules(row, rt);
     let due = {

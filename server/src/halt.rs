@@ -114,7 +114,6 @@ fn tick_job(farm: &Farm, rt: &Arc<JobRt>) -> Result<()> {
             return finish(farm, rt, state, &reason);
         }
     }
-    crate::analysis::run(farm, &row, rt);
     let due = {
         let st = lock(&rt.state);
         st.last_checkpoint.elapsed().as_secs_f64() >= farm.cfg.checkpoint_interval

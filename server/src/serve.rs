@@ -368,7 +368,12 @@ pub async fn start(cfg: crate::config::Config) -> anyhow::Result<Running> {
         loop {
             iv.tick().await;
             let f = ticker.clone();
-            match tokio::task::spawn_blocking(move || crate::halt::tick(&f)).await {
+            let upkeep = move || {
+                let r = crate::halt::tick(&f);
+                crate::analysis::tick(&f);
+                r
+            };
+            match tokio::task::spawn_blocking(upkeep).await {
                 Ok(Err(e)) => tracing::error!(error = %e, "tick failed"),
                 Err(e) => tracing::error!(error = %e, "tick panicked"),
                 Ok(Ok(())) => {}
