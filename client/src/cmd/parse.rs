@@ -1,6 +1,6 @@
-//! `luxfarm parse SCENE.lxs [--json]`: parses a scene with its Includes and prints a summary
-//! (camera, film, counts, warnings with their locations) or the whole SceneDescription as
-//! JSON. Exit status 0 when it parses, 2 with the error on stderr when it does not.
+//! `luxfarm parse SCENE [--json]`: imports a scene of any format (.lxs, .igs, .lws, .mi)
+//! with its includes and prints a summary (camera, film, counts, warnings with their
+//! locations) or the whole SceneDescription as JSON. Exit status 0 when it parses, 2 with the error on stderr when it does not.
 
 use luxfarm::formats;
 use luxfarm::lxs::{Entity, ParseOptions, SceneDescription};
@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The scene file (.lxs).
+    /// The scene file (.lxs, .igs, .lws or .mi: the format is detected).
     pub scene: PathBuf,
     /// Print the whole SceneDescription as JSON instead of a summary.
     #[arg(long)]
