@@ -52,6 +52,25 @@ fn kind(e: Option<&Entity>) -> String {
         .unwrap_or_else(|| "(default)".into())
 }
 
+/// The named volumes (media) as ` (name: kind, ...)`, empty when there are none.
+fn volume_names(d: &SceneDescription) -> String {
+    if d.volumes.is_empty() {
+        return String::new();
+    }
+    let names: Vec<String> = d
+        .volumes
+        .iter()
+        .map(|v| {
+            format!(
+                "{}: {}",
+                v.name.as_deref().unwrap_or("(unnamed)"),
+                v.entity.kind
+            )
+        })
+        .collect();
+    format!(" ({})", names.join(", "))
+}
+
 /// The human-readable summary.
 pub fn summary(d: &SceneDescription) -> String {
     let mut s = String::new();
@@ -88,7 +107,7 @@ pub fn summary(d: &SceneDescription) -> String {
     let area = d.shapes.iter().filter(|x| x.area_light.is_some()).count();
     let named = d.materials.iter().filter(|m| m.name.is_some()).count();
     s += &format!(
-        "shapes: {} ({} area-lit)\nlights: {}\nmaterials: {} ({} named)\ntextures: {}\nobjects: {}\ninstances: {}\nvolumes: {}\nlight groups: {}\n",
+        "shapes: {} ({} area-lit)\nlights: {}\nmaterials: {} ({} named)\ntextures: {}\nobjects: {}\ninstances: {}\nvolumes: {}{}\nlight groups: {}\n",
         d.shapes.len(),
         area,
         d.lights.len(),
@@ -98,6 +117,7 @@ pub fn summary(d: &SceneDescription) -> String {
         d.objects.len(),
         d.instances.len(),
         d.volumes.len(),
+        volume_names(d),
         d.light_groups.join(", ")
     );
     s += &format!("warnings: {}\n", d.warnings.len());
