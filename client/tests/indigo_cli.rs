@@ -5,33 +5,21 @@
 //! versions 3 and 4, named with Windows paths as exporters write them) for a master whose
 //! worker renders it from the bundle alone.
 
-mod cli_common;
 mod farm_common;
 
-use cli_common::luxfarm;
+use farm_common::cli_common::{luxfarm, stdout_ok};
 use farm_common::*;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn slab() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/indigo/slab.igs")
 }
 
-fn stdout(out: &std::process::Output) -> String {
-    assert!(
-        out.status.success(),
-        "exit {:?}: {}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
 #[test]
 fn parse_shows_the_medium() {
     let scene = slab();
-    let summary = stdout(&luxfarm(&["parse", &scene.to_string_lossy()]));
+    let summary = stdout_ok(&luxfarm(&["parse", &scene.to_string_lossy()]));
     assert!(
         summary.lines().any(|l| l == "volumes: 1 (ink: clear)"),
         "{summary}"
@@ -39,7 +27,7 @@ fn parse_shows_the_medium() {
     assert!(summary.contains("warnings: 0"), "{summary}");
 
     let out = luxfarm(&["parse", &scene.to_string_lossy(), "--json"]);
-    let j: Value = serde_json::from_str(&stdout(&out)).expect("JSON");
+    let j: Value = serde_json::from_str(&stdout_ok(&out)).expect("JSON");
     let v = &j["volumes"][0];
     assert_eq!(v["name"], "ink");
     let param = |name: &str| {
@@ -122,12 +110,7 @@ fn submit_bundles_the_external_meshes_and_renders_on_the_farm() {
     assert_eq!(files, want);
 
     let s = server(&dir.path().join("data"), &["--upload-interval", "1"]);
-    let out = run_ok(
-        Command::new(exe())
-            .args(["submit", "--master", &s.url(), "--haltspp", "4"])
-            .arg(&scene),
-    );
-    let id = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    let id = submit_scene(&s, &scene, &["--haltspp", "4"]);
     // The master stored the scene with its meshes, byte for byte.
     let stored = files_under(&s.data.join("scenes"));
     for name in ["cuboid", "teapot"] {

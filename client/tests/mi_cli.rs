@@ -19,28 +19,16 @@
 //! (options, camera, object, instance, light, instgroup, render): `room.mi` includes
 //! `parts/floor.mi`, which defines the floor the light falls on.
 
-mod cli_common;
 mod farm_common;
 
-use cli_common::luxfarm;
+use farm_common::cli_common::{luxfarm, stdout_ok};
 use farm_common::*;
 use luxfarm::spectrum::{illuminant_y, Rgb};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn cornell_mi() -> PathBuf {
     shared().join("scenes/formats/cornell_box/cornell_box.mi")
-}
-
-fn stdout(out: &std::process::Output) -> String {
-    assert!(
-        out.status.success(),
-        "exit {:?}: {}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 /// The summary line starting with `key:`, without the key.
@@ -54,7 +42,7 @@ fn line<'a>(summary: &'a str, key: &str) -> &'a str {
 
 fn parse_json(scene: &Path) -> Value {
     let out = luxfarm(&["parse", &scene.to_string_lossy(), "--json"]);
-    serde_json::from_str(&stdout(&out)).expect("parse --json prints JSON")
+    serde_json::from_str(&stdout_ok(&out)).expect("parse --json prints JSON")
 }
 
 /// The first value of parameter `name` of a JSON entity.
@@ -69,8 +57,8 @@ fn param(entity: &Value, name: &str) -> Value {
 #[test]
 fn parse_prints_the_same_summary_as_for_the_lxs_twin() {
     let mi = cornell_mi();
-    let a = stdout(&luxfarm(&["parse", &mi.to_string_lossy()]));
-    let b = stdout(&luxfarm(&[
+    let a = stdout_ok(&luxfarm(&["parse", &mi.to_string_lossy()]));
+    let b = stdout_ok(&luxfarm(&[
         "parse",
         &mi.with_extension("lxs").to_string_lossy(),
     ]));
@@ -203,7 +191,7 @@ fn render_matches_the_lxs_twin_in_block_means() {
             "--threads",
             "2",
         ]);
-        stdout(&out);
+        stdout_ok(&out);
     }
     // The .mi's primary framebuffer names its image: mental_ray.exr beside the scene.
     let a = block_means(&d.join("mental_ray.exr"));
@@ -309,7 +297,7 @@ fn included_file_is_part_of_the_scene_and_outside_one_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let scene_dir = dir.path().join("scene");
     let room = include_pair(&scene_dir, "");
-    let summary = stdout(&luxfarm(&["parse", &room.to_string_lossy()]));
+    let summary = stdout_ok(&luxfarm(&["parse", &room.to_string_lossy()]));
     assert!(
         line(&summary, "scene").ends_with("(2 file(s))"),
         "{summary}"
@@ -317,7 +305,7 @@ fn included_file_is_part_of_the_scene_and_outside_one_is_refused() {
     assert_eq!(line(&summary, "shapes"), "1 (0 area-lit)", "{summary}");
     assert_eq!(line(&summary, "lights"), "1", "{summary}");
     // The floor from the included file is lit by the panel.
-    stdout(&luxfarm(&[
+    stdout_ok(&luxfarm(&[
         "render",
         &room.to_string_lossy(),
         "--haltspp",
@@ -341,7 +329,7 @@ fn included_file_is_part_of_the_scene_and_outside_one_is_refused() {
     )
     .unwrap();
     let room = include_pair(&scene_dir, "$include \"../shared_lights.mi\"");
-    stdout(&luxfarm(&["parse", &room.to_string_lossy()]));
+    stdout_ok(&luxfarm(&["parse", &room.to_string_lossy()]));
     let out = luxfarm(&[
         "submit",
         "--master",
@@ -374,25 +362,8 @@ fn submit_renders_on_the_farm() {
     )
     .unwrap();
 
-    let mut ids = Vec::new();
-    for scene in [&room, &cornell] {
-        let out = run_ok(
-            Command::new(exe())
-                .args([
-                    "submit",
-                    "--master",
-                    &s.url(),
-                    "--haltspp",
-                    "4",
-                    "--seed",
-                    "5",
-                ])
-                .arg(scene),
-        );
-        let id = String::from_utf8_lossy(&out.stdout).trim().to_string();
-        assert!(!id.is_empty());
-        ids.push(id);
-    }
+    let submit = |scene: &Path| submit_scene(&s, scene, &["--haltspp", "4", "--seed", "5"]);
+    let ids = [submit(&room), submit(&cornell)];
     let _w = worker(&s.url(), 2, &["--keep-deltas", keep.to_str().unwrap()]);
     let mut merged_total = 0;
     let mut samples = 0.0;
