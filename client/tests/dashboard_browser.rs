@@ -196,6 +196,35 @@ impl Browser {
         ));
     }
 
+    /// Asserts that Chromium's console holds no error (level SEVERE).
+    fn assert_no_console_errors(&self) {
+        let severe: Vec<Value> = self
+            .console()
+            .into_iter()
+            .filter(|e| e["level"] == "SEVERE")
+            .collect();
+        assert!(severe.is_empty(), "browser console errors: {severe:?}");
+    }
+
+    /// Asserts that the page shows no error banner, recorded no error since [`CAPTURE`] ran,
+    /// and that the console holds none.
+    fn assert_page_clean(&self) {
+        let banner = self
+            .js("return getComputedStyle(document.getElementById('error')).display === 'none';");
+        assert_eq!(
+            banner,
+            true,
+            "error banner shown: {}",
+            self.js("return document.getElementById('error-text').textContent;")
+        );
+        assert_eq!(
+            self.js("return window.__errors;"),
+            json!([]),
+            "errors in the page"
+        );
+        self.assert_no_console_errors();
+    }
+
     /// Polls a JS expression (the body of a function) until it returns non-null/false.
     fn wait_js(&self, secs: u64, what: &str, script: &str) -> Value {
         wait_for(secs, || {
@@ -404,22 +433,7 @@ fn dashboard_watches_and_cancels_a_job_in_chromium() {
     assert_eq!(new_job["haltspp"], 1.0, "{new_job}");
     assert_eq!(new_job["priority"], 3, "{new_job}");
 
-    let banner =
-        browser.js("return getComputedStyle(document.getElementById('error')).display === 'none';");
-    assert_eq!(
-        banner,
-        true,
-        "error banner shown: {}",
-        browser.js("return document.getElementById('error-text').textContent;")
-    );
-    let errors = browser.js("return window.__errors;");
-    assert_eq!(errors, json!([]), "errors in the page");
-    let severe: Vec<Value> = browser
-        .console()
-        .into_iter()
-        .filter(|e| e["level"] == "SEVERE")
-        .collect();
-    assert!(severe.is_empty(), "browser console errors: {severe:?}");
+    browser.assert_page_clean();
 }
 
 /// The workspace's target directory.
@@ -527,12 +541,7 @@ fn dashboard_strip_follows_a_sequence_over_server_sent_events() {
         "the job list polled while the event stream was open"
     );
     browser.screenshot(&target_dir().join("dashboard-strip.png"));
-    let errors: Vec<Value> = browser
-        .console()
-        .into_iter()
-        .filter(|e| e["level"] == "SEVERE")
-        .collect();
-    assert!(errors.is_empty(), "console errors: {errors:?}");
+    browser.assert_no_console_errors();
 }
 
 /// The job page's "Error over time" panel on a small scene: the log–log chart draws the
@@ -617,21 +626,7 @@ fn dashboard_charts_the_error_trade_and_overlays_the_convergence_map() {
     let hidden = browser.js("return document.getElementById('overlay').hidden;");
     assert_eq!(hidden, true);
 
-    let banner =
-        browser.js("return getComputedStyle(document.getElementById('error')).display === 'none';");
-    assert_eq!(
-        banner,
-        true,
-        "error banner shown: {}",
-        browser.js("return document.getElementById('error-text').textContent;")
-    );
-    assert_eq!(browser.js("return window.__errors;"), json!([]));
-    let severe: Vec<Value> = browser
-        .console()
-        .into_iter()
-        .filter(|e| e["level"] == "SEVERE")
-        .collect();
-    assert!(severe.is_empty(), "browser console errors: {severe:?}");
+    browser.assert_page_clean();
     // Cancelled, the page keeps the chart: the history saved with the final checkpoint.
     let r = http()
         .delete(s.api(&format!("/jobs/{id}")))
@@ -702,5 +697,5 @@ fn dashboard_submits_a_mental_ray_scene() {
     assert_eq!(v["name"], "mental_ray", "{v}");
     assert_eq!(v["width"], 24, "{v}");
     assert!(v["spp"].as_f64().is_some_and(|spp| spp >= 2.0), "{v}");
-    assert_eq!(browser.js("return window.__errors;"), json!([]));
+    browser.assert_page_clean();
 }
