@@ -36,18 +36,6 @@ fn blocks(desc: &SceneDescription, base: &Path, stream: u64) -> Vec<f64> {
     block_means(&f, 8)
 }
 
-/// Asserts that `other` matches `a` about as well as `a2` (same scene as `a`, another stream).
-fn assert_within_noise(a: &[f64], a2: &[f64], other: &[f64], what: &str) {
-    let noise = rmse(a, a2);
-    let diff = rmse(a, other);
-    let mean = a.iter().sum::<f64>() / a.len() as f64;
-    assert!(mean > 0.0, "{what}: black image");
-    assert!(
-        diff <= 1.6 * noise + 0.01 * mean,
-        "{what}: difference {diff:.5} vs noise {noise:.5} (mean {mean:.4})"
-    );
-}
-
 #[test]
 fn analytic_and_mesh_spheres_agree() {
     let (a, pa) = load("cornell/cornell.lxs");

@@ -6,7 +6,8 @@
 //! stay free of errors; screenshots are saved to `target/dashboard*.png`. A second test shows a
 //! frame sequence as a strip that fills in over Server-Sent Events, without poll requests. A
 //! third watches a job's speed/accuracy trade: the error-over-time chart, the projection to a
-//! typed target relative error, and the convergence map toggled over the preview.
+//! typed target relative error, and the convergence map toggled over the preview. A fourth
+//! submits a mental ray `.mi` through the form, whose file input accepts every scene format.
 //!
 //! The WebDriver client is a few JSON calls over the `reqwest` already used by the farm tests.
 //! Without `/usr/bin/chromium` and `chromedriver` the test fails and says how to install them
@@ -175,6 +176,55 @@ impl Browser {
             .unwrap_or_default()
     }
 
+    /// Waits until an element matching a CSS selector is in the page.
+    fn wait_element(&self, secs: u64, what: &str, css: &str) {
+        let css = Value::from(css);
+        self.wait_js(
+            secs,
+            what,
+            &format!("return document.querySelector({css}) ? true : null;"),
+        );
+    }
+
+    /// Sets the value of the element with id `id` and fires `event` on it, as typing into a
+    /// field (`input`) or choosing in a list (`change`) does.
+    fn set_value(&self, id: &str, value: &str, event: &str) {
+        let (id, value, event) = (Value::from(id), Value::from(value), Value::from(event));
+        self.js(&format!(
+            "const e = document.getElementById({id}); e.value = {value};
+            e.dispatchEvent(new Event({event})); return true;"
+        ));
+    }
+
+    /// Asserts that Chromium's console holds no error (level SEVERE).
+    fn assert_no_console_errors(&self) {
+        let severe: Vec<Value> = self
+            .console()
+            .into_iter()
+            .filter(|e| e["level"] == "SEVERE")
+            .collect();
+        assert!(severe.is_empty(), "browser console errors: {severe:?}");
+    }
+
+    /// Asserts that the page shows no error banner, recorded no error since [`CAPTURE`] ran,
+    /// and that the console holds none.
+    fn assert_page_clean(&self) {
+        let banner = self
+            .js("return getComputedStyle(document.getElementById('error')).display === 'none';");
+        assert_eq!(
+            banner,
+            true,
+            "error banner shown: {}",
+            self.js("return document.getElementById('error-text').textContent;")
+        );
+        assert_eq!(
+            self.js("return window.__errors;"),
+            json!([]),
+            "errors in the page"
+        );
+        self.assert_no_console_errors();
+    }
+
     /// Polls a JS expression (the body of a function) until it returns non-null/false.
     fn wait_js(&self, secs: u64, what: &str, script: &str) -> Value {
         wait_for(secs, || {
@@ -254,16 +304,12 @@ fn dashboard_watches_and_cancels_a_job_in_chromium() {
 
     browser.goto(&format!("{}/", s.url()));
     browser.js(CAPTURE);
-    let row = format!("return document.querySelector('#jobs tr[data-id=\"{id}\"]') ? true : null;");
-    browser.wait_js(30, "the job row", &row);
+    let row = format!("#jobs tr[data-id=\"{id}\"]");
+    browser.wait_element(30, "the job row", &row);
     browser.js(&format!(
         "document.querySelector('#jobs tr[data-id=\"{id}\"] a').click(); return true;"
     ));
-    browser.wait_js(
-        10,
-        "the job page",
-        "return document.getElementById('preview') ? true : null;",
-    );
+    browser.wait_element(10, "the job page", "#preview");
 
     // The preview loads once samples arrive, then changes (a new ETag and new pixels).
     let probe = "const i = document.getElementById('preview');
@@ -283,25 +329,11 @@ fn dashboard_watches_and_cancels_a_job_in_chromium() {
 
     // Tonemapping panel: the linear kernel with a long exposure refetches the preview with that
     // query (debounced), and the picture gets brighter; "Scene default" goes back.
-    browser.wait_js(
-        10,
-        "the tonemapping panel",
-        "return document.getElementById('tm-kernel') ? true : null;",
-    );
+    browser.wait_element(10, "the tonemapping panel", "#tm-kernel");
     let before = browser.js(probe);
-    browser.js(
-        "const k = document.getElementById('tm-kernel'); k.value = 'linear';
-        k.dispatchEvent(new Event('change')); return true;",
-    );
-    browser.wait_js(
-        10,
-        "the linear kernel's controls",
-        "return document.getElementById('tm-linear_exposure') ? true : null;",
-    );
-    browser.js(
-        "const e = document.getElementById('tm-linear_exposure'); e.value = '1000';
-        e.dispatchEvent(new Event('input')); return true;",
-    );
+    browser.set_value("tm-kernel", "linear", "change");
+    browser.wait_element(10, "the linear kernel's controls", "#tm-linear_exposure");
+    browser.set_value("tm-linear_exposure", "1000", "input");
     let toned = browser.wait_js(
         30,
         "the preview with the linear kernel",
@@ -371,28 +403,18 @@ fn dashboard_watches_and_cancels_a_job_in_chromium() {
 
     // Jobs list filtered by state, the workers page, and a submission through the form.
     browser.js("location.hash = '#/jobs'; return true;");
-    browser.wait_js(10, "the jobs list", &row);
-    browser.js(
-        "const f = document.getElementById('state-filter'); f.value = 'rendering';
-        f.dispatchEvent(new Event('change')); return true;",
-    );
+    browser.wait_element(10, "the jobs list", &row);
+    browser.set_value("state-filter", "rendering", "change");
+    let css = Value::from(row.as_str());
     browser.wait_js(
         10,
         "the cancelled job filtered out",
-        &row.replace("? true : null", "? null : true"),
+        &format!("return document.querySelector({css}) ? null : true;"),
     );
     browser.js("location.hash = '#/workers'; return true;");
-    browser.wait_js(
-        10,
-        "a worker row",
-        "return document.querySelector('#workers tr[data-id]') ? true : null;",
-    );
+    browser.wait_element(10, "a worker row", "#workers tr[data-id]");
     browser.js("location.hash = '#/submit'; return true;");
-    browser.wait_js(
-        10,
-        "the submit form",
-        "return document.getElementById('submit-form') ? true : null;",
-    );
+    browser.wait_element(10, "the submit form", "#submit-form");
     browser.type_into("#f-file", &scene.display().to_string());
     browser.type_into("#f-haltspp", "1");
     browser.type_into("#f-priority", "3");
@@ -411,22 +433,7 @@ fn dashboard_watches_and_cancels_a_job_in_chromium() {
     assert_eq!(new_job["haltspp"], 1.0, "{new_job}");
     assert_eq!(new_job["priority"], 3, "{new_job}");
 
-    let banner =
-        browser.js("return getComputedStyle(document.getElementById('error')).display === 'none';");
-    assert_eq!(
-        banner,
-        true,
-        "error banner shown: {}",
-        browser.js("return document.getElementById('error-text').textContent;")
-    );
-    let errors = browser.js("return window.__errors;");
-    assert_eq!(errors, json!([]), "errors in the page");
-    let severe: Vec<Value> = browser
-        .console()
-        .into_iter()
-        .filter(|e| e["level"] == "SEVERE")
-        .collect();
-    assert!(severe.is_empty(), "browser console errors: {severe:?}");
+    browser.assert_page_clean();
 }
 
 /// The workspace's target directory.
@@ -534,12 +541,7 @@ fn dashboard_strip_follows_a_sequence_over_server_sent_events() {
         "the job list polled while the event stream was open"
     );
     browser.screenshot(&target_dir().join("dashboard-strip.png"));
-    let errors: Vec<Value> = browser
-        .console()
-        .into_iter()
-        .filter(|e| e["level"] == "SEVERE")
-        .collect();
-    assert!(errors.is_empty(), "console errors: {errors:?}");
+    browser.assert_no_console_errors();
 }
 
 /// The job page's "Error over time" panel on a small scene: the log–log chart draws the
@@ -624,21 +626,7 @@ fn dashboard_charts_the_error_trade_and_overlays_the_convergence_map() {
     let hidden = browser.js("return document.getElementById('overlay').hidden;");
     assert_eq!(hidden, true);
 
-    let banner =
-        browser.js("return getComputedStyle(document.getElementById('error')).display === 'none';");
-    assert_eq!(
-        banner,
-        true,
-        "error banner shown: {}",
-        browser.js("return document.getElementById('error-text').textContent;")
-    );
-    assert_eq!(browser.js("return window.__errors;"), json!([]));
-    let severe: Vec<Value> = browser
-        .console()
-        .into_iter()
-        .filter(|e| e["level"] == "SEVERE")
-        .collect();
-    assert!(severe.is_empty(), "browser console errors: {severe:?}");
+    browser.assert_page_clean();
     // Cancelled, the page keeps the chart: the history saved with the final checkpoint.
     let r = http()
         .delete(s.api(&format!("/jobs/{id}")))
@@ -653,4 +641,61 @@ fn dashboard_charts_the_error_trade_and_overlays_the_convergence_map() {
            && c && Number(c.dataset.points) >= 2 ? c.dataset.points : null;",
     );
     assert_eq!(browser.js("return window.__errors;"), json!([]));
+}
+
+/// The submit form takes every scene format the master reads: its file input accepts each
+/// scene extension, and a mental ray `.mi` chosen in it is queued and rendered to its halt.
+#[test]
+fn dashboard_submits_a_mental_ray_scene() {
+    let browser = Browser::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let s = server(&dir.path().join("data"), &["--upload-interval", "0.5"]);
+    let _w = worker(&s.url(), 1, &[]);
+    let text = std::fs::read_to_string(shared().join("scenes/formats/cornell_box/cornell_box.mi"))
+        .expect("read cornell_box.mi");
+    let scene = dir.path().join("box.mi");
+    std::fs::write(
+        &scene,
+        text.replace("resolution 500 500", "resolution 24 24"),
+    )
+    .expect("write box.mi");
+    let scene = scene.canonicalize().expect("canonical path");
+
+    browser.goto(&format!("{}/#/submit", s.url()));
+    browser.js(CAPTURE);
+    browser.wait_element(10, "the submit form", "#submit-form");
+    let accept = browser.js("return document.getElementById('f-file').accept;");
+    let accept: Vec<&str> = accept
+        .as_str()
+        .expect("accept attribute")
+        .split(',')
+        .collect();
+    for ext in luxfarm::formats::SCENE_EXTENSIONS {
+        assert!(
+            accept.contains(&format!(".{ext}").as_str()),
+            ".{ext} not in {accept:?}"
+        );
+    }
+    browser.type_into("#f-file", &scene.display().to_string());
+    browser.type_into("#f-haltspp", "2");
+    browser.js("document.querySelector('#submit-form button[type=submit]').click(); return true;");
+    let hash = browser.wait_js(
+        30,
+        "the new job's page",
+        "const h = location.hash; return h.startsWith('#/job/') ? h : null;",
+    );
+    let id = hash
+        .as_str()
+        .and_then(|h| h.strip_prefix("#/job/"))
+        .expect("job id")
+        .to_string();
+    let v = wait_job(&s, &id, 300, |v| {
+        v["state"] != "queued" && v["state"] != "rendering"
+    });
+    assert_eq!(v["state"], "done", "{v}");
+    // Named after the Film's file name: the .mi's primary framebuffer, mental_ray.exr.
+    assert_eq!(v["name"], "mental_ray", "{v}");
+    assert_eq!(v["width"], 24, "{v}");
+    assert!(v["spp"].as_f64().is_some_and(|spp| spp >= 2.0), "{v}");
+    browser.assert_page_clean();
 }

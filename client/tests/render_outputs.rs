@@ -5,6 +5,9 @@
 //! asked the two FLMs carry the same header (resolution, light groups, buffer configurations
 //! and every parameter).
 
+mod cli_common;
+
+use cli_common::SceneSpec;
 use luxfarm::film::flm::read_flm;
 use luxfarm::film::FlmHeader;
 use std::collections::BTreeSet;
@@ -12,30 +15,21 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// A 24x16 scene with one light group; `film` is appended to the Film statement.
+/// The tiny scene at 24x16 with its lamp (a smaller one, off centre) in the light group
+/// "lamp"; `film` is appended to the Film statement.
 fn scene(dir: &Path, film: &str) -> PathBuf {
     std::fs::create_dir_all(dir).unwrap();
-    let text = format!(
-        r#"LookAt 0 -4 2  0 0 0.5  0 0 1
-Camera "perspective" "float fov" [40]
-Film "fleximage" "integer xresolution" [24] "integer yresolution" [16]
-  "string filename" ["frame"] {film}
-PixelFilter "box"
-Sampler "random" "integer pixelsamples" [1]
-SurfaceIntegrator "path" "integer maxdepth" [2]
-WorldBegin
-AttributeBegin
-LightGroup "lamp"
-AreaLightSource "area" "color L" [20 20 20]
-Shape "trianglemesh" "integer indices" [0 2 1 0 3 2] "point P" [0.5 -0.5 3 1 -0.5 3 1 0 3 0.5 0 3]
-AttributeEnd
-Material "matte" "color Kd" [0.5 0.5 0.5]
-Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-5 -5 0 5 -5 0 5 5 0 -5 5 0]
-WorldEnd
-"#
+    let film = format!(
+        r#"Film "fleximage" "integer xresolution" [24] "integer yresolution" [16]
+  "string filename" ["frame"] {film}"#
     );
+    let spec = SceneSpec {
+        light_group: Some("lamp"),
+        lamp: r#""integer indices" [0 2 1 0 3 2] "point P" [0.5 -0.5 3 1 -0.5 3 1 0 3 0.5 0 3]"#,
+        ..SceneSpec::tiny(&film)
+    };
     let p = dir.join("scene.lxs");
-    std::fs::write(&p, text).unwrap();
+    std::fs::write(&p, spec.text()).unwrap();
     p
 }
 

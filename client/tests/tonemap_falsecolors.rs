@@ -5,37 +5,24 @@
 
 mod cli_common;
 
-use cli_common::luxfarm;
+use cli_common::{luxfarm, SceneSpec};
 use std::path::Path;
 
-/// A 24x16 scene: an area light over a matte floor, the Film in false colours (std scale,
-/// log, luminance 0.01 to 2) in the kernel's own colour space at gamma 1.
+/// The tiny scene at 24x16, the Film in false colours (std scale, log, luminance 0.01 to 2)
+/// in the kernel's own colour space at gamma 1; `film_extra` ends the Film statement, on the
+/// scene's line 9.
 fn scene(dir: &Path, film_extra: &str) -> std::path::PathBuf {
-    let text = format!(
-        r#"LookAt 0 -4 2  0 0 0.5  0 0 1
-Camera "perspective" "float fov" [40]
-Film "fleximage" "integer xresolution" [24] "integer yresolution" [16]
+    let film = format!(
+        r#"Film "fleximage" "integer xresolution" [24] "integer yresolution" [16]
   "string filename" ["frame"] "bool write_resume_flm" ["true"]
   "string tonemapkernel" ["falsecolors"] "string false_method" ["log"]
   "float gamma" [1] "float colorspace_white" [0.3127 0.3290]
   "float colorspace_red" [0.64 0.33] "float colorspace_green" [0.21 0.71]
   "float colorspace_blue" [0.15 0.06]
-  {film_extra}
-PixelFilter "box"
-Sampler "random" "integer pixelsamples" [1]
-SurfaceIntegrator "path" "integer maxdepth" [2]
-WorldBegin
-AttributeBegin
-AreaLightSource "area" "color L" [20 20 20]
-Shape "trianglemesh" "integer indices" [0 2 1 0 3 2] "point P" [-1 -1 3 1 -1 3 1 1 3 -1 1 3]
-AttributeEnd
-Material "matte" "color Kd" [0.5 0.5 0.5]
-Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-5 -5 0 5 -5 0 5 5 0 -5 5 0]
-WorldEnd
-"#
+  {film_extra}"#
     );
     let p = dir.join("scene.lxs");
-    std::fs::write(&p, text).unwrap();
+    std::fs::write(&p, SceneSpec::tiny(&film).text()).unwrap();
     p
 }
 

@@ -634,7 +634,8 @@ function submitPage() {
     el("input", { id: `f-${name}`, name, ...attrs })];
   const status = el("p", { id: "submit-status", class: "mute" });
   const form = el("form", { id: "submit-form", class: "grid" },
-    ...field("file", "scene (.lxs, .zip, .tar)", { type: "file", required: "", accept: ".lxs,.zip,.tar" }),
+    ...field("file", "scene (.lxs, .igs, .lws, .mi, .zip, .tar)",
+      { type: "file", required: "", accept: ".lxs,.igs,.lws,.mi,.zip,.tar" }),
     ...field("name", "name", { type: "text" }),
     ...field("haltspp", "haltspp", { type: "number", min: "0", step: "any" }),
     ...field("halttime", "halttime (s)", { type: "number", min: "0", step: "any" }),

@@ -84,6 +84,20 @@ pub fn block_means(f: &Film, block: u32) -> Vec<f64> {
     out
 }
 
+/// Asserts that the block means `other` match `a` about as well as `a2` (the same scene as
+/// `a` on another sample stream) do: their RMS difference is at most 1.6 times the
+/// stream-to-stream noise plus 1 % of the mean, and the image is not black.
+pub fn assert_within_noise(a: &[f64], a2: &[f64], other: &[f64], what: &str) {
+    let noise = rmse(a, a2);
+    let diff = rmse(a, other);
+    let mean = a.iter().sum::<f64>() / a.len() as f64;
+    assert!(mean > 0.0, "{what}: black image");
+    assert!(
+        diff <= 1.6 * noise + 0.01 * mean,
+        "{what}: difference {diff:.5} vs noise {noise:.5} (mean {mean:.4})"
+    );
+}
+
 pub fn rmse(a: &[f64], b: &[f64]) -> f64 {
     let se: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
     (se / a.len().max(1) as f64).sqrt()

@@ -1,6 +1,6 @@
-//! `luxfarm parse SCENE.lxs [--json]`: parses a scene with its Includes and prints a summary
-//! (camera, film, counts, warnings with their locations) or the whole SceneDescription as
-//! JSON. Exit status 0 when it parses, 2 with the error on stderr when it does not.
+//! `luxfarm parse SCENE [--json]`: imports a scene of any format (.lxs, .igs, .lws, .mi)
+//! with its includes and prints a summary (camera, film, counts, warnings with their
+//! locations) or the whole SceneDescription as JSON. Exit status 0 when it parses, 2 with the error on stderr when it does not.
 
 use luxfarm::formats;
 use luxfarm::lxs::{Entity, ParseOptions, SceneDescription};
@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The scene file (.lxs).
+    /// The scene file (.lxs, .igs, .lws or .mi: the format is detected).
     pub scene: PathBuf,
     /// Print the whole SceneDescription as JSON instead of a summary.
     #[arg(long)]
@@ -52,6 +52,25 @@ fn kind(e: Option<&Entity>) -> String {
         .unwrap_or_else(|| "(default)".into())
 }
 
+/// The named volumes (media) as ` (name: kind, ...)`, empty when there are none.
+fn volume_names(d: &SceneDescription) -> String {
+    if d.volumes.is_empty() {
+        return String::new();
+    }
+    let names: Vec<String> = d
+        .volumes
+        .iter()
+        .map(|v| {
+            format!(
+                "{}: {}",
+                v.name.as_deref().unwrap_or("(unnamed)"),
+                v.entity.kind
+            )
+        })
+        .collect();
+    format!(" ({})", names.join(", "))
+}
+
 /// The human-readable summary.
 pub fn summary(d: &SceneDescription) -> String {
     let mut s = String::new();
@@ -88,7 +107,7 @@ pub fn summary(d: &SceneDescription) -> String {
     let area = d.shapes.iter().filter(|x| x.area_light.is_some()).count();
     let named = d.materials.iter().filter(|m| m.name.is_some()).count();
     s += &format!(
-        "shapes: {} ({} area-lit)\nlights: {}\nmaterials: {} ({} named)\ntextures: {}\nobjects: {}\ninstances: {}\nvolumes: {}\nlight groups: {}\n",
+        "shapes: {} ({} area-lit)\nlights: {}\nmaterials: {} ({} named)\ntextures: {}\nobjects: {}\ninstances: {}\nvolumes: {}{}\nlight groups: {}\n",
         d.shapes.len(),
         area,
         d.lights.len(),
@@ -98,6 +117,7 @@ pub fn summary(d: &SceneDescription) -> String {
         d.objects.len(),
         d.instances.len(),
         d.volumes.len(),
+        volume_names(d),
         d.light_groups.join(", ")
     );
     s += &format!("warnings: {}\n", d.warnings.len());

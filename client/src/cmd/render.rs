@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The scene file (.lxs, or .lws at `--frame`).
+    /// The scene file (.lxs, .igs, .mi, or .lws at `--frame`).
     pub scene: PathBuf,
     /// Render threads (0: all cores).
     #[arg(long, default_value_t = 0)]

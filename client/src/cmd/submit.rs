@@ -24,8 +24,8 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The scene (.lxs or .lws, bundled with what it references) or a ready .zip/.tar bundle;
-    /// several numbered .lxs files (`frames/*.lxs`) make a frame sequence.
+    /// The scene (.lxs, .igs, .lws or .mi, bundled with what it references) or a ready
+    /// .zip/.tar bundle; several numbered scene files (`frames/*.lxs`) make a frame sequence.
     #[arg(required = true, num_args = 1..)]
     pub scenes: Vec<PathBuf>,
     #[command(flatten)]

@@ -4,6 +4,11 @@
 
 #![allow(dead_code)]
 
+/// The CLI tests' helpers (the scene builder, running the binary): a test that uses both
+/// takes them from here.
+#[path = "../cli_common/mod.rs"]
+pub mod cli_common;
+
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -123,30 +128,46 @@ pub fn worker(url: &str, threads: usize, extra: &[&str]) -> Proc {
     Proc(child)
 }
 
-/// A small scene (camera, area light, two quads) at `dir/name.lxs`.
+/// A small scene at `dir/name.lxs` (the shared builder of the CLI tests' scenes): seen from
+/// (0, −3, 1), an area light just under the top of a 2×2 floor and back wall; `film_extra`
+/// ends the Film statement.
 pub fn small_scene(dir: &Path, name: &str, res: (u32, u32), film_extra: &str) -> PathBuf {
-    let text = format!(
-        r#"LookAt 0 -3 1 0 0 1 0 0 1
-Camera "perspective" "float fov" [45]
-Film "fleximage" "integer xresolution" [{}] "integer yresolution" [{}] {film_extra}
-PixelFilter "box"
-Sampler "random" "integer pixelsamples" [1]
-SurfaceIntegrator "path" "integer maxdepth" [3]
-WorldBegin
-AttributeBegin
-  AreaLightSource "area" "color L" [4 4 4]
-  Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-0.5 -0.5 1.99 0.5 -0.5 1.99 0.5 0.5 1.99 -0.5 0.5 1.99]
-AttributeEnd
-Material "matte" "color Kd" [0.7 0.7 0.7]
-Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-1 -1 0 1 -1 0 1 1 0 -1 1 0]
-Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-1 1 0 1 1 0 1 1 2 -1 1 2]
-WorldEnd
-"#,
+    let film = format!(
+        r#"Film "fleximage" "integer xresolution" [{}] "integer yresolution" [{}] {film_extra}"#,
         res.0, res.1
     );
+    let text = cli_common::SceneSpec {
+        look_at: "0 -3 1 0 0 1 0 0 1",
+        fov: 45.0,
+        film: &film,
+        maxdepth: 3,
+        light_group: None,
+        lamp_l: 4.0,
+        lamp: r#""integer indices" [0 1 2 0 2 3] "point P" [-0.5 -0.5 1.99 0.5 -0.5 1.99 0.5 0.5 1.99 -0.5 0.5 1.99]"#,
+        kd: 0.7,
+        surfaces: &[
+            r#""integer indices" [0 1 2 0 2 3] "point P" [-1 -1 0 1 -1 0 1 1 0 -1 1 0]"#,
+            r#""integer indices" [0 1 2 0 2 3] "point P" [-1 1 0 1 1 0 1 1 2 -1 1 2]"#,
+        ],
+    }
+    .text();
     let path = dir.join(format!("{name}.lxs"));
     std::fs::write(&path, text).expect("write scene");
     path
+}
+
+/// Runs `luxfarm submit --master URL EXTRA... SCENE` against `s`; returns the job id it prints.
+pub fn submit_scene(s: &Server, scene: &Path, extra: &[&str]) -> String {
+    let out = run_ok(
+        Command::new(exe())
+            .args(["submit", "--master", &s.url()])
+            .args(extra)
+            .arg(scene)
+            .env_remove("LUXFARM_TOKEN"),
+    );
+    let id = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    assert!(!id.is_empty(), "luxfarm submit printed no job id");
+    id
 }
 
 /// A blocking REST client.

@@ -17,6 +17,9 @@
 //! Outputs: the primary framebuffer's `filename` (mental ray 3.11+) or the first `output`
 //! statement's file names the Film's `filename` (its stem) and, by extension, what is
 //! written: `.exr` → EXR, `.png` → PNG, `.tga` → TGA (other formats: PNG with a note).
+//! mental ray stores a framebuffer's values as the render computed them (no tone mapping),
+//! so an EXR is written linear (`write_exr_applyimaging` false), in 32-bit floats when the
+//! primary framebuffer's data type is a `_fp` one and in half floats otherwise.
 //! Other framebuffers (AOVs: `user on`) are not rendered by luxfarm: one note each.
 
 use super::cursor::{Cursor, MiResult};
@@ -297,11 +300,14 @@ pub fn film_entity(
     if let Some((n, at)) = haltspp {
         params.push(param("haltspp", ParamValue::Integer(vec![n]), &at));
     }
-    let primary = cam
+    let primary_fb = cam
         .framebuffers
         .iter()
-        .find(|f| f.primary && f.filename.is_some())
-        .and_then(|f| Some((f.filename.clone()?, f.loc.clone())));
+        .find(|f| f.primary && f.filename.is_some());
+    let full_float = primary_fb
+        .and_then(|f| f.datatype.as_deref())
+        .is_some_and(|d| d.ends_with("_fp"));
+    let primary = primary_fb.and_then(|f| Some((f.filename.clone()?, f.loc.clone())));
     let file = primary.or_else(|| cam.outputs.first().cloned());
     for fb in cam.framebuffers.iter().filter(|f| !f.primary) {
         warnings.push(Diagnostic {
@@ -349,6 +355,18 @@ pub fn film_entity(
             }
         };
         params.push(param("write_exr", ParamValue::Bool(vec![exr]), &at));
+        if exr {
+            params.push(param(
+                "write_exr_applyimaging",
+                ParamValue::Bool(vec![false]),
+                &at,
+            ));
+            params.push(param(
+                "write_exr_halftype",
+                ParamValue::Bool(vec![!full_float]),
+                &at,
+            ));
+        }
         params.push(param("write_png", ParamValue::Bool(vec![png]), &at));
         params.push(param("write_tga", ParamValue::Bool(vec![tga]), &at));
     }
@@ -385,6 +403,9 @@ mod tests {
         let f = film_entity(&cam, Some((100, Loc::default())), &mut w);
         assert_eq!(f.params.string("filename"), Some("mental_ray"));
         assert_eq!(f.params.bool("write_exr"), Some(true));
+        // Linear half floats, as the "rgba_h" framebuffer holds them.
+        assert_eq!(f.params.bool("write_exr_applyimaging"), Some(false));
+        assert_eq!(f.params.bool("write_exr_halftype"), Some(true));
         assert_eq!(f.params.int("haltspp"), Some(100));
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(w[0].message.contains("\"aov\""));
@@ -404,6 +425,16 @@ mod tests {
             e.params.floats("screenwindow"),
             Some(&[-2.0, 2.0, -1.0, 1.0][..])
         );
+        let cam = camera(
+            "framebuffer \"primary\" datatype \"rgba_fp\" primary on filename \"f.exr\"\n\
+             resolution 8 8 end camera",
+        );
+        let f = film_entity(&cam, None, &mut Vec::new());
+        assert_eq!(f.params.bool("write_exr_halftype"), Some(false));
+        let cam = camera("framebuffer \"primary\" primary on filename \"f.png\" end camera");
+        let f = film_entity(&cam, None, &mut Vec::new());
+        assert_eq!(f.params.bool("write_png"), Some(true));
+        assert_eq!(f.params.bool("write_exr_applyimaging"), None);
         let mut c = Cursor::new("resolution 0 10 end camera", "t.mi".into());
         assert!(parse(&mut c, "c".into(), Loc::default(), 100).is_err());
     }
