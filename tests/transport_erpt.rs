@@ -205,3 +205,44 @@ fn two_workers_merge_as_an_exact_sum() {
     // 2 passes of ⌈24·24·2 / 33⌉ = 35 seeds, each counting 33 samples.
     assert_eq!(a.sample_count(0), f64::from(2 * 35 * 33));
 }
+
+/// LuxRender's TestSuite scene written for erpt (dispersion through a prism, gaussian
+/// filter): its own Sampler statement builds erpt without a fallback warning and a pass
+/// renders light onto the per-screen buffer (warm-up and chains shortened for the debug
+/// build: at 24 × 18 the default chains of 2000 would leave one seed per pass).
+#[test]
+fn testsuite_dispersion_erpt_renders_without_fallback() {
+    use luxfarm::lxs::{parse_file, ParamValue, ParseOptions};
+    let path = scene_path("testsuite/dispersion/dispersion-erpt.lxs");
+    let mut desc = parse_file(&path, &ParseOptions::default()).expect("scene parses");
+    assert_eq!(desc.sampler.as_ref().map(|s| s.kind.as_str()), Some("erpt"));
+    if let Some(f) = desc.film.as_mut() {
+        f.params.add("xresolution", ParamValue::Integer(vec![24]));
+        f.params.add("yresolution", ParamValue::Integer(vec![18]));
+    }
+    if let Some(s) = desc.sampler.as_mut() {
+        s.params.add("initsamples", ParamValue::Integer(vec![500]));
+        s.params.add("chainlength", ParamValue::Integer(vec![32]));
+    }
+    let dir = path.parent().expect("scene directory");
+    let opts = SessionOptions {
+        threads: 2,
+        seed: 1,
+        stream: 0,
+    };
+    let mut s = Session::new(&desc, dir, opts).expect("session builds");
+    assert!(
+        !s.warnings().iter().any(|w| w.message.contains("erpt")
+            || w.message.contains("not implemented")
+            || w.message.contains("using \"random\"")),
+        "{:?}",
+        s.warnings()
+    );
+    assert_eq!(s.buffers()[0], BufferType::PerScreen);
+    for _ in 0..3 {
+        assert!(s.render_pass().complete);
+    }
+    let f = s.take_film();
+    assert!(image_mean(&f) > 0.0);
+    assert!(luminance(&f).iter().all(|v| v.is_finite()));
+}
