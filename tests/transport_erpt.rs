@@ -26,6 +26,21 @@ fn cornell_erpt_path_matches_random_path() {
     assert_agree("cornell erpt+path/random+path", &rp, &re, 4.0, 0.0);
 }
 
+/// Bidirectional under erpt against path: the path tracer reaches as many vertices
+/// (`maxdepth` 16 + 16 − 2 = 30, as in `transport_bidir.rs`).
+#[test]
+fn cornell_erpt_bidirectional_matches_random_path() {
+    let path30 = PATH.replace("[16]", "[30]");
+    let bidir = "Sampler \"erpt\" \"integer pixelsamples\" [2] \"integer chainlength\" [16] \
+                 \"integer initsamples\" [2048]\nSurfaceIntegrator \"bidirectional\" \
+                 \"integer eyedepth\" [16] \"integer lightdepth\" [16]";
+    let (p, dir) = scene("cornell/cornell.lxs", &path30, 32, 32);
+    let (e, _) = scene("cornell/cornell.lxs", bidir, 32, 32);
+    let rp = runs(&p, &dir, 0, 12, 2, 8);
+    let re = runs(&e, &dir, 100, 12, 4, 8);
+    assert_agree("cornell erpt+bidir/random+path", &rp, &re, 4.0, 0.0);
+}
+
 /// A matte floor and back wall lit by a small, bright square lamp through a glass sphere
 /// (a caustic on the floor) and directly, at 32 × 32.
 fn caustic_scene(setup: &str) -> String {
