@@ -37,12 +37,12 @@ pub fn buffers(per_screen_eye: bool, light: bool) -> Vec<BufferType> {
 
 /// The film buffers a scene renders into, from its SurfaceIntegrator statement (no
 /// statement: path) and Sampler statement: the eye buffer is per screen with the
-/// `metropolis` sampler (ERPT is not built yet and renders as `random`, per pixel).
+/// `metropolis` and `erpt` samplers.
 pub fn film_buffers(desc: &SceneDescription) -> Vec<BufferType> {
     let integrator = desc.surface_integrator.as_ref().map(|e| e.kind.as_str());
     let sampler = desc.sampler.as_ref().map(|e| e.kind.as_str());
     buffers(
-        sampler == Some("metropolis"),
+        matches!(sampler, Some("metropolis" | "erpt")),
         integrator == Some("bidirectional"),
     )
 }
@@ -103,10 +103,10 @@ mod tests {
             layout("Sampler \"metropolis\"\nSurfaceIntegrator \"bidirectional\""),
             vec![PerScreen, PerScreen]
         );
-        // erpt is not implemented yet: it renders as a random sampler, per pixel.
+        assert_eq!(layout("Sampler \"erpt\""), vec![PerScreen]);
         assert_eq!(
             layout("Sampler \"erpt\"\nSurfaceIntegrator \"bidirectional\""),
-            vec![PerPixel, PerScreen]
+            vec![PerScreen, PerScreen]
         );
     }
 

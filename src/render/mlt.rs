@@ -44,7 +44,7 @@ pub const BOOTSTRAP: u64 = 8192;
 
 /// One contribution of a sample to the film.
 #[derive(Clone, Copy, Debug)]
-struct Contribution {
+pub(super) struct Contribution {
     p_film: Vec2,
     buffer: usize,
     group: usize,
@@ -85,14 +85,16 @@ pub struct ChainStats {
     pub accepted: u64,
 }
 
-/// Where film positions are drawn and how contributions are scaled.
-struct Frame {
+/// Where film positions are drawn and how contributions are scaled (shared with
+/// [`super::erpt`]).
+pub(super) struct Frame {
     origin: Vec2,
     span: Vec2,
     /// Raster position of the film's pixel (0, 0).
     film0: [i64; 2],
     scale: f32,
-    range_xy: [f32; 2],
+    /// The small mutations' film range per axis, as a fraction of the span.
+    pub range_xy: [f32; 2],
 }
 
 impl MltState {
@@ -149,7 +151,7 @@ impl MltState {
                             let v = Vec::new();
                             trace(
                                 scene,
-                                params,
+                                params.use_variance,
                                 frame,
                                 v,
                                 key,
@@ -192,7 +194,7 @@ impl MltState {
                     let v = Vec::new();
                     let (lum, values) = trace(
                         scene,
-                        params,
+                        params.use_variance,
                         frame,
                         v,
                         key,
@@ -229,7 +231,9 @@ impl MltState {
         let Some(params) = scene.setup.sampler.mlt().copied() else {
             return Some(0);
         };
-        let frame = frame(scene, &params);
+        let fp = &scene.setup.film_params;
+        let range = params.range_pixels(fp.x_pixel_count as f32, fp.y_pixel_count as f32);
+        let frame = frame(scene, range);
         let n = self.slots.len() as u64;
         let share = |i: u64| steps / n + u64::from(i < steps % n);
         let mut done = vec![0u64; self.slots.len()];
@@ -290,7 +294,9 @@ impl MltState {
     }
 }
 
-fn frame(scene: &Renderable, params: &MltParams) -> Frame {
+/// The frame of a session: film positions over the filter's sample extent, small mutations
+/// moving them by at most `range` pixels.
+pub(super) fn frame(scene: &Renderable, range: f32) -> Frame {
     let fp = &scene.setup.film_params;
     let [x0, x1, y0, y1] = scene.setup.filter.sample_extent(
         fp.x_pixel_start,
@@ -300,7 +306,6 @@ fn frame(scene: &Renderable, params: &MltParams) -> Frame {
     );
     let span = Vec2::new((x1 - x0).max(1) as f32, (y1 - y0).max(1) as f32);
     let pixels = (fp.x_pixel_count.max(1) as f32) * (fp.y_pixel_count.max(1) as f32);
-    let range = params.range_pixels(fp.x_pixel_count as f32, fp.y_pixel_count as f32);
     Frame {
         origin: Vec2::new(x0 as f32, y0 as f32),
         span,
@@ -311,11 +316,12 @@ fn frame(scene: &Renderable, params: &MltParams) -> Frame {
 }
 
 /// Traces the sample whose primary values are `values` (grown from `key` as needed):
-/// records its contributions in `rec` and returns its target luminance and its values.
+/// records its contributions in `rec` and returns its target luminance (with
+/// `use_variance`, the integrator's MIS-weighted hint where it gives one) and its values.
 #[allow(clippy::too_many_arguments)]
-fn trace(
+pub(super) fn trace(
     scene: &Renderable,
-    params: &MltParams,
+    use_variance: bool,
     frame: &Frame,
     values: Vec<f32>,
     key: u64,
@@ -335,12 +341,12 @@ fn trace(
         let eye = so.l.iter().zip(&so.weight_lum).enumerate();
         for (g, (c, wl)) in eye {
             let xyz = rgb_to_xyz(*c * k);
-            let hint = (params.use_variance && *wl > 0.0).then_some(*wl * k);
+            let hint = (use_variance && *wl > 0.0).then_some(*wl * k);
             lum += record(rec, cs.p_film, 0, g, xyz, so.alpha, hint, invalid);
         }
         for sp in &so.splats {
             let xyz = rgb_to_xyz(sp.l * k);
-            let hint = (params.use_variance && sp.weight > 0.0).then(|| sp.weight * xyz[1]);
+            let hint = (use_variance && sp.weight > 0.0).then(|| sp.weight * xyz[1]);
             let g = sp.group as usize;
             lum += record(rec, sp.p_film, LIGHT_BUFFER, g, xyz, 1.0, hint, invalid);
         }
@@ -368,7 +374,7 @@ fn step(
     let key = slot.chain.step_key();
     let (lum, mut values) = trace(
         scene,
-        params,
+        params.use_variance,
         frame,
         values,
         key,
@@ -428,7 +434,12 @@ fn record(
 }
 
 /// Adds weighted contributions to the film through the pixel filter.
-fn deposit(scene: &Renderable, frame: &Frame, film: &mut Film, deposits: &[(Contribution, f32)]) {
+pub(super) fn deposit(
+    scene: &Renderable,
+    frame: &Frame,
+    film: &mut Film,
+    deposits: &[(Contribution, f32)],
+) {
     let filter = &scene.setup.filter;
     let nbuf = film.buffer_types().len();
     for (c, w) in deposits {

@@ -11,8 +11,8 @@
 //! and splats are added to the pass film in tile order, so the film still depends only on
 //! (seed, stream, pass) and the splats of a whole pass are never held at once.
 //!
-//! The `metropolis` sampler does not visit pixels: its passes run the session's Markov
-//! chains ([`mlt`]) into the film's per-screen buffers.
+//! The `metropolis` and `erpt` samplers do not visit pixels: their passes run the session's
+//! Markov chains ([`mlt`], [`erpt`]) into the film's per-screen buffers.
 //!
 //! A `noiseaware` sampler draws each pixel's samples of a pass by the session's sampling map
 //! (`crate::sampler::map`). A local session rebuilds the map from its own film every
@@ -21,6 +21,7 @@
 //! [`Session::set_sampling_map`]). Passes count the samples they actually took.
 
 pub mod buffers;
+pub mod erpt;
 pub mod mlt;
 pub mod noise;
 pub mod setup;
@@ -99,6 +100,8 @@ pub struct Session {
     outliers: u64,
     /// The Markov chains of a metropolis sampler.
     mlt: Option<mlt::MltState>,
+    /// The seeds and chains of an erpt sampler.
+    erpt: Option<erpt::ErptState>,
     /// The sampling map of a noise-aware sampler (none yet: uniform).
     map: Option<Arc<SamplingMap>>,
     /// Rebuilds the map from this session's film (local renders of a noise-aware sampler).
@@ -128,6 +131,11 @@ impl Session {
             .sampler
             .mlt()
             .map(|_| mlt::MltState::new(opts.seed, opts.stream));
+        let erpt = scene
+            .setup
+            .sampler
+            .erpt()
+            .map(|_| erpt::ErptState::new(opts.seed, opts.stream));
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(opts.threads)
             .build()
@@ -153,6 +161,7 @@ impl Session {
             rejected: 0,
             outliers: 0,
             mlt,
+            erpt,
             map: None,
             map_builder,
         })
@@ -273,6 +282,9 @@ impl Session {
     pub fn render_pass(&mut self) -> PassStats {
         if self.mlt.is_some() {
             return self.render_pass_mlt();
+        }
+        if self.erpt.is_some() {
+            return self.render_pass_erpt();
         }
         if self.scene.setup.integrator.splats() {
             return self.render_pass_splatting();
@@ -395,9 +407,50 @@ impl Session {
         self.finish_pass(start, samples, rejected, outliers)
     }
 
-    /// Acceptance statistics of the metropolis chains (`None` for other samplers).
+    /// Acceptance statistics of the metropolis or erpt chains (`None` for other samplers).
     pub fn chain_stats(&self) -> Option<mlt::ChainStats> {
-        self.mlt.as_ref().map(mlt::MltState::stats)
+        self.mlt
+            .as_ref()
+            .map(mlt::MltState::stats)
+            .or_else(|| self.erpt.as_ref().map(erpt::ErptState::stats))
+    }
+
+    /// The erpt sampler's energy quantum (mean energy per mutation), once estimated.
+    pub fn erpt_quantum(&self) -> Option<f64> {
+        self.erpt.as_ref().and_then(erpt::ErptState::quantum)
+    }
+
+    /// A pass of the erpt sampler: seeds for about `pixels × pixelsamples` traces and their
+    /// chains into a pass film, merged into the session film once complete.
+    fn render_pass_erpt(&mut self) -> PassStats {
+        let start = Instant::now();
+        let fp = &self.scene.setup.film_params;
+        let spp = self.scene.setup.sampler.pixel_samples().max(1);
+        let traces = u64::from(fp.x_pixel_count)
+            .saturating_mul(u64::from(fp.y_pixel_count))
+            .saturating_mul(u64::from(spp));
+        let Some(m) = self.scene.setup.sampler.erpt().map(|p| p.chain_length) else {
+            return PassStats::default();
+        };
+        let seeds = erpt::seeds_per_pass(traces, m);
+        let samples = seeds.saturating_mul(erpt::samples_per_seed(m));
+        let mut pass_film = self.film.clone();
+        pass_film.clear();
+        let Some(state) = self.erpt.as_mut() else {
+            return PassStats::default();
+        };
+        let Some(invalid) =
+            state.run_pass(&self.scene, &self.pool, &self.cancel, seeds, &mut pass_film)
+        else {
+            return PassStats {
+                seconds: start.elapsed().as_secs_f64(),
+                ..Default::default()
+            };
+        };
+        if let Err(e) = self.film.merge(&pass_film) {
+            tracing::error!("pass merge failed: {e}");
+        }
+        self.finish_pass(start, samples, invalid, 0)
     }
 
     /// A pass of the metropolis sampler: `pixels × pixelsamples` chain steps into a pass

@@ -130,6 +130,25 @@ pub fn mutate_scaled(x: f32, u: f32, range: f32) -> f32 {
     wrap_move(x, u, dx.max(0.0))
 }
 
+/// A small mutation of a whole primary sample vector into `out` (cleared first): every value
+/// of `current` moved by [`mutate`], the first two (film position) by [`mutate_scaled`] with
+/// `range_xy` (fractions of the sampled extent per axis); the moves are a pure function of
+/// `key`. The proposal is symmetric, so a Metropolis acceptance by the target's ratio keeps
+/// the target's distribution. Shared by metropolis' small steps and ERPT's mutations.
+pub fn small_mutation(current: &[f32], key: u64, range_xy: [f32; 2], out: &mut Vec<f32>) {
+    out.clear();
+    let k = combine(key, 0x6d75_7461);
+    out.extend(current.iter().enumerate().map(|(i, &x)| {
+        let u = unit_f32(mix64(
+            k ^ (i as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15),
+        ));
+        match i {
+            0 | 1 => mutate_scaled(x, u, range_xy[i]),
+            _ => mutate(x, u),
+        }
+    }));
+}
+
 /// What the session must add to the film after one step: the recorded contributions of the
 /// previous current sample with `current_weight` (before the chain moved on), and those of
 /// the proposal with `proposal_weight`. A zero weight adds nothing.
@@ -247,16 +266,7 @@ impl Chain {
         if self.large {
             return;
         }
-        let k = combine(self.step_key(), 0x6d75_7461);
-        out.extend(self.current.iter().enumerate().map(|(i, &x)| {
-            let u = unit_f32(mix64(
-                k ^ (i as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15),
-            ));
-            match i {
-                0 | 1 => mutate_scaled(x, u, range_xy[i]),
-                _ => mutate(x, u),
-            }
-        }));
+        small_mutation(&self.current, self.step_key(), range_xy, out);
     }
 
     /// Accepts or rejects the proposal whose values are `values` and whose target (luminance)

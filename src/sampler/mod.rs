@@ -1,12 +1,12 @@
-//! Samplers: random, lowdiscrepancy, sobol, metropolis; every value derived from (seed,
-//! stream, pixel, sample index, dimension), or for metropolis from a chain's primary sample
-//! vector ([`metropolis`]).
+//! Samplers: random, lowdiscrepancy, sobol, metropolis, erpt; every value derived from (seed,
+//! stream, pixel, sample index, dimension), or for metropolis and erpt from a chain's primary
+//! sample vector ([`metropolis`], [`erpt`]).
 //!
 //! [`Sampler::build`] dispatches a `Sampler` statement to the sampler's file, which reads its
 //! parameters with LuxRender's names and defaults (random with 4 samples per pixel when the
 //! scene has none, as LuxRender). LuxRender's other
 //! samplers fall back with a warning: `bestcandidate`, `stratified` and `halton` to
-//! lowdiscrepancy, `erpt` to random.
+//! lowdiscrepancy.
 //!
 //! `"bool noiseaware"` (random, lowdiscrepancy, sobol and the fallbacks to them) makes a pass
 //! give each pixel a number of samples in proportion to a sampling map built from the film's
@@ -14,10 +14,10 @@
 //! parameter but refuses it with a located warning (its per-screen buffer would be biased),
 //! erpt ignores it with a warning, as LuxRender's.
 //!
-//! A metropolis sampler does not visit pixels: the render session runs its chains
-//! ([`metropolis::Chain`]) and traces each proposal through [`Sampler::start_primary`], a
-//! stream over the proposed values whose dimensions 0 and 1 span the whole sampled film
-//! area.
+//! Metropolis and erpt samplers do not visit pixels: the render session runs their chains
+//! ([`metropolis::Chain`], [`erpt::ErptChain`]) and traces each proposal through
+//! [`Sampler::start_primary`], a stream over the proposed values whose dimensions 0 and 1
+//! span the whole sampled film area.
 //!
 //! [`Sampler::start`] opens the [`SampleStream`] of one sample: a pure function of
 //! `(seed, stream, px, py, index)` and of how many dimensions have been drawn, never of
@@ -36,6 +36,7 @@
 //! `next_1d` uses one, `next_2d` two. For the best stratification, draw 2D quantities with
 //! `next_2d` (lowdiscrepancy and sobol stratify each 2D request jointly).
 
+pub mod erpt;
 mod hash;
 mod lowdiscrepancy;
 pub mod map;
@@ -59,6 +60,9 @@ pub enum SamplerKind {
     /// Kelemen-style Metropolis over the primary sample space (a stream over a chain's
     /// values).
     Metropolis,
+    /// Energy redistribution path tracing: chains of small mutations from uniform seeds
+    /// (streams over a chain's values, like metropolis).
+    Erpt,
 }
 
 /// A sampler: its sequence and samples per pixel per pass.
@@ -70,6 +74,8 @@ pub struct Sampler {
     log2_n: u32,
     /// The metropolis parameters (metropolis only).
     mlt: Option<metropolis::MltParams>,
+    /// The erpt parameters (erpt only).
+    erpt: Option<erpt::ErptParams>,
     /// `noiseaware`: pixels are sampled in proportion to a sampling map ([`map`]).
     noise_aware: bool,
 }
@@ -138,20 +144,19 @@ impl Sampler {
                 if noise_aware {
                     s.warn("noiseaware is not supported by erpt (nor by LuxRender's); ignored");
                 }
-                s.warn(format!(
-                    "sampler \"{}\" is not implemented; using \"random\" (unbiased, same samples per pixel)",
-                    e.kind
-                ));
-                (SamplerKind::Random, pixel_samples(&s)?)
+                let (kind, n, params) = erpt::build(&mut s)?;
+                let mut smp = Sampler::new(kind, n).map_err(|x| BuildError::new(&e.loc, x.message))?;
+                smp.erpt = Some(params);
+                return Ok(smp);
             }
             other => {
                 return Err(s.err(format!(
-                    "unknown sampler \"{other}\" (known: random, lowdiscrepancy, sobol; bestcandidate, stratified, halton, metropolis, erpt fall back)"
+                    "unknown sampler \"{other}\" (known: random, lowdiscrepancy, sobol, metropolis, erpt; bestcandidate, stratified, halton fall back)"
                 )))
             }
         };
         let mut smp = Sampler::new(kind, n).map_err(|x| BuildError::new(&e.loc, x.message))?;
-        smp.noise_aware = noise_aware && e.kind != "erpt";
+        smp.noise_aware = noise_aware;
         Ok(smp)
     }
 
@@ -171,17 +176,18 @@ impl Sampler {
             pixel_samples: n,
             log2_n: n.trailing_zeros(),
             mlt: (kind == SamplerKind::Metropolis).then(metropolis::MltParams::default),
+            erpt: (kind == SamplerKind::Erpt).then(erpt::ErptParams::default),
             noise_aware: false,
         })
     }
 
-    /// Whether pixels are drawn by a sampling map (`noiseaware`; never for metropolis,
-    /// whose per-screen buffer the map would bias).
+    /// Whether pixels are drawn by a sampling map (`noiseaware`; never for metropolis and
+    /// erpt, whose per-screen buffers the map would bias).
     pub fn noise_aware(&self) -> bool {
         self.noise_aware && !self.per_screen()
     }
 
-    /// This sampler with noise-aware sampling on or off (metropolis stays off).
+    /// This sampler with noise-aware sampling on or off (metropolis and erpt stay off).
     pub fn with_noise_aware(mut self, on: bool) -> Sampler {
         self.noise_aware = on;
         self
@@ -196,13 +202,18 @@ impl Sampler {
         self.mlt.as_ref()
     }
 
+    /// The erpt parameters, when this is an erpt sampler.
+    pub fn erpt(&self) -> Option<&erpt::ErptParams> {
+        self.erpt.as_ref()
+    }
+
     /// Whether the film's eye buffer is normalised per screen (the sample density follows
     /// the image, not the pixels).
     pub fn per_screen(&self) -> bool {
-        self.kind == SamplerKind::Metropolis
+        matches!(self.kind, SamplerKind::Metropolis | SamplerKind::Erpt)
     }
 
-    /// A stream over a chain's proposed `values` (see [`metropolis`]): dimension `d` is
+    /// A stream over a chain's proposed `values` (see [`metropolis`], [`erpt`]): dimension `d` is
     /// `values[d]`; dimensions beyond them are drawn from `fresh_key` and appended (take the
     /// vector back with [`SampleStream::into_values`]). Dimensions 0 and 1 place the sample
     /// on the film area starting at raster `origin` of size `span`.
@@ -247,11 +258,15 @@ impl Sampler {
             SamplerKind::Random => random::sample_key(pk, index),
             SamplerKind::LowDiscrepancy => lowdiscrepancy::block_key(pk, index, self.log2_n),
             SamplerKind::Sobol => sobol::run_key(pk, index),
-            // Outside a chain a metropolis stream draws independent values (as random).
-            SamplerKind::Metropolis => random::sample_key(pk, index),
+            // Outside a chain a metropolis or erpt stream draws independent values (as random).
+            SamplerKind::Metropolis | SamplerKind::Erpt => random::sample_key(pk, index),
         };
         SampleStream {
-            kind: self.kind,
+            // The chains' streams come from `start_primary`; a pixel's stream is random.
+            kind: match self.kind {
+                SamplerKind::Erpt => SamplerKind::Random,
+                k => k,
+            },
             key,
             index,
             log2_n: self.log2_n,
@@ -276,7 +291,7 @@ pub struct SampleStream {
     dim: u32,
     px: i32,
     py: i32,
-    /// A chain's primary sample values (metropolis), grown as dimensions are drawn.
+    /// A chain's primary sample values (metropolis, erpt), grown as dimensions are drawn.
     values: Vec<f32>,
     /// Raster position and size of the film area dimensions 0 and 1 span.
     origin: Vec2,
@@ -302,7 +317,7 @@ impl SampleStream {
         self.values.get(d as usize).copied().unwrap_or(0.0)
     }
 
-    /// The primary sample values this stream drew (metropolis).
+    /// The primary sample values this stream drew (metropolis, erpt).
     pub fn into_values(self) -> Vec<f32> {
         self.values
     }
@@ -312,7 +327,7 @@ impl SampleStream {
         let d = self.dim;
         self.dim = self.dim.saturating_add(1);
         match self.kind {
-            SamplerKind::Metropolis => self.primary(d),
+            SamplerKind::Metropolis | SamplerKind::Erpt => self.primary(d),
             SamplerKind::Random => random::value(self.key, d),
             SamplerKind::LowDiscrepancy => {
                 lowdiscrepancy::value_1d(self.key, self.index, self.log2_n, d)
@@ -326,7 +341,9 @@ impl SampleStream {
         let d = self.dim;
         self.dim = self.dim.saturating_add(2);
         match self.kind {
-            SamplerKind::Metropolis => Vec2::new(self.primary(d), self.primary(d + 1)),
+            SamplerKind::Metropolis | SamplerKind::Erpt => {
+                Vec2::new(self.primary(d), self.primary(d + 1))
+            }
             SamplerKind::Random => {
                 Vec2::new(random::value(self.key, d), random::value(self.key, d + 1))
             }

@@ -75,7 +75,35 @@ fn defaults_and_fallbacks() {
     assert!(m.per_screen());
     let p = m.mlt().copied().unwrap_or_default();
     assert_eq!((p.large_prob, p.max_rejects, p.range), (0.25, 64, None));
-    assert_eq!(sampler("erpt", &[]).kind(), SamplerKind::Random);
+    let er = sampler("erpt", &[]);
+    assert_eq!(er.kind(), SamplerKind::Erpt);
+    assert!(er.per_screen());
+    assert_eq!(er.pixel_samples(), 4);
+    let p = er
+        .erpt()
+        .copied()
+        .unwrap_or_else(|| panic!("erpt parameters"));
+    assert_eq!(
+        (p.init_samples, p.chain_length, p.range),
+        (100_000, 2000, None)
+    );
+    assert_eq!(p.range_pixels(800.0, 600.0), 28.0);
+    let er = sampler(
+        "erpt",
+        &[
+            ("initsamples", ParamValue::Integer(vec![500])),
+            ("chainlength", ParamValue::Integer(vec![64])),
+            ("mutationrange", ParamValue::Float(vec![3.5])),
+            ("pixelsamples", ParamValue::Integer(vec![2])),
+        ],
+    );
+    let p = er.erpt().copied().unwrap_or_default();
+    assert_eq!(
+        (p.init_samples, p.chain_length, p.range),
+        (500, 64, Some(3.5))
+    );
+    assert_eq!(er.pixel_samples(), 2);
+    assert!(er.mlt().is_none() && m.erpt().is_none());
     assert_eq!(
         sampler("bestcandidate", &[]).kind(),
         SamplerKind::LowDiscrepancy
@@ -301,4 +329,68 @@ fn camera_sample_uses_the_documented_dimensions() {
         );
         assert_eq!(d.pixel(), (-2, -1));
     }
+}
+
+/// The sampler of a scene text's `Sampler` statement, with its warnings.
+fn from_text(text: &str) -> (Result<Sampler, BuildError>, Vec<Diagnostic>) {
+    let text = format!("{text}\nWorldBegin\nWorldEnd\n");
+    let desc = crate::lxs::parse_str(&text, "s.lxs", &crate::lxs::ParseOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut warnings = Vec::new();
+    let s = Sampler::build(desc.sampler.as_ref(), &mut warnings);
+    (s, warnings)
+}
+
+#[test]
+fn erpt_bad_values_are_located_errors() {
+    for (params, what) in [
+        (
+            "\"integer chainlength\" [0]",
+            "chainlength must be at least 1, got 0",
+        ),
+        (
+            "\"integer chainlength\" [-5]",
+            "chainlength must be at least 1",
+        ),
+        (
+            "\"integer initsamples\" [0]",
+            "initsamples must be at least 1, got 0",
+        ),
+        (
+            "\"float mutationrange\" [-2]",
+            "mutationrange must be a positive",
+        ),
+        (
+            "\"float mutationrange\" [0]",
+            "mutationrange must be a positive",
+        ),
+        (
+            "\"integer pixelsamples\" [0]",
+            "pixelsamples must be at least 1",
+        ),
+    ] {
+        let (s, _) = from_text(&format!("\n\nSampler \"erpt\" {params}"));
+        let e = s.err().unwrap_or_else(|| panic!("{params} accepted"));
+        let msg = e.to_string();
+        assert!(msg.starts_with("s.lxs:3:1: "), "{msg}");
+        assert!(msg.contains(what), "{msg}");
+    }
+}
+
+#[test]
+fn erpt_warns_only_about_what_it_ignores() {
+    let (s, w) = from_text("Sampler \"erpt\" \"integer chainlength\" [100]");
+    assert_eq!(s.map(|s| s.kind()), Ok(SamplerKind::Erpt));
+    assert!(w.is_empty(), "{w:?}");
+    let (s, w) = from_text(
+        "Sampler \"erpt\" \"bool noiseaware\" [\"true\"] \"string basesampler\" [\"sobol\"]",
+    );
+    let s = s.unwrap_or_else(|e| panic!("{e}"));
+    assert!(!s.noise_aware(), "noiseaware ignored");
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(w.iter().any(|d| d.message.contains("noiseaware")));
+    assert!(w
+        .iter()
+        .any(|d| d.message.contains("basesampler \"sobol\"")));
+    assert!(w.iter().all(|d| d.loc.line == 1));
 }
