@@ -102,6 +102,9 @@ pub struct JobRt {
     pub closed: AtomicBool,
     pub leases: Mutex<HashMap<String, LeaseRt>>,
     pub state: Mutex<RunState>,
+    /// Held while a checkpoint is written (the tick's, the shutdown drain's, the job end's):
+    /// one at a time per job.
+    pub checkpointing: Mutex<()>,
 }
 
 /// Mutable bookkeeping of a rendering job.

@@ -120,7 +120,7 @@ fn tick_job(farm: &Farm, rt: &Arc<JobRt>) -> Result<()> {
             && rt.version.load(Ordering::Relaxed) != st.checkpoint_version
     };
     if due {
-        checkpoint(farm, rt, &row)?;
+        checkpoint(farm, rt)?;
     }
     Ok(())
 }
@@ -164,8 +164,8 @@ fn expire_workers(farm: &Farm) -> Result<()> {
 /// Writes the job's merged film atomically as the next checkpoint generation and commits the
 /// ledger rows it contains. A failure is recorded on the job (file and reason), to be retried
 /// after the checkpoint interval, and returned.
-pub fn checkpoint(farm: &Farm, rt: &JobRt, row: &JobRow) -> Result<()> {
-    let result = write_checkpoint(farm, rt, row);
+pub fn checkpoint(farm: &Farm, rt: &JobRt) -> Result<()> {
+    let result = write_checkpoint(farm, rt);
     let mut st = lock(&rt.state);
     st.last_checkpoint = Instant::now();
     match &result {
@@ -189,8 +189,13 @@ pub fn checkpoint(farm: &Farm, rt: &JobRt, row: &JobRow) -> Result<()> {
     result.map(|_| ())
 }
 
-/// The checkpoint itself; returns the film version it holds.
-fn write_checkpoint(farm: &Farm, rt: &JobRt, row: &JobRow) -> Result<u64> {
+/// The checkpoint itself; returns the film version it holds. Checkpoints of one job are
+/// written one at a time, each reading the job's generation under that lock: two writing the
+/// same generation raced on its file, and the older film could replace the newer one after the
+/// store had counted the newer one's deltas as durable.
+fn write_checkpoint(farm: &Farm, rt: &JobRt) -> Result<u64> {
+    let _one = lock(&rt.checkpointing);
+    let row = farm.job_row(&rt.id)?;
     let (film, version, max_rowid) = {
         let film = lock(&rt.film);
         let max_rowid = lock(&farm.db).ledger_max_rowid()?;
@@ -281,7 +286,6 @@ fn finish_with(
             st.halting = Some((state, reason.to_string(), Instant::now()));
         }
     }
-    let row = farm.job_row(&rt.id)?;
     let now = now_ms();
     for (id, l) in lock(&rt.leases).iter_mut() {
         l.stop = true;
@@ -291,7 +295,7 @@ fn finish_with(
         }
     }
     let mut reason = reason.to_string();
-    if let Err(e) = checkpoint(farm, rt, &row) {
+    if let Err(e) = checkpoint(farm, rt) {
         if !force {
             // Merges stay closed off (every lease has ended); the next tick tries again.
             rt.closed.store(false, Ordering::SeqCst);
@@ -366,9 +370,7 @@ pub fn checkpoint_all(farm: &Farm) -> usize {
         if !changed {
             continue;
         }
-        let result = farm
-            .job_row(&rt.id)
-            .and_then(|row| checkpoint(farm, &rt, &row));
+        let result = checkpoint(farm, &rt);
         if let Err(e) = result {
             tracing::error!(job = %rt.id, error = %e, "final checkpoint at shutdown failed");
             failed += 1;

@@ -116,6 +116,7 @@ impl Farm {
             version: 0.into(),
             closed: false.into(),
             leases: Mutex::new(leases),
+            checkpointing: Mutex::new(()),
             state: Mutex::new(RunState {
                 halting: None,
                 checkpoint_version: 0,
