@@ -355,7 +355,7 @@ fn fresnel_types_are_their_own_namespace() {
     ps.add("fresnel", tex_ref("fb"));
     assert!(matches!(
         set.fresnel_param(&ps, "fresnel", 1.5),
-        Err(TextureError::Missing { .. })
+        Err(TextureError::WrongType { .. })
     ));
     let mut ps = ParamSet::new();
     ps.add("x", tex_ref("cy"));
