@@ -7,22 +7,21 @@
 //!
 //! ```text
 //! Interior/Exterior fresnel (FresnelTex) --Side--> RGB index (hit) --ratio--> lobe's eta
-//!                                          \--> index at λ (spectral data) --> Dispersion
+//!                                          \--> index at λ (hit) --ratio--> Dispersion
 //! ```
 //!
 //! Index without dispersion: LuxRender divides the two volumes' indices averaged over the
 //! sample's wavelengths (stratified over 380–720 nm), so its expected index is the mean over
-//! 380–720 nm ([`FresnelData::mean_index`]); that mean is the RGB index here. A fresnel texture
+//! 380–720 nm ([`crate::texture::FresnelData::mean_index`]); that mean is the RGB index here. A fresnel texture
 //! that varies over the surface (a mix, fresnelcolor of a texture) is evaluated per hit and
 //! its RGB reading's mean index used.
 //!
-//! `dispersion` (default false): when a side's texture is one set of spectral data whose index
-//! depends on the wavelength (cauchy with b ≠ 0, sellmeier, fresnelname, sopra, luxpop), paths
-//! through the shell carry one wavelength λ and refract with the ratio of the indices at λ, as
-//! LuxRender's single-wavelength transmission does; the scene then renders spectrally. With
-//! indices that do not depend on the wavelength the flag has no effect (a located warning
-//! says so); a combined fresnel texture (mix, scale, band, ...) is not evaluated per
-//! wavelength (a located warning; its RGB index is used).
+//! `dispersion` (default false): when a side's index depends on the wavelength (cauchy with
+//! b ≠ 0, sellmeier, fresnelname, sopra, luxpop, fresnelcolor, or a combination of them),
+//! paths through the shell carry one wavelength λ and refract with the ratio of the indices at
+//! λ ([`crate::texture::FresnelNode::index_at`]), as LuxRender's single-wavelength
+//! transmission does; the scene then renders spectrally. With indices that do not depend on
+//! the wavelength the flag has no effect (a located warning says so).
 
 use super::bsdf::Lobes;
 use super::bxdf::specular::SpecularDielectric;
@@ -30,7 +29,7 @@ use super::{Builder, MaterialError};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;
 use crate::spectrum::Rgb;
-use crate::texture::{param_loc, Fresnel, FresnelData, FresnelTex};
+use crate::texture::{param_loc, Fresnel, FresnelTex};
 
 /// One side's volume index.
 #[derive(Debug)]
@@ -38,6 +37,8 @@ pub struct Side {
     tex: FresnelTex,
     /// The RGB index when it does not vary over the surface.
     fixed: Option<f32>,
+    /// Whether the index depends on the wavelength.
+    disperses: bool,
 }
 
 impl Side {
@@ -51,7 +52,12 @@ impl Side {
             Some(d) => Some(d.mean_index()),
             None => tex.as_const().map(|f| f.index()),
         };
-        Side { tex, fixed }
+        let disperses = tex.0.disperses();
+        Side {
+            tex,
+            fixed,
+            disperses,
+        }
     }
 
     /// The index without dispersion at a hit.
@@ -59,35 +65,12 @@ impl Side {
         self.fixed.unwrap_or_else(|| self.tex.eval(si).index())
     }
 
-    /// The spectral data, when the index depends on the wavelength.
-    fn dispersive(&self) -> Option<&FresnelData> {
-        self.tex.data().filter(|d| match d {
-            FresnelData::Cauchy { b, .. } => *b != 0.0,
-            _ => true,
-        })
-    }
-
-    /// The index at a hit as a function of the wavelength.
-    fn at(&self, si: &SurfaceInteraction) -> SideAt<'_> {
-        match self.dispersive() {
-            Some(d) => SideAt::Data(d),
-            None => SideAt::Fixed(self.index(si)),
-        }
-    }
-}
-
-/// A side's index at a hit, at any wavelength.
-#[derive(Clone, Copy, Debug)]
-pub enum SideAt<'a> {
-    Fixed(f32),
-    Data(&'a FresnelData),
-}
-
-impl SideAt<'_> {
-    fn at(&self, nm: f32) -> f32 {
-        match self {
-            SideAt::Fixed(n) => *n,
-            SideAt::Data(d) => d.at(nm).0,
+    /// The index at a hit at wavelength `nm`.
+    fn at(&self, si: &SurfaceInteraction, nm: f32) -> f32 {
+        if self.disperses {
+            self.tex.0.index_at(si, nm)
+        } else {
+            self.index(si)
         }
     }
 }
@@ -96,15 +79,16 @@ impl SideAt<'_> {
 /// were built with.
 #[derive(Clone, Copy, Debug)]
 pub struct SpectralEta<'a> {
-    interior: SideAt<'a>,
-    exterior: SideAt<'a>,
+    glass: &'a Glass2,
+    si: &'a SurfaceInteraction,
     base: f32,
 }
 
 impl SpectralEta<'_> {
     /// How much the lobes' index must change at wavelength `nm`.
     pub fn shift(&self, nm: f32) -> f32 {
-        ratio(self.interior.at(nm), self.exterior.at(nm)) - self.base
+        let g = self.glass;
+        ratio(g.interior.at(self.si, nm), g.exterior.at(self.si, nm)) - self.base
     }
 }
 
@@ -135,24 +119,17 @@ impl Glass2 {
             None => (Side::constant(1.0), Side::constant(1.0)),
         };
         let dispersion = p.bool_or("dispersion", false);
-        let disperses =
-            dispersion && (interior.dispersive().is_some() || exterior.dispersive().is_some());
+        let disperses = dispersion && (interior.disperses || exterior.disperses);
         // The copy built without volumes is never rendered by a shape with volumes: only the
         // copies bound to volumes report on the flag.
         if dispersion && !disperses && b.media.is_some() {
             let loc = param_loc(p, "dispersion", &e.loc);
-            let combined = [&interior, &exterior]
-                .iter()
-                .any(|s| s.tex.data().is_none() && s.fixed.is_none());
-            let message = if combined {
-                "glass2 \"dispersion\": a volume's fresnel texture is a combination (mix, scale, \
-                 band, ...), which is not evaluated per wavelength: its RGB index is used, \
-                 without dispersion"
-            } else {
+            b.warn(
+                &loc,
                 "glass2 \"dispersion\" has no effect: the indices of the shape's volumes do not \
                  depend on the wavelength (give a volume a cauchy or sellmeier fresnel texture)"
-            };
-            b.warn(&loc, message.into());
+                    .into(),
+            );
         }
         Ok(Glass2 {
             architectural: p.bool_or("architectural", false),
@@ -168,10 +145,10 @@ impl Glass2 {
     }
 
     /// The relative index as a function of the wavelength, when the shell disperses.
-    pub fn spectral_eta(&self, si: &SurfaceInteraction) -> Option<SpectralEta<'_>> {
+    pub fn spectral_eta<'a>(&'a self, si: &'a SurfaceInteraction) -> Option<SpectralEta<'a>> {
         self.disperses.then(|| SpectralEta {
-            interior: self.interior.at(si),
-            exterior: self.exterior.at(si),
+            glass: self,
+            si,
             base: self.eta(si),
         })
     }

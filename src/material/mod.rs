@@ -163,7 +163,7 @@ impl Material {
     /// glass and roughglass with `cauchyb` ≠ 0, glass2 with `dispersion` and a volume index
     /// that depends on the wavelength. [`Dispersion::shift`] gives the index change at a
     /// wavelength, applied by [`Bsdf::disperse`].
-    pub fn dispersion(&self, si: &SurfaceInteraction) -> Option<Dispersion<'_>> {
+    pub fn dispersion<'a>(&'a self, si: &'a SurfaceInteraction) -> Option<Dispersion<'a>> {
         let t = match &self.kind {
             MaterialKind::Glass(g) => g.cauchyb.as_ref(),
             MaterialKind::RoughGlass(g) => g.cauchyb.as_ref(),

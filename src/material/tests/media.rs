@@ -130,7 +130,8 @@ fn glass2_reads_a_fresnel_texture_and_disperses_with_it() {
     assert!(m.disperses());
     let base = eta_of(&set, disp);
     assert!((base - 1.6828 / 1.333).abs() < 1e-3, "{base}");
-    let d500 = m.dispersion(&flat_si()).expect("disperses");
+    let si = flat_si();
+    let d500 = m.dispersion(&si).expect("disperses");
     assert!((base + d500.shift(500.0) - 1.7 / 1.333).abs() < 1e-5);
     assert!(
         d500.shift(450.0) > d500.shift(650.0),
