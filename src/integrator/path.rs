@@ -18,7 +18,6 @@ use super::spectral::sample_wavelength;
 use super::volume::VolumeIntegrator;
 use super::DirectSettings;
 use crate::geometry::{Interaction, Ray};
-use crate::material::glass::cauchy_shift;
 use crate::plugin::{BuildError, Stmt};
 use crate::sampler::SampleStream;
 use crate::scene::World;
@@ -236,7 +235,7 @@ impl PathIntegrator {
                             nm
                         }
                     };
-                    bsdf.disperse(cauchy_shift(b, nm));
+                    bsdf.disperse(b.shift(nm));
                 }
             }
             if dls && bsdf.has_non_specular() {

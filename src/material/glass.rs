@@ -3,7 +3,8 @@
 //! crosses without bending, see [`super::bxdf::specular`]) and a thin film on the reflection
 //! (`film` nm, default 0 = none; `filmindex` 1.5). Dispersion: `cauchyb` (float texture,
 //! default 0) makes the index depend on the wavelength, n(λ) = index + cauchyb/λ² with λ in
-//! µm (LuxRender's definition); a scene with such a glass renders its paths through it with
+//! µm (LuxRender's definition; the documentation's spelling `cauchyB` is accepted with a
+//! warning); a scene with such a glass renders its paths through it with
 //! one sampled wavelength ([`crate::integrator`]'s spectral note), others stay RGB.
 
 use super::bsdf::Lobes;
@@ -13,7 +14,10 @@ use super::{Builder, MaterialError};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::Entity;
 use crate::spectrum::Rgb;
-use crate::texture::{ColorTex, FloatTex};
+use crate::texture::{param_loc, ColorTex, FloatTex};
+
+/// How the scene format's documentation spells `cauchyb`.
+pub const CAUCHYB_DOC_SPELLING: &str = "cauchyB";
 
 #[derive(Debug)]
 pub struct Glass {
@@ -26,9 +30,37 @@ pub struct Glass {
     pub cauchyb: Option<FloatTex>,
 }
 
-/// Reads `cauchyb`: `None` when it is the constant 0 (no dispersion).
+/// Reads `cauchyb`: `None` when it is the constant 0 (no dispersion). The scene format's
+/// page spells it `cauchyB`; LuxRender reads `cauchyb`: `cauchyB` is taken for it with a
+/// located warning, and ignored (with a warning) when `cauchyb` is given too.
 pub fn read_cauchyb(b: &mut Builder, e: &Entity) -> Result<Option<FloatTex>, MaterialError> {
-    let c = b.textures.float_param(&e.params, "cauchyb", 0.0)?;
+    let p = &e.params;
+    let name = if p.contains(CAUCHYB_DOC_SPELLING) {
+        let loc = param_loc(p, CAUCHYB_DOC_SPELLING, &e.loc);
+        if p.contains("cauchyb") {
+            p.get(CAUCHYB_DOC_SPELLING);
+            b.warn(
+                &loc,
+                format!(
+                    "{} \"cauchyB\" is ignored: LuxRender reads \"cauchyb\", which is given too",
+                    e.kind
+                ),
+            );
+            "cauchyb"
+        } else {
+            b.warn(
+                &loc,
+                format!(
+                    "{} \"cauchyB\" is read as \"cauchyb\" (LuxRender's spelling)",
+                    e.kind
+                ),
+            );
+            CAUCHYB_DOC_SPELLING
+        }
+    } else {
+        "cauchyb"
+    };
+    let c = b.textures.float_param(p, name, 0.0)?;
     Ok((c.as_const() != Some(0.0)).then_some(c))
 }
 

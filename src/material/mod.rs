@@ -89,6 +89,25 @@ impl From<MaterialError> for BuildError {
     }
 }
 
+/// How a dispersing material's index depends on the wavelength at one hit.
+#[derive(Clone, Copy, Debug)]
+pub enum Dispersion<'a> {
+    /// glass, roughglass: the index plus cauchyb/λ² (this is cauchyb).
+    Cauchy(f32),
+    /// glass2: the ratio of its volumes' indices at λ.
+    Volumes(glass2::SpectralEta<'a>),
+}
+
+impl Dispersion<'_> {
+    /// How much the index of the hit's lobes changes at wavelength `nm`.
+    pub fn shift(&self, nm: f32) -> f32 {
+        match self {
+            Dispersion::Cauchy(b) => glass::cauchy_shift(*b, nm),
+            Dispersion::Volumes(s) => s.shift(nm),
+        }
+    }
+}
+
 /// The closed set of materials.
 #[derive(Debug)]
 pub enum MaterialKind {
@@ -140,17 +159,19 @@ impl Material {
         }
     }
 
-    /// Cauchy's `cauchyb` at the hit when the material disperses light (glass and roughglass
-    /// with cauchyb ≠ 0): the index at wavelength λ is then raised by cauchyb/λ²
-    /// ([`glass::cauchy_shift`], applied by [`Bsdf::disperse`]).
-    pub fn dispersion(&self, si: &SurfaceInteraction) -> Option<f32> {
+    /// How the index depends on the wavelength at the hit, when the material disperses light:
+    /// glass and roughglass with `cauchyb` ≠ 0, glass2 with `dispersion` and a volume index
+    /// that depends on the wavelength. [`Dispersion::shift`] gives the index change at a
+    /// wavelength, applied by [`Bsdf::disperse`].
+    pub fn dispersion<'a>(&'a self, si: &'a SurfaceInteraction) -> Option<Dispersion<'a>> {
         let t = match &self.kind {
             MaterialKind::Glass(g) => g.cauchyb.as_ref(),
             MaterialKind::RoughGlass(g) => g.cauchyb.as_ref(),
+            MaterialKind::Glass2(g) => return g.spectral_eta(si).map(Dispersion::Volumes),
             _ => None,
         }?;
         let b = t.eval(si);
-        (b != 0.0 && b.is_finite()).then_some(b)
+        (b != 0.0 && b.is_finite()).then_some(Dispersion::Cauchy(b))
     }
 
     /// Whether the material can disperse light (it then needs spectral paths).
@@ -158,6 +179,7 @@ impl Material {
         match &self.kind {
             MaterialKind::Glass(g) => g.cauchyb.is_some(),
             MaterialKind::RoughGlass(g) => g.cauchyb.is_some(),
+            MaterialKind::Glass2(g) => g.disperses,
             _ => false,
         }
     }
@@ -183,7 +205,7 @@ impl Material {
             MaterialKind::Cloth(m) => m.lobes(si),
             MaterialKind::DoubleSide(m) => m.lobes(si, u_select),
             MaterialKind::Glass(m) => m.lobes(si),
-            MaterialKind::Glass2(m) => m.lobes(),
+            MaterialKind::Glass2(m) => m.lobes(si),
             MaterialKind::Glossy(m) => m.lobes(si),
             MaterialKind::GlossyCoating(m) => m.lobes(si, u_select),
             MaterialKind::GlossyLossy(m) => m.lobes(si),

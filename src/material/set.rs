@@ -11,7 +11,7 @@
 use super::{Material, MaterialError};
 use crate::fileio::SceneFiles;
 use crate::lxs::{Diagnostic, Entity, Loc, SceneDescription};
-use crate::texture::{TextureCtx, TextureSet};
+use crate::texture::{Fresnel, FresnelTex, TextureCtx, TextureSet};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -24,11 +24,11 @@ pub struct MaterialCtx {
 }
 
 /// The indices of refraction glass2 sees at a shape: `fresnel` of its Interior and Exterior
-/// volumes (1 when a side has none).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// volumes (a float or a fresnel texture; index 1 when a side has none).
+#[derive(Clone, Debug)]
 pub struct MediaIor {
-    pub interior: f32,
-    pub exterior: f32,
+    pub interior: FresnelTex,
+    pub exterior: FresnelTex,
 }
 
 /// Everything a material builder needs.
@@ -244,8 +244,8 @@ impl MaterialSet {
         );
         let mut b = Builder::new(desc, &mut textures, self.ctx.clone());
         let media = MediaIor {
-            interior: volume_ior(&mut b, interior),
-            exterior: volume_ior(&mut b, exterior),
+            interior: volume_ior(&mut b, interior)?,
+            exterior: volume_ior(&mut b, exterior)?,
         };
         b.media = Some(media);
         // Materials without glass2 are shared with the unbound set.
@@ -255,8 +255,12 @@ impl MaterialSet {
             }
         }
         let m = b.material(index, &Loc::default())?;
-        self.warnings.append(&mut b.warnings);
-        self.warnings.append(&mut textures.warnings);
+        // Each pair of volumes builds its copy anew: report each problem once.
+        for w in b.warnings.drain(..).chain(textures.warnings.drain(..)) {
+            if !self.warnings.contains(&w) {
+                self.warnings.push(w);
+            }
+        }
         self.materials.push(Some(m));
         let i = self.materials.len() - 1;
         self.bound.insert(key, i);
@@ -299,11 +303,12 @@ fn uses_media(desc: &SceneDescription, index: usize, seen: &mut Vec<usize>) -> b
     })
 }
 
-/// The `fresnel` index of a named volume (1 without a volume). A fresnel texture needs the
-/// texture support of fresnel data; until then its index is 1.5, with a located warning.
-fn volume_ior(b: &mut Builder, name: Option<&str>) -> f32 {
+/// The `fresnel` of a named volume (index 1 without a volume, or for a name no volume has):
+/// a float or a fresnel texture, read as the volume reads it ([`crate::volume::read_fresnel`]).
+fn volume_ior(b: &mut Builder, name: Option<&str>) -> Result<FresnelTex, MaterialError> {
+    let vacuum = || FresnelTex::constant(Fresnel::dielectric(1.0));
     let Some(name) = name else {
-        return 1.0;
+        return Ok(vacuum());
     };
     let desc = b.desc;
     let Some(v) = desc
@@ -311,21 +316,11 @@ fn volume_ior(b: &mut Builder, name: Option<&str>) -> f32 {
         .get(name)
         .and_then(|&i| desc.volumes.get(i))
     else {
-        return 1.0;
+        return Ok(vacuum());
     };
-    let p = &v.entity.params;
-    if let Some(f) = p.float("fresnel") {
-        return if f.is_finite() && f > 0.0 { f } else { 1.0 };
-    }
-    if p.contains("fresnel") {
-        let loc = crate::texture::param_loc(p, "fresnel", &v.entity.loc);
-        b.warn(
-            &loc,
-            format!(
-                "volume \"{name}\": a fresnel texture is not evaluated for glass2 yet: index 1.5"
-            ),
-        );
-        return 1.5;
-    }
-    1.0
+    Ok(crate::volume::read_fresnel(
+        &v.entity.params,
+        &v.entity.loc,
+        b.textures,
+    )?)
 }

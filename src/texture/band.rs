@@ -121,6 +121,17 @@ impl BandFresnel {
             },
         }
     }
+
+    /// The real index at wavelength `nm` (see [`FresnelNode::index_at`]).
+    pub fn index_at(&self, si: &SurfaceInteraction, nm: f32) -> f32 {
+        match locate(&self.offsets, self.amount.value(si)) {
+            Err(i) => self.tex.get(i).map_or(0.0, |t| t.index_at(si, nm)),
+            Ok((i, t)) => match (self.tex.get(i), self.tex.get(i + 1)) {
+                (Some(a), Some(b)) => a.index_at(si, nm) * (1.0 - t) + b.index_at(si, nm) * t,
+                _ => 0.0,
+            },
+        }
+    }
 }
 
 pub fn build_fresnel(set: &mut TextureSet, t: &TextureDesc) -> Result<FresnelNode, TextureError> {

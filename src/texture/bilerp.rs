@@ -83,6 +83,13 @@ impl BilerpFresnel {
             .plus(v10.scaled(s * (1.0 - t)))
             .plus(v11.scaled(s * t))
     }
+
+    /// The real index at wavelength `nm` (see [`FresnelNode::index_at`]).
+    pub fn index_at(&self, si: &SurfaceInteraction, nm: f32) -> f32 {
+        let Vec2 { x: s, y: t } = frac(self.mapping.map(si));
+        let [v00, v01, v10, v11] = [0, 1, 2, 3].map(|i| self.v[i].index_at(si, nm));
+        v00 * (1.0 - s) * (1.0 - t) + v01 * (1.0 - s) * t + v10 * s * (1.0 - t) + v11 * s * t
+    }
 }
 
 pub fn build_fresnel(set: &mut TextureSet, t: &TextureDesc) -> Result<FresnelNode, TextureError> {

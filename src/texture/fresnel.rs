@@ -205,6 +205,52 @@ impl FresnelNode {
             FresnelNode::MultiMix(t) => t.eval(si),
         }
     }
+
+    /// The real index at wavelength `nm` at a hit, for spectral rendering: spectral data at
+    /// λ; an RGB value (a constant, fresnelcolor) its channel whose band holds λ; the
+    /// combinations combine their operands' indices at λ as their RGB values are combined.
+    pub fn index_at(&self, si: &SurfaceInteraction, nm: f32) -> f32 {
+        match self {
+            FresnelNode::Const(f) => channel_at(f.n, nm),
+            FresnelNode::Data { data, .. } => data.at(nm).0,
+            FresnelNode::Color(t) => channel_at(t.eval(si).n, nm),
+            FresnelNode::Mix(t) => t.index_at(si, nm),
+            FresnelNode::Scale(t) => t.index_at(si, nm),
+            FresnelNode::Band(t) => t.index_at(si, nm),
+            FresnelNode::Bilerp(t) => t.index_at(si, nm),
+            FresnelNode::MultiMix(t) => t.index_at(si, nm),
+        }
+    }
+
+    /// Whether the index may depend on the wavelength: spectral data other than Cauchy's law
+    /// with b = 0, an RGB value whose channels differ, or a combination of such.
+    pub fn disperses(&self) -> bool {
+        let any = |v: &[Arc<FresnelNode>]| v.iter().any(|t| t.disperses());
+        match self {
+            FresnelNode::Const(f) => f.n.r != f.n.g || f.n.g != f.n.b,
+            FresnelNode::Data { data, .. } => {
+                !matches!(**data, FresnelData::Cauchy { b, .. } if b == 0.0)
+            }
+            FresnelNode::Color(_) => true,
+            FresnelNode::Mix(t) => t.tex1.disperses() || t.tex2.disperses(),
+            FresnelNode::Scale(t) => t.f.disperses(),
+            FresnelNode::Band(t) => any(&t.tex),
+            FresnelNode::Bilerp(t) => any(&t.v),
+            FresnelNode::MultiMix(t) => any(&t.tex),
+        }
+    }
+}
+
+/// The channel of `c` whose band (see `BANDS`) holds wavelength `nm`; below the blue band
+/// blue, above the red band red.
+fn channel_at(c: Rgb, nm: f32) -> f32 {
+    if nm < BANDS[1].0 as f32 {
+        c.b
+    } else if nm < BANDS[0].0 as f32 {
+        c.g
+    } else {
+        c.r
+    }
 }
 
 /// A fresnel-valued texture.

@@ -55,6 +55,12 @@ impl MixFresnel {
             self.tex2.eval(si),
         )
     }
+
+    /// The real index at wavelength `nm` (see [`FresnelNode::index_at`]).
+    pub fn index_at(&self, si: &SurfaceInteraction, nm: f32) -> f32 {
+        let a = self.amount.value(si);
+        self.tex1.index_at(si, nm) * (1.0 - a) + self.tex2.index_at(si, nm) * a
+    }
 }
 
 pub fn build_fresnel(set: &mut TextureSet, t: &TextureDesc) -> Result<FresnelNode, TextureError> {

@@ -85,6 +85,13 @@ pub enum TextureError {
     UnknownClass { loc: Loc, ty: String, class: String },
     #[error("{loc}: no {ty} texture named \"{name}\"")]
     Missing { loc: Loc, ty: String, name: String },
+    #[error("{loc}: texture \"{name}\" is a {actual} texture where a {ty} texture is needed")]
+    WrongType {
+        loc: Loc,
+        ty: String,
+        name: String,
+        actual: String,
+    },
     #[error("{loc}: texture \"{name}\" refers to itself")]
     Cycle { loc: Loc, name: String },
     #[error("{loc}: cannot load image \"{path}\": {message}")]
@@ -113,6 +120,7 @@ impl From<TextureError> for BuildError {
         let loc = match &e {
             TextureError::UnknownClass { loc, .. }
             | TextureError::Missing { loc, .. }
+            | TextureError::WrongType { loc, .. }
             | TextureError::Cycle { loc, .. }
             | TextureError::Image { loc, .. }
             | TextureError::BadParam { loc, .. } => loc.clone(),

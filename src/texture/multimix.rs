@@ -66,6 +66,15 @@ impl MultiMixFresnel {
                 acc.plus(t.eval(si).scaled(*w))
             })
     }
+
+    /// The real index at wavelength `nm` (see [`FresnelNode::index_at`]).
+    pub fn index_at(&self, si: &SurfaceInteraction, nm: f32) -> f32 {
+        self.weights
+            .iter()
+            .zip(&self.tex)
+            .map(|(w, t)| w * t.index_at(si, nm))
+            .sum()
+    }
 }
 
 pub fn build_fresnel(set: &mut TextureSet, t: &TextureDesc) -> Result<FresnelNode, TextureError> {

@@ -25,6 +25,11 @@ impl ScaleFresnel {
     pub fn eval(&self, si: &SurfaceInteraction) -> Fresnel {
         self.f.eval(si).scaled(self.k.value(si))
     }
+
+    /// The real index at wavelength `nm` (see [`FresnelNode::index_at`]).
+    pub fn index_at(&self, si: &SurfaceInteraction, nm: f32) -> f32 {
+        self.f.index_at(si, nm) * self.k.value(si)
+    }
 }
 
 pub fn build_fresnel(set: &mut TextureSet, t: &TextureDesc) -> Result<FresnelNode, TextureError> {

@@ -178,12 +178,26 @@ impl<'a> TextureSet<'a> {
         }
     }
 
-    /// The fresnel texture `name`, built on first use.
+    /// The fresnel texture `name`, built on first use; a float or colour texture of that name
+    /// is reported as the wrong kind.
     pub fn named_fresnel(
         &mut self,
         name: &str,
         loc: &Loc,
     ) -> Result<Arc<FresnelNode>, TextureError> {
+        if self.desc.texture(TextureType::Fresnel, name).is_none() {
+            let other = [TextureType::Float, TextureType::Color]
+                .into_iter()
+                .find(|&o| self.desc.texture(o, name).is_some());
+            if let Some(o) = other {
+                return Err(TextureError::WrongType {
+                    loc: loc.clone(),
+                    ty: "fresnel".to_string(),
+                    name: name.to_string(),
+                    actual: type_name(o).to_string(),
+                });
+            }
+        }
         match self.get(TextureType::Fresnel, name, loc)? {
             Built::Fresnel(n) => Ok(n),
             Built::Node(_) => Err(TextureError::Missing {

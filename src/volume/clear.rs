@@ -16,7 +16,7 @@ pub struct Clear {
 impl Clear {
     pub fn build(s: &mut Stmt, textures: &mut TextureSet) -> Result<Clear, VolumeError> {
         let absorption = super::constant_color(s, textures, "absorption")?;
-        s.params().get("fresnel");
+        super::read_fresnel(s.params(), s.loc(), textures)?;
         Ok(Clear { absorption })
     }
 

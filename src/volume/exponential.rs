@@ -27,7 +27,7 @@ pub fn build(
     let up = Vec3A::from(up.as_vec3()).normalize_or(Vec3A::Y);
     let g = super::read_g(s);
     let step = s.positive("stepsize", 1.0)?;
-    s.params().get("fresnel");
+    super::read_fresnel(s.params(), s.loc(), textures)?;
     Ok(Heterogeneous {
         density: Density::Exponential {
             sigma_a,

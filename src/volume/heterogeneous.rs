@@ -100,7 +100,7 @@ impl Heterogeneous {
         let sigma_s = textures.color_param(p, "sigma_s", Rgb::BLACK)?;
         let g = super::read_g(s);
         let step = s.positive("stepsize", 1.0)?;
-        p.get("fresnel");
+        super::read_fresnel(p, s.loc(), textures)?;
         Ok(Heterogeneous {
             density: Density::Textures { sigma_a, sigma_s },
             g,

@@ -27,10 +27,10 @@ pub mod phase;
 pub mod region;
 
 use crate::geometry::Ray;
-use crate::lxs::{Diagnostic, SceneDescription};
+use crate::lxs::{Diagnostic, Loc, ParamSet, SceneDescription};
 use crate::plugin::{report_unused, warn, BuildError, Stmt};
 use crate::spectrum::Rgb;
-use crate::texture::{TextureError, TextureSet};
+use crate::texture::{param_loc, FresnelTex, TextureError, TextureSet};
 use glam::Vec3A;
 use std::collections::BTreeMap;
 
@@ -193,12 +193,38 @@ fn read_common(s: &mut Stmt, textures: &mut TextureSet) -> Result<Common, Volume
     let sigma_a = constant_color(s, textures, "sigma_a")?;
     let sigma_s = constant_color(s, textures, "sigma_s")?;
     let g = read_g(s);
-    s.params().get("fresnel");
+    read_fresnel(s.params(), s.loc(), textures)?;
     Ok(Common {
         sigma_a,
         sigma_s,
         g,
     })
+}
+
+/// LuxRender's default `fresnel` of a volume: the index of vacuum.
+pub const DEFAULT_FRESNEL: f32 = 1.0;
+
+/// A volume's `fresnel` (every medium kind takes it): a float index of refraction (default
+/// [`DEFAULT_FRESNEL`]) or the name of a fresnel texture (cauchy, sellmeier, fresnelname,
+/// sopra, luxpop, fresnelcolor, constant, and their mixes), as LuxRender's volumes read it.
+/// The medium itself does not use it (light in a medium travels straight); glass2 takes its
+/// index from it ([`crate::material::MaterialSet::bind_media`]). Reading it when the medium is
+/// built also reports, located, a texture name that is missing or not a fresnel texture and
+/// an index that is not a positive number.
+pub fn read_fresnel(
+    params: &ParamSet,
+    loc: &Loc,
+    textures: &mut TextureSet,
+) -> Result<FresnelTex, TextureError> {
+    if let Some(v) = params.float("fresnel") {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(TextureError::BadParam {
+                loc: param_loc(params, "fresnel", loc),
+                message: format!("volume \"fresnel\" must be a positive index, got {v}"),
+            });
+        }
+    }
+    textures.fresnel_param(params, "fresnel", DEFAULT_FRESNEL)
 }
 
 /// `g`: a float or a colour (LuxRender's colour texture), averaged into one asymmetry.

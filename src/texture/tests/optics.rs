@@ -355,7 +355,7 @@ fn fresnel_types_are_their_own_namespace() {
     ps.add("fresnel", tex_ref("fb"));
     assert!(matches!(
         set.fresnel_param(&ps, "fresnel", 1.5),
-        Err(TextureError::Missing { .. })
+        Err(TextureError::WrongType { .. })
     ));
     let mut ps = ParamSet::new();
     ps.add("x", tex_ref("cy"));
@@ -371,4 +371,65 @@ fn fresnel_types_are_their_own_namespace() {
             .contains("unknown fresnel texture class \"fbm\""),
         "{e}"
     );
+}
+
+#[test]
+fn index_at_a_wavelength_through_combinations() {
+    let mut d = SceneDescription::default();
+    add_tex(
+        &mut d,
+        "c",
+        TextureType::Fresnel,
+        "cauchy",
+        vec![("cauchya", f(1.5)), ("cauchyb", f(0.05))],
+    );
+    add_tex(
+        &mut d,
+        "c0",
+        TextureType::Fresnel,
+        "cauchy",
+        vec![("cauchya", f(1.4))],
+    );
+    add_tex(
+        &mut d,
+        "m",
+        TextureType::Fresnel,
+        "mix",
+        vec![
+            ("tex1", tex_ref("c")),
+            ("tex2", f(1.0)),
+            ("amount", f(0.25)),
+        ],
+    );
+    add_tex(
+        &mut d,
+        "s",
+        TextureType::Fresnel,
+        "scale",
+        vec![("tex1", f(2.0)), ("tex2", tex_ref("c0"))],
+    );
+    let mut set = TextureSet::new(&d, TextureCtx::default());
+    let si = si_at(0.5, 0.5, Vec3A::ZERO);
+    // Cauchy at 500 nm: 1.5 + 0.05 / 0.25 = 1.7; at 400 nm 1.5 + 0.05 / 0.16 = 1.8125.
+    let c = fresnel_of(&mut set, "c");
+    assert!((c.0.index_at(&si, 500.0) - 1.7).abs() < 1e-5);
+    assert!(c.0.disperses());
+    // mix: 0.75 × 1.7 + 0.25 × 1 at 500 nm.
+    let m = fresnel_of(&mut set, "m");
+    assert!((m.0.index_at(&si, 500.0) - 1.525).abs() < 1e-5);
+    assert!((m.0.index_at(&si, 400.0) - (0.75 * 1.8125 + 0.25)).abs() < 1e-5);
+    assert!(m.0.disperses());
+    // Cauchy's law with b = 0 and a scale of it do not depend on the wavelength.
+    let s = fresnel_of(&mut set, "s");
+    assert!((s.0.index_at(&si, 450.0) - 2.8).abs() < 1e-5);
+    assert!(!s.0.disperses() && !fresnel_of(&mut set, "c0").0.disperses());
+    // A constant reads its channel by band: blue below 490 nm, red from 580 nm.
+    let rgb = FresnelNode::Const(Fresnel {
+        n: crate::spectrum::Rgb::new(1.4, 1.5, 1.6),
+        k: crate::spectrum::Rgb::splat(0.0),
+    });
+    assert_eq!(rgb.index_at(&si, 450.0), 1.6);
+    assert_eq!(rgb.index_at(&si, 500.0), 1.5);
+    assert_eq!(rgb.index_at(&si, 650.0), 1.4);
+    assert!(rgb.disperses());
 }
