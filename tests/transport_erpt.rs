@@ -138,21 +138,11 @@ fn image_mean_of_known_emitters_matches_path() {
     assert!((me - mp).abs() < 0.03 * mp, "erpt {me} vs path {mp}");
 }
 
-fn session(setup: &str, size: u32, threads: usize, stream: u64) -> Session {
-    let (desc, dir) = scene("cornell/cornell.lxs", setup, size, size);
-    let opts = SessionOptions {
-        threads,
-        seed: 11,
-        stream,
-    };
-    Session::new(&desc, &dir, opts).expect("session builds")
-}
-
 const ERPT_BIDIR: &str = "Sampler \"erpt\" \"integer pixelsamples\" [2] \"integer chainlength\" [32] \"integer initsamples\" [1000]\nSurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [8] \"integer lightdepth\" [8]";
 
 #[test]
 fn erpt_renders_per_screen_without_fallback_warning() {
-    let s = session(ERPT_BIDIR, 16, 1, 0);
+    let s = cornell_session(ERPT_BIDIR, 16, 1, 0);
     assert_eq!(s.buffers(), &[BufferType::PerScreen, BufferType::PerScreen]);
     assert!(
         !s.warnings().iter().any(|w| w.to_string().contains("erpt")),
@@ -163,7 +153,7 @@ fn erpt_renders_per_screen_without_fallback_warning() {
 
 #[test]
 fn chains_accept_a_sane_share_of_mutations() {
-    let mut s = session(ERPT_PATH, 24, 2, 0);
+    let mut s = cornell_session(ERPT_PATH, 24, 2, 0);
     s.render_pass();
     s.render_pass();
     let st = s.chain_stats().expect("erpt chains");
@@ -179,44 +169,16 @@ fn chains_accept_a_sane_share_of_mutations() {
     assert!(s.erpt_quantum().is_some_and(|q| q > 0.0));
 }
 
-fn render_film(setup: &str, threads: usize, stream: u64) -> Film {
-    let mut s = session(setup, 24, threads, stream);
-    for _ in 0..2 {
-        assert!(s.render_pass().complete);
-    }
-    s.take_film()
-}
-
 #[test]
 fn erpt_film_does_not_depend_on_threads() {
-    let a = render_film(ERPT_BIDIR, 1, 3);
-    let b = render_film(ERPT_BIDIR, 2, 3);
-    for buf in 0..2 {
-        assert_eq!(a.buffer(0, buf), b.buffer(0, buf), "buffer {buf}");
-    }
-    assert!(a.buffer(0, 0).unwrap().iter().any(|v| *v > 0.0));
+    assert_thread_independent(ERPT_BIDIR);
 }
 
 /// Two workers on their own streams: the merged film is the exact sum of theirs (buffers
 /// and sample counts) and differs from either (independent seeds and chains).
 #[test]
 fn two_workers_merge_as_an_exact_sum() {
-    let a = render_film(ERPT_BIDIR, 2, 0);
-    let b = render_film(ERPT_BIDIR, 2, 1);
-    let mut m = a.clone();
-    m.merge(&b).expect("same layout");
-    for buf in 0..2 {
-        let (va, vb, vm) = (
-            a.buffer(0, buf).unwrap(),
-            b.buffer(0, buf).unwrap(),
-            m.buffer(0, buf).unwrap(),
-        );
-        assert_ne!(va, vb, "streams 0 and 1 ran the same chains");
-        for ((x, y), z) in va.iter().zip(vb).zip(vm) {
-            assert_eq!(x + y, *z);
-        }
-    }
-    assert_eq!(m.sample_count(0), a.sample_count(0) + b.sample_count(0));
+    let a = assert_streams_merge_exactly(ERPT_BIDIR);
     // 2 passes of ⌈24·24·2 / 33⌉ = 35 seeds, each counting 33 samples.
     assert_eq!(a.sample_count(0), f64::from(2 * 35 * 33));
 }

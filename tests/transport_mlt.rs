@@ -5,8 +5,7 @@
 
 mod transport_common;
 
-use luxfarm::film::{BufferType, Film};
-use luxfarm::render::{Session, SessionOptions};
+use luxfarm::film::BufferType;
 use transport_common::*;
 
 const PATH: &str = "Sampler \"random\" \"integer pixelsamples\" [4]\nSurfaceIntegrator \"path\" \"integer maxdepth\" [16]";
@@ -31,19 +30,9 @@ fn cornell_metropolis_bidirectional_matches_random_path() {
     assert_agree("cornell metropolis+bidir/random+path", &rp, &rm, 4.0, 0.0);
 }
 
-fn session(setup: &str, size: u32, threads: usize, stream: u64) -> Session {
-    let (desc, dir) = scene("cornell/cornell.lxs", setup, size, size);
-    let opts = SessionOptions {
-        threads,
-        seed: 11,
-        stream,
-    };
-    Session::new(&desc, &dir, opts).expect("session builds")
-}
-
 #[test]
 fn metropolis_renders_per_screen_without_fallback_warning() {
-    let s = session(MLT_BIDIR, 16, 1, 0);
+    let s = cornell_session(MLT_BIDIR, 16, 1, 0);
     assert_eq!(s.buffers(), &[BufferType::PerScreen, BufferType::PerScreen]);
     assert!(
         !s.warnings()
@@ -56,7 +45,7 @@ fn metropolis_renders_per_screen_without_fallback_warning() {
 
 #[test]
 fn chains_accept_a_sane_share_of_proposals() {
-    let mut s = session(MLT_PATH, 32, 2, 0);
+    let mut s = cornell_session(MLT_PATH, 32, 2, 0);
     s.render_pass();
     s.render_pass();
     let st = s.chain_stats().expect("metropolis chains");
@@ -66,44 +55,16 @@ fn chains_accept_a_sane_share_of_proposals() {
     assert!(rate > 0.05 && rate < 0.95, "acceptance rate {rate}");
 }
 
-fn render_film(setup: &str, threads: usize, stream: u64) -> Film {
-    let mut s = session(setup, 24, threads, stream);
-    for _ in 0..2 {
-        assert!(s.render_pass().complete);
-    }
-    s.take_film()
-}
-
 #[test]
 fn metropolis_film_does_not_depend_on_threads() {
-    let a = render_film(MLT_BIDIR, 1, 3);
-    let b = render_film(MLT_BIDIR, 2, 3);
-    for buf in 0..2 {
-        assert_eq!(a.buffer(0, buf), b.buffer(0, buf), "buffer {buf}");
-    }
-    assert!(a.buffer(0, 0).unwrap().iter().any(|v| *v > 0.0));
+    assert_thread_independent(MLT_BIDIR);
 }
 
 /// Two workers on their own streams: the merged film is the exact sum of theirs (buffers
 /// and sample counts) and differs from either (independent chains).
 #[test]
 fn two_workers_merge_as_an_exact_sum() {
-    let a = render_film(MLT_BIDIR, 2, 0);
-    let b = render_film(MLT_BIDIR, 2, 1);
-    let mut m = a.clone();
-    m.merge(&b).expect("same layout");
-    for buf in 0..2 {
-        let (va, vb, vm) = (
-            a.buffer(0, buf).unwrap(),
-            b.buffer(0, buf).unwrap(),
-            m.buffer(0, buf).unwrap(),
-        );
-        assert_ne!(va, vb, "streams 0 and 1 ran the same chains");
-        for ((x, y), z) in va.iter().zip(vb).zip(vm) {
-            assert_eq!(x + y, *z);
-        }
-    }
-    assert_eq!(m.sample_count(0), a.sample_count(0) + b.sample_count(0));
+    let a = assert_streams_merge_exactly(MLT_BIDIR);
     assert_eq!(a.sample_count(0), f64::from(2 * 24 * 24 * 2));
 }
 

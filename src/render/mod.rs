@@ -424,24 +424,57 @@ impl Session {
     /// chains into a pass film, merged into the session film once complete.
     fn render_pass_erpt(&mut self) -> PassStats {
         let start = Instant::now();
-        let fp = &self.scene.setup.film_params;
-        let spp = self.scene.setup.sampler.pixel_samples().max(1);
-        let traces = u64::from(fp.x_pixel_count)
-            .saturating_mul(u64::from(fp.y_pixel_count))
-            .saturating_mul(u64::from(spp));
         let Some(m) = self.scene.setup.sampler.erpt().map(|p| p.chain_length) else {
             return PassStats::default();
         };
-        let seeds = erpt::seeds_per_pass(traces, m);
+        let seeds = erpt::seeds_per_pass(self.traces_per_pass(), m);
         let samples = seeds.saturating_mul(erpt::samples_per_seed(m));
-        let mut pass_film = self.film.clone();
-        pass_film.clear();
+        let mut pass_film = self.empty_pass_film();
         let Some(state) = self.erpt.as_mut() else {
             return PassStats::default();
         };
-        let Some(invalid) =
-            state.run_pass(&self.scene, &self.pool, &self.cancel, seeds, &mut pass_film)
-        else {
+        let invalid = state.run_pass(&self.scene, &self.pool, &self.cancel, seeds, &mut pass_film);
+        self.merge_chain_pass(start, samples, invalid.map(|i| (pass_film, i)))
+    }
+
+    /// A pass of the metropolis sampler: `pixels × pixelsamples` chain steps into a pass
+    /// film, merged into the session film once complete.
+    fn render_pass_mlt(&mut self) -> PassStats {
+        let start = Instant::now();
+        let steps = self.traces_per_pass();
+        let mut pass_film = self.empty_pass_film();
+        let Some(state) = self.mlt.as_mut() else {
+            return PassStats::default();
+        };
+        let invalid = state.run_pass(&self.scene, &self.pool, &self.cancel, steps, &mut pass_film);
+        self.merge_chain_pass(start, steps, invalid.map(|i| (pass_film, i)))
+    }
+
+    /// Samples traced per pass of a chain sampler: `pixels × pixelsamples`.
+    fn traces_per_pass(&self) -> u64 {
+        let fp = &self.scene.setup.film_params;
+        let spp = self.scene.setup.sampler.pixel_samples().max(1);
+        u64::from(fp.x_pixel_count)
+            .saturating_mul(u64::from(fp.y_pixel_count))
+            .saturating_mul(u64::from(spp))
+    }
+
+    /// A cleared film of the session's layout for one chain pass.
+    fn empty_pass_film(&self) -> Film {
+        let mut f = self.film.clone();
+        f.clear();
+        f
+    }
+
+    /// Merges a chain sampler's complete pass (its film and invalid count) into the session
+    /// film and counts its `samples`; a cancelled pass (`None`) is discarded.
+    fn merge_chain_pass(
+        &mut self,
+        start: Instant,
+        samples: u64,
+        pass: Option<(Film, u64)>,
+    ) -> PassStats {
+        let Some((pass_film, invalid)) = pass else {
             return PassStats {
                 seconds: start.elapsed().as_secs_f64(),
                 ..Default::default()
@@ -451,32 +484,6 @@ impl Session {
             tracing::error!("pass merge failed: {e}");
         }
         self.finish_pass(start, samples, invalid, 0)
-    }
-
-    /// A pass of the metropolis sampler: `pixels × pixelsamples` chain steps into a pass
-    /// film, merged into the session film once complete.
-    fn render_pass_mlt(&mut self) -> PassStats {
-        let start = Instant::now();
-        let fp = &self.scene.setup.film_params;
-        let spp = self.scene.setup.sampler.pixel_samples().max(1);
-        let steps = u64::from(fp.x_pixel_count) * u64::from(fp.y_pixel_count) * u64::from(spp);
-        let mut pass_film = self.film.clone();
-        pass_film.clear();
-        let Some(state) = self.mlt.as_mut() else {
-            return PassStats::default();
-        };
-        let Some(invalid) =
-            state.run_pass(&self.scene, &self.pool, &self.cancel, steps, &mut pass_film)
-        else {
-            return PassStats {
-                seconds: start.elapsed().as_secs_f64(),
-                ..Default::default()
-            };
-        };
-        if let Err(e) = self.film.merge(&pass_film) {
-            tracing::error!("pass merge failed: {e}");
-        }
-        self.finish_pass(start, steps, invalid, 0)
     }
 
     /// Counts a completed pass: its samples in the film, its discarded samples; then the

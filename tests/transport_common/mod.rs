@@ -153,3 +153,56 @@ pub fn assert_agree(what: &str, a: &[Vec<f64>], b: &[Vec<f64>], zmax: f64, rel: 
     assert!(mean_z2 < 4.0, "{what}: mean z² {mean_z2:.2}");
     worst
 }
+
+/// A session over the Cornell box at `size`² with `setup`, seed 11, on `stream`.
+pub fn cornell_session(setup: &str, size: u32, threads: usize, stream: u64) -> Session {
+    let (desc, dir) = scene("cornell/cornell.lxs", setup, size, size);
+    let opts = SessionOptions {
+        threads,
+        seed: 11,
+        stream,
+    };
+    Session::new(&desc, &dir, opts).expect("session builds")
+}
+
+/// Two passes of the Cornell box at 24² with `setup`.
+pub fn cornell_film(setup: &str, threads: usize, stream: u64) -> Film {
+    let mut s = cornell_session(setup, 24, threads, stream);
+    for _ in 0..2 {
+        assert!(s.render_pass().complete);
+    }
+    s.take_film()
+}
+
+/// The per-screen films of a chain sampler do not depend on the thread count.
+pub fn assert_thread_independent(setup: &str) {
+    let a = cornell_film(setup, 1, 3);
+    let b = cornell_film(setup, 2, 3);
+    for buf in 0..2 {
+        assert_eq!(a.buffer(0, buf), b.buffer(0, buf), "buffer {buf}");
+    }
+    assert!(a.buffer(0, 0).unwrap().iter().any(|v| *v > 0.0));
+}
+
+/// Two workers on their own streams: the merged film is the exact sum of theirs (buffers
+/// and sample counts) and differs from either (independent chains). Returns one worker's
+/// film for the caller's own checks.
+pub fn assert_streams_merge_exactly(setup: &str) -> Film {
+    let a = cornell_film(setup, 2, 0);
+    let b = cornell_film(setup, 2, 1);
+    let mut m = a.clone();
+    m.merge(&b).expect("same layout");
+    for buf in 0..2 {
+        let (va, vb, vm) = (
+            a.buffer(0, buf).unwrap(),
+            b.buffer(0, buf).unwrap(),
+            m.buffer(0, buf).unwrap(),
+        );
+        assert_ne!(va, vb, "streams 0 and 1 ran the same chains");
+        for ((x, y), z) in va.iter().zip(vb).zip(vm) {
+            assert_eq!(x + y, *z);
+        }
+    }
+    assert_eq!(m.sample_count(0), a.sample_count(0) + b.sample_count(0));
+    a
+}

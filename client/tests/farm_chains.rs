@@ -1,9 +1,10 @@
-//! ERPT on the farm (issue 14): two workers render the Cornell box with the erpt sampler and
-//! the path integrator, each on its own stream (its own seeds, warm-up and chains). The
-//! master's film is the exact sum of the deltas it acknowledged, and its image is the image
-//! of a local render within noise: compared with a local render, it differs no more than a
-//! second local render of another seed does (RMSE and mean ratio, through `luxfarm
-//! compare-image` on the EXR outputs, which apply the per-screen normalisation).
+//! The Markov-chain samplers on the farm (issue 14): two workers render the Cornell box at
+//! 64×64 with metropolis + bidirectional, or erpt + path, each worker on its own stream (its
+//! own chains; erpt its own seeds and warm-up). The master's film is the exact sum of the
+//! deltas it acknowledged, and its image is the image of a local render within noise:
+//! compared with a local render, it differs no more than a second local render of another
+//! seed does (RMSE and mean ratio, through `luxfarm compare-image` on the EXR outputs, which
+//! apply the per-screen normalisation of these films).
 
 mod farm_common;
 
@@ -13,19 +14,22 @@ use std::process::Command;
 
 const SPP: u32 = 16;
 
-/// The Cornell box at 64×64 with erpt (short chains and warm-up for the debug build: a pass
-/// of ⌈64·64·2 / 65⌉ = 127 seeds) + path.
-fn scene_text() -> String {
+const METROPOLIS: &str = "Sampler \"metropolis\" \"integer pixelsamples\" [2]";
+const BIDIRECTIONAL: &str =
+    "SurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [8] \"integer lightdepth\" [8]";
+/// Short chains and warm-up for the debug build: a pass of ⌈64·64·2 / 65⌉ = 127 seeds.
+const ERPT: &str = "Sampler \"erpt\" \"integer pixelsamples\" [2] \"integer chainlength\" [64] \
+                    \"integer initsamples\" [4000]";
+const PATH: &str = "SurfaceIntegrator \"path\" \"integer maxdepth\" [8]";
+
+/// The Cornell box at 64×64 with the given Sampler and SurfaceIntegrator statements.
+fn scene_text(sampler: &str, integrator: &str) -> String {
     let text = std::fs::read_to_string(shared().join("scenes/cornell/cornell.lxs")).unwrap();
     text.replace("[256]", "[64]")
-        .replace(
-            "Sampler \"random\" \"integer pixelsamples\" [1]",
-            "Sampler \"erpt\" \"integer pixelsamples\" [2] \"integer chainlength\" [64] \
-             \"integer initsamples\" [4000]",
-        )
+        .replace("Sampler \"random\" \"integer pixelsamples\" [1]", sampler)
         .replace(
             "SurfaceIntegrator \"path\" \"integer maxdepth\" [8] \"string rrstrategy\" [\"none\"]",
-            "SurfaceIntegrator \"path\" \"integer maxdepth\" [8]",
+            integrator,
         )
 }
 
@@ -58,14 +62,25 @@ fn compare(a: &Path, b: &Path) -> (f64, f64) {
 }
 
 #[test]
+fn two_workers_render_metropolis_as_a_local_render_does() {
+    farm_matches_local("mlt", METROPOLIS, BIDIRECTIONAL);
+}
+
+#[test]
 fn two_workers_render_erpt_as_a_local_render_does() {
+    farm_matches_local("erpt", ERPT, PATH);
+}
+
+/// Renders the scene (`stem`.lxs) on two workers to haltspp and checks the merged film
+/// against the acknowledged deltas and its image against local renders.
+fn farm_matches_local(stem: &str, sampler: &str, integrator: &str) {
     let dir = tempfile::tempdir().unwrap();
-    let text = scene_text();
-    assert!(text.contains("\"erpt\"") && text.contains("chainlength"));
-    let scene = dir.path().join("erpt.lxs");
+    let text = scene_text(sampler, integrator);
+    assert!(text.contains(sampler) && text.contains(integrator));
+    let scene = dir.path().join(format!("{stem}.lxs"));
     std::fs::write(&scene, &text).unwrap();
     let s = server(&dir.path().join("data"), &["--upload-interval", "1"]);
-    let query = format!("?filename=erpt.lxs&haltspp={SPP}&seed=5");
+    let query = format!("?filename={stem}.lxs&haltspp={SPP}&seed=5");
     let (st, job) = post_job(&s, text.into_bytes(), &query);
     assert_eq!(st, 201, "{job}");
     let id = job["id"].as_str().unwrap().to_string();
