@@ -62,20 +62,6 @@ fn render_scene(glass: &str) -> (Film, bool) {
     (render(&desc, Path::new("/tmp"), opts, 1), spectral)
 }
 
-/// Centroids along x (in pixels) of the film's X and Z, summed over the rows.
-fn centroids(f: &Film) -> (f64, f64, f64) {
-    let xyz = normalized_xyz(f);
-    let (mut sx, mut wx, mut sz, mut wz) = (0.0, 0.0, 0.0, 0.0);
-    for (i, p) in xyz.iter().enumerate() {
-        let x = (i as u32 % f.width()) as f64 + 0.5;
-        sx += p[0] * x;
-        wx += p[0];
-        sz += p[2] * x;
-        wz += p[2];
-    }
-    (sx / wx.max(1e-12), sz / wz.max(1e-12), wx + wz)
-}
-
 #[test]
 fn a_dispersive_prism_separates_red_from_blue() {
     let (film, spectral) = render_scene(r#""float index" [1.5] "float cauchyb" [0.05]"#);

@@ -71,36 +71,6 @@ fn testsuite_mattetranslucent_bidirectional_matches_path() {
     assert_agree("mattetranslucent bidir/path", &rp, &rb, 4.0, 0.0);
 }
 
-/// The faces of an axis-aligned cube of centre `c` and half side `h` as a LuxRender
-/// trianglemesh, counter-clockwise seen from outside (normals outward).
-fn cube_mesh(c: [f32; 3], h: f32) -> String {
-    let corner = |i: usize| {
-        let sx = if matches!(i, 1 | 2 | 5 | 6) { h } else { -h };
-        let sy = if matches!(i, 2 | 3 | 6 | 7) { h } else { -h };
-        let sz = if i >= 4 { h } else { -h };
-        format!("{} {} {}", c[0] + sx, c[1] + sy, c[2] + sz)
-    };
-    let points: Vec<String> = (0..8).map(corner).collect();
-    let faces = [
-        [0, 3, 2, 1],
-        [4, 5, 6, 7],
-        [0, 1, 5, 4],
-        [1, 2, 6, 5],
-        [2, 3, 7, 6],
-        [3, 0, 4, 7],
-    ];
-    let indices: Vec<String> = faces
-        .iter()
-        .flat_map(|[a, b, c, d]| [a, b, c, a, c, d])
-        .map(ToString::to_string)
-        .collect();
-    format!(
-        "Shape \"trianglemesh\" \"integer indices\" [{}] \"point P\" [{}]",
-        indices.join(" "),
-        points.join(" ")
-    )
-}
-
 /// A closed grey room (camera inside) with two emitting cubes side by side (light subpaths
 /// from one land on the other, whose surfaces scatter with the default material), a
 /// one-sided emitting quad under the ceiling facing down (its back lit by the room), and a
@@ -119,10 +89,10 @@ fn emitters_scene(setup: &str) -> String {
          AttributeBegin\nAreaLightSource \"area\" \"color L\" [0.5 0.5 0.5] \"float power\" [0]\n{quad}\nAttributeEnd\n\
          AttributeBegin\nMaterial \"mattetranslucent\" \"color Kr\" [0.6 0.6 0.6] \"color Kt\" [0.3 0.3 0.3]\n\
          {tralu}\nAttributeEnd\nWorldEnd\n",
-        room = cube_mesh([0.0, 0.0, 0.0], 2.0),
-        a = cube_mesh([-0.5, 1.0, 0.6], 0.3),
-        b = cube_mesh([0.3, 1.0, 0.6], 0.3),
-        tralu = cube_mesh([0.0, 0.8, -0.8], 0.6),
+        room = box_mesh([0.0, 0.0, 0.0], [2.0; 3]),
+        a = box_mesh([-0.5, 1.0, 0.6], [0.3; 3]),
+        b = box_mesh([0.3, 1.0, 0.6], [0.3; 3]),
+        tralu = box_mesh([0.0, 0.8, -0.8], [0.6; 3]),
     )
 }
 

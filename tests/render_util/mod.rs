@@ -114,3 +114,17 @@ pub fn with_resolution(text: &str, res: u32) -> String {
         &format!("\"integer yresolution\" [{res}]"),
     )
 }
+
+/// Centroids along x (in pixels) of the film's X and Z, and the total weight.
+pub fn centroids(f: &Film) -> (f64, f64, f64) {
+    let xyz = normalized_xyz(f);
+    let (mut sx, mut wx, mut sz, mut wz) = (0.0, 0.0, 0.0, 0.0);
+    for (i, p) in xyz.iter().enumerate() {
+        let x = (i as u32 % f.width()) as f64 + 0.5;
+        sx += p[0] * x;
+        wx += p[0];
+        sz += p[2] * x;
+        wz += p[2];
+    }
+    (sx / wx.max(1e-12), sz / wz.max(1e-12), wx + wz)
+}

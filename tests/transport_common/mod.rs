@@ -206,3 +206,40 @@ pub fn assert_streams_merge_exactly(setup: &str) -> Film {
     assert_eq!(m.sample_count(0), a.sample_count(0) + b.sample_count(0));
     a
 }
+
+/// An axis-aligned box of centre `c` and half sides `h` as a trianglemesh, normals outward.
+pub fn box_mesh(c: [f32; 3], h: [f32; 3]) -> String {
+    let corner = |i: usize| {
+        let sx = if matches!(i, 1 | 2 | 5 | 6) {
+            h[0]
+        } else {
+            -h[0]
+        };
+        let sy = if matches!(i, 2 | 3 | 6 | 7) {
+            h[1]
+        } else {
+            -h[1]
+        };
+        let sz = if i >= 4 { h[2] } else { -h[2] };
+        format!("{} {} {}", c[0] + sx, c[1] + sy, c[2] + sz)
+    };
+    let points: Vec<String> = (0..8).map(corner).collect();
+    let faces = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [1, 2, 6, 5],
+        [2, 3, 7, 6],
+        [3, 0, 4, 7],
+    ];
+    let indices: Vec<String> = faces
+        .iter()
+        .flat_map(|[a, b, c, d]| [a, b, c, a, c, d])
+        .map(ToString::to_string)
+        .collect();
+    format!(
+        "Shape \"trianglemesh\" \"integer indices\" [{}] \"point P\" [{}]",
+        indices.join(" "),
+        points.join(" ")
+    )
+}
