@@ -358,7 +358,8 @@ pub fn eye_walk(
     let mut beta = Rgb::WHITE;
     let mut pdf_dir = ctx.camera.dir_pdf(ray.d.normalize_or_zero(), ray.time);
     while path.len() < max {
-        let Some(prev) = path.last().cloned() else {
+        // Borrowed, not cloned: a vertex is large, and the path only grows after the trace.
+        let Some(prev) = path.last() else {
             break;
         };
         let n = path.len();
@@ -380,7 +381,7 @@ pub fn eye_walk(
                     0.0,
                 );
                 v.medium = medium;
-                set_fwd(ctx, &mut v, &prev, pdf_dir);
+                set_fwd(ctx, &mut v, prev, pdf_dir);
                 crossings.push((n, v));
             },
         );
@@ -393,12 +394,12 @@ pub fn eye_walk(
                 let dir = ray.d.normalize_or_zero();
                 let mut v = Vertex::at_infinity(Kind::Sky, dir, beta, 0.0);
                 v.medium = traced.medium;
-                set_fwd(ctx, &mut v, &prev, pdf_dir);
+                set_fwd(ctx, &mut v, prev, pdf_dir);
                 path.push(v);
             }
             break;
         }
-        let Some(mut v) = vertex_at(ctx, &traced, &ray, beta, &prev, pdf_dir) else {
+        let Some(mut v) = vertex_at(ctx, &traced, &ray, beta, prev, pdf_dir) else {
             break;
         };
         s.set_dimension(layout.eye(n) + 2);
