@@ -148,18 +148,8 @@ impl MltState {
                         .map(|i| {
                             rec.clear();
                             let key = slot.chain.bootstrap_key(i);
-                            let v = Vec::new();
-                            trace(
-                                scene,
-                                params.use_variance,
-                                frame,
-                                v,
-                                key,
-                                &mut so,
-                                &mut rec,
-                                &mut invalid,
-                            )
-                            .0
+                            trace_fresh(scene, params, frame, key, &mut so, &mut rec, &mut invalid)
+                                .0
                         })
                         .collect()
                 })
@@ -191,17 +181,8 @@ impl MltState {
                     let Some(key) = *start else { return };
                     let mut so = SampleOut::new(scene.world.groups().len());
                     let (mut rec, mut invalid) = (Vec::new(), 0);
-                    let v = Vec::new();
-                    let (lum, values) = trace(
-                        scene,
-                        params.use_variance,
-                        frame,
-                        v,
-                        key,
-                        &mut so,
-                        &mut rec,
-                        &mut invalid,
-                    );
+                    let (lum, values) =
+                        trace_fresh(scene, params, frame, key, &mut so, &mut rec, &mut invalid);
                     slot.chain.start_at(values, lum, p_large);
                     slot.current = rec;
                 })
@@ -313,6 +294,29 @@ pub(super) fn frame(scene: &Renderable, range: f32) -> Frame {
         scale: span.x * span.y / pixels,
         range_xy: [(range / span.x).min(1.0), (range / span.y).min(1.0)],
     }
+}
+
+/// [`trace`] of a sample whose values are all drawn afresh from `key` (the bootstrap's
+/// uniform samples, and the one a chain starts from).
+fn trace_fresh(
+    scene: &Renderable,
+    params: &MltParams,
+    frame: &Frame,
+    key: u64,
+    so: &mut SampleOut,
+    rec: &mut Vec<Contribution>,
+    invalid: &mut u64,
+) -> (f32, Vec<f32>) {
+    trace(
+        scene,
+        params.use_variance,
+        frame,
+        Vec::new(),
+        key,
+        so,
+        rec,
+        invalid,
+    )
 }
 
 /// Traces the sample whose primary values are `values` (grown from `key` as needed):
