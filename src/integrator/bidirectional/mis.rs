@@ -76,7 +76,20 @@ impl PathDensities {
     }
 
     /// Whether strategy `s` (light vertices) exists for this path.
+    #[cfg(test)]
     fn valid(&self, s: usize, lim: &Limits) -> bool {
+        self.valid_given(s, lim, self.scatters())
+    }
+
+    /// The path's count of medium vertices.
+    fn scatters(&self) -> usize {
+        self.medium.iter().filter(|&&m| m).count()
+    }
+
+    /// [`Self::valid`] with the path's count of medium vertices already known (the weight
+    /// asks for every strategy of one path: counting once keeps it linear in the path).
+    #[inline]
+    fn valid_given(&self, s: usize, lim: &Limits, scatters: usize) -> bool {
         let k = self.k();
         if s >= k {
             return false;
@@ -88,9 +101,7 @@ impl PathDensities {
         if t == 1 && !lim.camera {
             return false;
         }
-        let light_scatters = self.medium.iter().take(s).filter(|&&m| m).count();
-        let eye_scatters = self.medium.iter().skip(s).filter(|&&m| m).count();
-        if light_scatters > lim.max_scatters || eye_scatters > lim.max_scatters {
+        if scatters > lim.max_scatters && !self.within_scatter_limit(s, lim.max_scatters) {
             return false;
         }
         match s {
@@ -100,6 +111,15 @@ impl PathDensities {
         }
     }
 
+    /// Whether neither the light part (x_0..x_{s-1}) nor the eye part holds more medium
+    /// vertices than `max`.
+    #[cold]
+    fn within_scatter_limit(&self, s: usize, max: usize) -> bool {
+        let light = self.medium.iter().take(s).filter(|&&m| m).count();
+        let eye = self.medium.iter().skip(s).filter(|&&m| m).count();
+        light <= max && eye <= max
+    }
+
     /// The power-heuristic weight of strategy `s`.
     pub fn weight(&self, s: usize, lim: &Limits) -> f32 {
         let k = self.k();
@@ -107,6 +127,7 @@ impl PathDensities {
             return 0.0;
         }
         let (pl, pe) = (&self.pl, &self.pe);
+        let scatters = self.scatters();
         let mut sum = 1.0f64;
         // Fewer light vertices: x_j moves to the camera side.
         let mut r = 1.0f64;
@@ -116,7 +137,7 @@ impl PathDensities {
             if j == 1 {
                 r *= f64::from(remap0(self.pdir0)) / f64::from(remap0(pl[0]));
             }
-            if self.valid(j, lim) {
+            if self.valid_given(j, lim, scatters) {
                 sum += r * r;
             }
         }
@@ -129,7 +150,7 @@ impl PathDensities {
             if sp == 2 {
                 r *= f64::from(remap0(pl[0])) / f64::from(remap0(self.pdir0));
             }
-            if self.valid(sp, lim) {
+            if self.valid_given(sp, lim, scatters) {
                 sum += r * r;
             }
         }

@@ -187,6 +187,13 @@ pub struct Segment {
 }
 
 impl Segment {
+    /// A segment through no medium: full transmittance, distance factors 1.
+    const CLEAR: Segment = Segment {
+        tr: Rgb::WHITE,
+        a_to_b: 1.0,
+        b_to_a: 1.0,
+    };
+
     fn reversed(self) -> Segment {
         Segment {
             tr: self.tr,
@@ -251,13 +258,19 @@ impl Ctx<'_> {
         if a.is_at_infinity() {
             return self.segment(b, a).map(Segment::reversed);
         }
-        let dir = a.dir_to(b);
-        let start = a.medium_toward(self.world, dir);
         let end = if b.is_at_infinity() {
             SegmentEnd::Direction(b.dir)
         } else {
             SegmentEnd::Point(&b.si.it)
         };
+        if self.world.media().is_none() {
+            // No media: only visibility (the common case, kept as lean as a shadow ray).
+            return self
+                .world
+                .walk_segment(&a.si.it, end, None, |_, _, _| {})
+                .then_some(Segment::CLEAR);
+        }
+        let start = a.medium_toward(self.world, a.dir_to(b));
         let scattering = self.scattering();
         let mut tr = Rgb::WHITE;
         // Channel-averaged transmittance of the pieces in distance-sampled media: the first

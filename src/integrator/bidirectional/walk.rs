@@ -241,20 +241,20 @@ fn set_fwd(ctx: &Ctx, v: &mut Vertex, prev: &Vertex, pdf_dir: f32) {
 /// reached with throughput `beta` from `prev` by a direction of density `pdf_dir`.
 fn vertex_at(
     ctx: &Ctx,
-    t: &Traced,
+    t: Traced,
     ray: &Ray,
     beta: Rgb,
     prev: &Vertex,
     pdf_dir: f32,
 ) -> Option<Vertex> {
-    let mut v = match &t.stop {
+    let mut v = match t.stop {
         Stop::Surface(si) => {
             let emitter = ctx.world.area_light(si.prim).map(|(i, _)| i as u32);
-            Vertex::new(Kind::Surface { emitter }, *si, beta, 0.0)
+            Vertex::new(Kind::Surface { emitter }, si, beta, 0.0)
         }
         Stop::Medium { p } => {
             let mut si = SurfaceInteraction::default();
-            si.it.p = *p;
+            si.it.p = p;
             si.it.time = ray.time;
             si.wo = -ray.d.normalize_or_zero();
             let mut v = Vertex::new(Kind::Medium, si, beta, 0.0);
@@ -269,6 +269,19 @@ fn vertex_at(
     v.medium = t.medium;
     set_fwd(ctx, &mut v, prev, pdf_dir);
     Some(v)
+}
+
+/// Gives the path's last vertex, when it is a surface, its BSDF (built in place: a BSDF is
+/// large) with component choice `u_comp`; false for a medium point (a scattering event).
+fn attach_bsdf(ctx: &Ctx, path: &mut [Vertex], u_comp: f32) -> bool {
+    let Some(v) = path.last_mut() else {
+        return false;
+    };
+    if !matches!(v.kind, Kind::Surface { .. }) {
+        return false;
+    }
+    v.bsdf = Some(ctx.world.material(v.si.prim).bsdf(&v.si, u_comp));
+    true
 }
 
 /// A direction sampled at a vertex: its throughput factor (f·|cos|/pdf, the adjoint's for
@@ -399,17 +412,14 @@ pub fn eye_walk(
             }
             break;
         }
-        let Some(mut v) = vertex_at(ctx, &traced, &ray, beta, prev, pdf_dir) else {
+        let Some(v) = vertex_at(ctx, traced, &ray, beta, prev, pdf_dir) else {
             break;
         };
         s.set_dimension(layout.eye(n) + 2);
-        let u_comp = s.next_1d();
-        if let Stop::Surface(si) = &traced.stop {
-            v.bsdf = Some(ctx.world.material(si.prim).bsdf(si, u_comp));
-        } else {
+        path.push(v);
+        if !attach_bsdf(ctx, path, s.next_1d()) {
             scatters_left = scatters_left.saturating_sub(1);
         }
-        path.push(v);
         if path.len() >= max || beta.is_black() {
             break;
         }
@@ -530,17 +540,14 @@ pub fn light_walk(
             beta *= falloff;
         }
         beta *= traced.weight;
-        let Some(mut v) = vertex_at(ctx, &traced, &ray, beta, &path[n - 1], pdf_dir) else {
+        let Some(v) = vertex_at(ctx, traced, &ray, beta, &path[n - 1], pdf_dir) else {
             break;
         };
         s.set_dimension(dim + 2);
-        let u_comp = s.next_1d();
-        if let Stop::Surface(si) = &traced.stop {
-            v.bsdf = Some(ctx.world.material(si.prim).bsdf(si, u_comp));
-        } else {
+        path.push(v);
+        if !attach_bsdf(ctx, path, s.next_1d()) {
             scatters_left = scatters_left.saturating_sub(1);
         }
-        path.push(v);
         if path.len() >= max {
             break;
         }
