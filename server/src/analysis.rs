@@ -24,8 +24,8 @@
 //!   into fresh memory;
 //! - the film is tonemapped once: its XYZ image gives both the luminance the error history
 //!   compares and the display image the convergence test compares;
-//! - a job's analyses take at most `--analysis-share` of one core: after a round that took
-//!   `d`, the next waits `d (1 - share) / share`. Tests stay at least `convergencestep` spp
+//! - a job's analyses run at most `--analysis-share` of the time (a round uses every core):
+//!   after a round that took `d`, the next waits `d (1 - share) / share`. Tests stay at least `convergencestep` spp
 //!   apart, as before; when the film grows faster than the master can test it, they are further
 //!   apart (a haltthreshold then holds a little later, never sooner).
 
@@ -155,4 +155,43 @@ fn noise_map(rt: &JobRt, film: &Film) {
         tracing::debug!(job = %rt.id, spp = film.spp(), "noise-aware sampling map rebuilt");
     }
     lock(&rt.state).noise_map.put_back(builder, built);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::{leased_job, upload};
+    use std::time::Duration;
+
+    /// A round sets when the next may run; before then nothing runs however many
+    /// convergencesteps the film grew by, after it the due test runs on the grown film.
+    #[test]
+    fn a_round_waits_for_the_jobs_share_of_time() {
+        let dir = tempfile::tempdir().unwrap();
+        let (farm, rt, worker, lease) = leased_job(dir.path(), |c| c.analysis_share = 0.5);
+        upload(&farm, &rt, &worker, &lease, 1, 1.0);
+        let after = || lock(&rt.state).analysis_after;
+        assert_eq!(after(), None);
+        // The trade view's own test is due at once (the job has no haltthreshold).
+        tick(&farm);
+        let first = after().expect("a round ran");
+        assert_eq!(lock(&rt.state).trade.own_noise().len(), 48);
+        // Held off: 40 spp more (more than a convergencestep) and nothing runs.
+        let later = Instant::now() + Duration::from_secs(3600);
+        lock(&rt.state).analysis_after = Some(later);
+        upload(&farm, &rt, &worker, &lease, 2, 40.0);
+        tick(&farm);
+        assert_eq!(after(), Some(later));
+        assert!(lock(&rt.state).trade.history.points().is_empty());
+        // Allowed again: the test runs on the film as it is now.
+        let past = Instant::now()
+            .checked_sub(Duration::from_millis(1))
+            .unwrap_or(first);
+        lock(&rt.state).analysis_after = Some(past);
+        tick(&farm);
+        assert!(after().is_some_and(|t| t > past));
+        let points = lock(&rt.state).trade.history.points();
+        assert_eq!(points.len(), 1, "{points:?}");
+        assert_eq!(points[0].spp, 41.0);
+    }
 }

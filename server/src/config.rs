@@ -36,9 +36,10 @@ pub struct Config {
     /// Seconds between checkpoints of a rendering job's merged film.
     #[arg(long, default_value_t = 30.0)]
     pub checkpoint_interval: f64,
-    /// Share of one core a job's film analyses (convergence tests, noise-aware maps, the
-    /// error history) may take, in (0, 1]: after a round that took d seconds the next waits
-    /// d (1 - share) / share. They stay at least `convergencestep` spp apart either way.
+    /// Share of the time a job's film analyses (convergence tests, noise-aware maps, the
+    /// error history) may run, in (0, 1]: after a round that took d seconds (on all cores)
+    /// the next waits d (1 - share) / share. They stay at least `convergencestep` spp apart
+    /// either way.
     #[arg(long, default_value_t = 0.25)]
     pub analysis_share: f64,
     /// Largest upload accepted (bytes) for a scene bundle.
@@ -291,7 +292,7 @@ mod tests {
     }
 
     #[test]
-    fn the_analysis_share_is_a_fraction_of_a_core() {
+    fn the_analysis_share_is_a_fraction() {
         let mut c = Config::local("d".into());
         for bad in [0.0, -0.5, 1.5, f64::NAN] {
             c.analysis_share = bad;

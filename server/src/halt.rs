@@ -399,57 +399,9 @@ pub fn checkpoint_all(farm: &Farm) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::admission::SubmitOptions;
-    use crate::config::Config;
     use crate::farm::CheckpointProbe;
-    use luxfarm_proto as pb;
-    use std::path::Path;
+    use crate::test_util::{leased_job, upload};
     use std::sync::{mpsc, Mutex};
-
-    const SCENE: &str = "LookAt 0 -3 1 0 0 1 0 0 1\nCamera \"perspective\"\n\
-        Film \"fleximage\" \"integer xresolution\" [8] \"integer yresolution\" [6]\n\
-        WorldBegin\nAttributeBegin\nAreaLightSource \"area\" \"color L\" [4 4 4]\n\
-        Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
-        [-0.5 -0.5 1.99 0.5 -0.5 1.99 0.5 0.5 1.99 -0.5 0.5 1.99]\nAttributeEnd\n\
-        Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
-        [-1 -1 0 1 -1 0 1 1 0 -1 1 0]\nWorldEnd\n";
-
-    /// A master (no tick running) with one job leased to one worker: the master, the job,
-    /// the worker's id and the lease's.
-    fn leased_job(dir: &Path) -> (Arc<Farm>, Arc<JobRt>, String, String) {
-        let farm = Farm::open(Config::local(dir.to_path_buf())).unwrap();
-        let opts = SubmitOptions {
-            halttime: Some(3600.0),
-            ..SubmitOptions::default()
-        };
-        farm.submit(SCENE.as_bytes(), "t.lxs", &opts).unwrap();
-        let reg = pb::RegisterRequest {
-            name: "w".into(),
-            threads: 1,
-            protocol: pb::PROTOCOL_VERSION,
-            ..Default::default()
-        };
-        let worker = farm.register(&reg).unwrap().worker_id;
-        let a = farm.assign(&worker).unwrap().unwrap();
-        let rt = lock(&farm.jobs).get(&a.job_id).cloned().unwrap();
-        (farm, rt, worker, a.lease_id)
-    }
-
-    /// Uploads delta `seq` of the lease: one sample per pixel, one splat.
-    fn upload(farm: &Farm, rt: &JobRt, worker: &str, lease: &str, seq: u64) {
-        let mut d = scene::new_film(&rt.info);
-        d.add_splat(0, seq as u32 % 8, 0, [1.0, 0.5, 0.25], 1.0, 1.0);
-        d.add_sample_count(rt.info.pixels as f64);
-        let data = crate::codec::encode_delta(&d);
-        let h = pb::UploadHeader {
-            lease_id: lease.into(),
-            seq,
-            encoding: "lxd2".into(),
-            size: data.len() as u64,
-            ..Default::default()
-        };
-        assert_eq!(farm.upload(worker, &h, &data).unwrap().status, "merged");
-    }
 
     /// Two checkpoints of one job racing, driven step by step through the probe: "a" copies
     /// the film and is held there; a delta is merged; "b" starts. "b" must wait for "a" and
@@ -460,8 +412,8 @@ mod tests {
     #[test]
     fn a_racing_checkpoint_waits_and_takes_the_next_generation() {
         let dir = tempfile::tempdir().unwrap();
-        let (farm, rt, worker, lease) = leased_job(dir.path());
-        upload(&farm, &rt, &worker, &lease, 1);
+        let (farm, rt, worker, lease) = leased_job(dir.path(), |_| {});
+        upload(&farm, &rt, &worker, &lease, 1, 1.0);
         let (events, seen) = mpsc::channel::<(String, CheckpointStep)>();
         let (release, held) = mpsc::channel::<()>();
         let (events, held) = (Mutex::new(events), Mutex::new(held));
@@ -486,7 +438,7 @@ mod tests {
             first,
             ("a".into(), CheckpointStep::Copied { generation: 1 })
         );
-        upload(&farm, &rt, &worker, &lease, 2);
+        upload(&farm, &rt, &worker, &lease, 2, 1.0);
         let b = spawn("b");
         // "b" either waits for "a" (its first step) or, were the race back, runs through.
         let (who, b_first) = seen.recv().unwrap();

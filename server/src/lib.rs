@@ -69,6 +69,8 @@ pub(crate) mod schedule;
 pub(crate) mod scratch;
 pub(crate) mod sequence;
 pub(crate) mod serve;
+#[cfg(test)]
+mod test_util;
 pub(crate) mod trade;
 pub(crate) mod views;
 pub(crate) mod webhooks;
