@@ -349,9 +349,9 @@ mod tests {
         }
         let before = r;
         transpose8(&mut r);
-        for k in 0..8 {
-            for j in 0..8 {
-                assert_eq!(r[j].to_le_bytes()[k], before[k].to_le_bytes()[j]);
+        for (k, row) in before.iter().enumerate() {
+            for (j, word) in r.iter().enumerate() {
+                assert_eq!(word.to_le_bytes()[k], row.to_le_bytes()[j]);
             }
         }
     }
