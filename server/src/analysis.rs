@@ -5,9 +5,10 @@
 //!
 //! ```text
 //! merge (upload path: decode, merge, ledger, haltspp, ack) --> film version bumped
-//! tick --due?--> one copy of the film --> convergence / own test / map builder, each on its
-//!   state taken out of the job's run state --> results put back; a threshold that holds
-//!   begins the halt
+//! tick --due, and the job's share of time allows?--> the film copied into the job's kept copy
+//!   --> one tonemap: luminance (error history) + display image (convergence / own test);
+//!   map builder; each on its state taken out of the job's run state --> results put back; a
+//!   threshold that holds begins the halt; the next round waits by the time this one took
 //! ```
 //!
 //! Tonemapping a large film for these tests costs more than merging a delta (a 1080p film:
@@ -17,12 +18,24 @@
 //! and never holds the job's state lock while it tonemaps: acknowledgements (which read the
 //! current sampling map) and views go on meanwhile, reading the state as it was before the
 //! test (it is copied out and written back; only the tick changes it, so nothing is lost).
+//!
+//! What one round costs is bounded three ways:
+//! - the film is copied into the job's kept copy (`JobRt::copy`, shared with checkpoints), not
+//!   into fresh memory;
+//! - the film is tonemapped once: its XYZ image gives both the luminance the error history
+//!   compares and the display image the convergence test compares;
+//! - a job's analyses run at most `--analysis-share` of the time (a round uses every core):
+//!   after a round that took `d`, the next waits `d (1 - share) / share`. Tests stay at least `convergencestep` spp
+//!   apart, as before; when the film grows faster than the master can test it, they are further
+//!   apart (a haltthreshold then holds a little later, never sooner).
 
 use crate::db::JobRow;
 use crate::farm::{lock, now_ms, Farm, JobRt};
 use crate::halt::{begin_halt, rules};
 use crate::scene::Film;
+use luxfarm::tonemap::{display_from_xyz, film_xyz, RgbImage};
 use std::sync::Arc;
+use std::time::Instant;
 
 /// Which analyses are due for the film at `spp`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -50,13 +63,14 @@ pub fn tick(farm: &Farm) {
     }
 }
 
-/// Runs the analyses due for the job's merged film (none once the job is halting).
+/// Runs the analyses due for the job's merged film (none once the job is halting, none
+/// before the job's share of time allows).
 fn run(farm: &Farm, row: &JobRow, rt: &JobRt) {
     let spp = lock(&rt.film).spp();
     let rules = rules(row, rt);
     let due = {
         let st = lock(&rt.state);
-        if st.halting.is_some() {
+        if st.halting.is_some() || st.analysis_after.is_some_and(|t| Instant::now() < t) {
             return;
         }
         Due {
@@ -68,48 +82,67 @@ fn run(farm: &Farm, row: &JobRow, rt: &JobRt) {
     if !due.any() {
         return;
     }
-    let film = lock(&rt.film).clone();
-    if due.convergence {
-        convergence(farm, rt, &rules, &film);
-    } else if due.own {
-        own_test(rt, &film);
+    let started = Instant::now();
+    {
+        let mut copy = lock(&rt.copy);
+        let (film, ()) = rt.copy_film(&mut copy, |_| ());
+        if due.convergence || due.own {
+            let xyz = film_xyz(film, &rt.info.params.tonemap);
+            let y = crate::trade::luminance(&xyz);
+            let display = display_from_xyz(xyz, &rt.info.params.tonemap);
+            let failing = if due.convergence {
+                convergence(farm, rt, &rules, film.spp(), &display)
+            } else {
+                own_test(rt, film.spp(), &display)
+            };
+            observe(rt, y, film.spp(), failing);
+        }
+        if due.map {
+            noise_map(rt, film);
+        }
     }
-    if due.map {
-        noise_map(rt, &film);
-    }
+    let share = farm.cfg.analysis_share.clamp(0.01, 1.0);
+    let wait = started.elapsed().mul_f64((1.0 - share) / share);
+    lock(&rt.state).analysis_after = Some(Instant::now() + wait);
 }
 
-/// The haltthreshold test; its failing fraction goes to the error history.
-fn convergence(farm: &Farm, rt: &JobRt, rules: &luxfarm::halt::HaltRules, film: &Film) {
-    let tonemap = &rt.info.params.tonemap;
+/// The haltthreshold test on the display image; its failing fraction (for the error
+/// history). A threshold that holds begins the halt.
+fn convergence(
+    farm: &Farm,
+    rt: &JobRt,
+    rules: &luxfarm::halt::HaltRules,
+    spp: f64,
+    display: &RgbImage,
+) -> Option<f64> {
     let mut conv = lock(&rt.state).convergence.clone();
-    let reason = rules.test_convergence(&mut conv, film, tonemap);
+    let reason = rules.test_convergence_display(&mut conv, spp, display);
     let failing = conv.last_failing;
     lock(&rt.state).convergence = conv;
-    observe(rt, film, failing);
     if let Some(reason) = reason {
         begin_halt(farm, rt, reason.to_string());
     }
+    failing
 }
 
-/// The trade view's own convergence test (jobs without haltthreshold).
-fn own_test(rt: &JobRt, film: &Film) {
+/// The trade view's own convergence test (jobs without haltthreshold); its failing fraction.
+fn own_test(rt: &JobRt, spp: f64, display: &RgbImage) -> Option<f64> {
     let mut trade = lock(&rt.state).trade.clone();
-    let failing = trade.own_test(film, &rt.info.params.tonemap);
+    let failing = trade.own_test(spp, display);
     lock(&rt.state).trade = trade;
-    observe(rt, film, failing);
+    failing
 }
 
-/// Gives a test's moment (the film it tested and its failing fraction) to the job's error
-/// history, at the job's clock (seconds since its first lease).
-fn observe(rt: &JobRt, film: &Film, failing: Option<f64>) {
-    let (first, mut trade) = {
-        let st = lock(&rt.state);
-        (st.first_lease_ms, st.trade.clone())
-    };
-    let secs = first.map_or(0.0, |t| (now_ms() - t) as f64 / 1000.0);
-    trade.observe(film, &rt.info.params.tonemap, secs.max(0.0), failing);
-    lock(&rt.state).trade = trade;
+/// Gives a test's moment (the tested film's luminance and spp, its failing fraction) to the
+/// job's error history, at the job's clock (seconds since its first lease). Done in place
+/// under the state lock: one pass over the luminance, where a copy of the trade state (its
+/// convergence test holds full-size images) would cost more.
+fn observe(rt: &JobRt, y: Vec<f32>, spp: f64, failing: Option<f64>) {
+    let mut st = lock(&rt.state);
+    let secs = st
+        .first_lease_ms
+        .map_or(0.0, |t| (now_ms() - t) as f64 / 1000.0);
+    st.trade.observe(y, spp, secs.max(0.0), failing);
 }
 
 /// A new noise-aware sampling map from the film, handed to workers with their next
@@ -122,4 +155,43 @@ fn noise_map(rt: &JobRt, film: &Film) {
         tracing::debug!(job = %rt.id, spp = film.spp(), "noise-aware sampling map rebuilt");
     }
     lock(&rt.state).noise_map.put_back(builder, built);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::{leased_job, upload};
+    use std::time::Duration;
+
+    /// A round sets when the next may run; before then nothing runs however many
+    /// convergencesteps the film grew by, after it the due test runs on the grown film.
+    #[test]
+    fn a_round_waits_for_the_jobs_share_of_time() {
+        let dir = tempfile::tempdir().unwrap();
+        let (farm, rt, worker, lease) = leased_job(dir.path(), |c| c.analysis_share = 0.5);
+        upload(&farm, &rt, &worker, &lease, 1, 1.0);
+        let after = || lock(&rt.state).analysis_after;
+        assert_eq!(after(), None);
+        // The trade view's own test is due at once (the job has no haltthreshold).
+        tick(&farm);
+        let first = after().expect("a round ran");
+        assert_eq!(lock(&rt.state).trade.own_noise().len(), 48);
+        // Held off: 40 spp more (more than a convergencestep) and nothing runs.
+        let later = Instant::now() + Duration::from_secs(3600);
+        lock(&rt.state).analysis_after = Some(later);
+        upload(&farm, &rt, &worker, &lease, 2, 40.0);
+        tick(&farm);
+        assert_eq!(after(), Some(later));
+        assert!(lock(&rt.state).trade.history.points().is_empty());
+        // Allowed again: the test runs on the film as it is now.
+        let past = Instant::now()
+            .checked_sub(Duration::from_millis(1))
+            .unwrap_or(first);
+        lock(&rt.state).analysis_after = Some(past);
+        tick(&farm);
+        assert!(after().is_some_and(|t| t > past));
+        let points = lock(&rt.state).trade.history.points();
+        assert_eq!(points.len(), 1, "{points:?}");
+        assert_eq!(points[0].spp, 41.0);
+    }
 }

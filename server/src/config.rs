@@ -36,6 +36,12 @@ pub struct Config {
     /// Seconds between checkpoints of a rendering job's merged film.
     #[arg(long, default_value_t = 30.0)]
     pub checkpoint_interval: f64,
+    /// Share of the time a job's film analyses (convergence tests, noise-aware maps, the
+    /// error history) may run, in (0, 1]: after a round that took d seconds (on all cores)
+    /// the next waits d (1 - share) / share. They stay at least `convergencestep` spp apart
+    /// either way.
+    #[arg(long, default_value_t = 0.25)]
+    pub analysis_share: f64,
     /// Largest upload accepted (bytes) for a scene bundle.
     #[arg(long, default_value_t = 1 << 30)]
     pub max_upload: u64,
@@ -130,6 +136,7 @@ impl Config {
             worker_timeout: 30.0,
             upload_interval: 10.0,
             checkpoint_interval: 30.0,
+            analysis_share: 0.25,
             max_upload: 1 << 30,
             max_unpacked: 4 << 30,
             max_job_memory: 4 << 30,
@@ -191,6 +198,9 @@ impl Config {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("{name} must be a positive number"));
             }
+        }
+        if !(self.analysis_share > 0.0 && self.analysis_share <= 1.0) {
+            return Err("--analysis-share must be in (0, 1]".into());
         }
         if self.block_after == 0 || self.quarantine_after == 0 {
             return Err("--block-after and --quarantine-after must be at least 1".into());
@@ -279,5 +289,21 @@ mod tests {
         assert!(c.validate().is_err());
         c.webhook_backoff = 0.05;
         assert!(c.validate().is_ok());
+    }
+
+    #[test]
+    fn the_analysis_share_is_a_fraction() {
+        let mut c = Config::local("d".into());
+        for bad in [0.0, -0.5, 1.5, f64::NAN] {
+            c.analysis_share = bad;
+            assert!(
+                c.validate().unwrap_err().contains("--analysis-share"),
+                "{bad}"
+            );
+        }
+        for good in [0.05, 1.0] {
+            c.analysis_share = good;
+            assert!(c.validate().is_ok(), "{good}");
+        }
     }
 }

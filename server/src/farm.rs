@@ -15,6 +15,7 @@ use crate::error::{Result, ServerError};
 use crate::metrics::{MergeReport, Metrics};
 use crate::scene::Film;
 use crate::scene::{self, SceneInfo};
+use crate::scratch::{BytePool, ScratchPool};
 use luxfarm_wire::bundle::{self, Limits};
 use std::collections::{HashMap, VecDeque};
 use std::path::{Path, PathBuf};
@@ -105,7 +106,41 @@ pub struct JobRt {
     /// Held while a checkpoint is written (the tick's, the shutdown drain's, the job end's):
     /// one at a time per job.
     pub checkpointing: Mutex<()>,
+    /// The job's kept copy of its merged film, taken for a checkpoint or the analyses
+    /// (`crate::analysis`) so the film lock is held only while copying; its buffers are
+    /// reused from one copy to the next (see [`JobRt::copy_film`]).
+    pub copy: Mutex<Option<Film>>,
 }
+
+impl JobRt {
+    /// Copies the merged film into the kept copy `slot` (a guard of [`JobRt::copy`]),
+    /// reusing its buffers, and returns it with what `under_lock` read while the film was
+    /// locked (the film's version, the ledger's last row).
+    pub fn copy_film<'a, T>(
+        &self,
+        slot: &'a mut Option<Film>,
+        under_lock: impl FnOnce(&Film) -> T,
+    ) -> (&'a Film, T) {
+        let copy = slot.get_or_insert_with(|| Film::new(1, 1, Vec::new()));
+        let film = lock(&self.film);
+        copy.clone_from(&film);
+        let read = under_lock(&film);
+        (copy, read)
+    }
+}
+
+/// The points of a checkpoint a probe (`Farm::checkpoint_probe`) sees, in order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CheckpointStep {
+    /// Another checkpoint (or an analysis) of the job holds what this one needs: it waits.
+    Waiting,
+    /// The film was copied and the generation chosen; nothing is written yet.
+    Copied { generation: i64 },
+}
+
+/// A function told each [`CheckpointStep`] of every checkpoint (job id, step), on the
+/// checkpointing thread: tests hold a checkpoint at a step to drive an interleaving.
+pub type CheckpointProbe = Arc<dyn Fn(&str, CheckpointStep) + Send + Sync>;
 
 /// Mutable bookkeeping of a rendering job.
 pub struct RunState {
@@ -120,6 +155,8 @@ pub struct RunState {
     pub history: VecDeque<(Instant, f64)>,
     /// Spp at the last convergence test, the test's state and its last result.
     pub convergence: crate::scene::Convergence,
+    /// No analysis before this moment (`crate::analysis`: the job's share of time).
+    pub analysis_after: Option<Instant>,
     /// The noise-aware sampling map built from the merged film (noise-aware jobs).
     pub noise_map: crate::noisemap::NoiseMapState,
     /// The error estimate over time (`crate::trade`); empty again after a master restart.
@@ -167,10 +204,16 @@ pub struct Farm {
     pub unpack_slots: tokio::sync::Semaphore,
     /// Cores the merge slots were sized by (admission control counts decoded deltas).
     pub cores: usize,
+    /// Films deltas are decoded into, one per merge slot at most, reused across uploads.
+    pub scratch: ScratchPool,
+    /// Buffers uploads are received into, as many, reused across uploads.
+    pub received: BytePool,
     /// This run of the master: workers seeing it change upload again what was not durable.
     pub instance: String,
     /// Set on SIGTERM/SIGINT: no new leases or uploads, in-flight work finishes.
     pub draining: AtomicBool,
+    /// Told the steps of every checkpoint (tests); None in service.
+    pub checkpoint_probe: Mutex<Option<CheckpointProbe>>,
 }
 
 impl Farm {
@@ -215,15 +258,38 @@ impl Farm {
             work_available: tokio::sync::Notify::new(),
             merge_slots: tokio::sync::Semaphore::new(cores),
             receive_slots: tokio::sync::Semaphore::new(4 * cores),
+            scratch: ScratchPool::new(cores),
+            received: BytePool::new(cores),
             cores,
             instance: new_id("m"),
             draining: AtomicBool::new(false),
+            checkpoint_probe: Mutex::new(None),
         }))
     }
 
     /// Tells watchers that something changed.
     pub fn touch(&self) {
         self.changed.send_modify(|v| *v += 1);
+    }
+
+    /// Tells the checkpoint probe, if any, that a checkpoint of `job` reached `step`.
+    pub fn probe(&self, job: &str, step: CheckpointStep) {
+        let probe = lock(&self.checkpoint_probe).clone();
+        if let Some(p) = probe {
+            p(job, step);
+        }
+    }
+
+    /// Locks `m` for a checkpoint of `job`, telling the probe when it has to wait for it.
+    pub fn wait_lock<'a, T>(&self, job: &str, m: &'a Mutex<T>) -> MutexGuard<'a, T> {
+        match m.try_lock() {
+            Ok(g) => g,
+            Err(std::sync::TryLockError::Poisoned(p)) => p.into_inner(),
+            Err(std::sync::TryLockError::WouldBlock) => {
+                self.probe(job, CheckpointStep::Waiting);
+                lock(m)
+            }
+        }
     }
 
     /// True once the master is shutting down.

@@ -309,8 +309,8 @@ impl pb::worker_server::Worker for WorkerService {
             .acquire()
             .await
             .map_err(|e| Status::internal(e.to_string()))?;
-        // One allocation (pages are only touched as filled).
-        let mut data = Vec::with_capacity(size);
+        // A kept buffer (`scratch`): no fresh pages per upload.
+        let mut data = self.0.received.take(size);
         while let Some(chunk) = item(stream.next().await)? {
             match chunk.part {
                 Some(pb::upload_chunk::Part::Data(d)) => {
@@ -343,7 +343,9 @@ impl pb::worker_server::Worker for WorkerService {
             .map_err(|e| Status::internal(e.to_string()))?;
         let ack = blocking(move || {
             let _e = span.enter();
-            farm.upload(&worker, &h, &data)
+            let ack = farm.upload(&worker, &h, &data);
+            farm.received.give_back(data);
+            ack
         })
         .await?;
         Ok(Response::new(ack))

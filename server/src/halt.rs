@@ -24,7 +24,7 @@ use crate::auth::Identity;
 use crate::datadir::checkpoint_rel;
 use crate::db::{JobRow, JobState};
 use crate::error::{Result, ServerError};
-use crate::farm::{lock, now_ms, Farm, JobRt};
+use crate::farm::{lock, now_ms, CheckpointStep, Farm, JobRt};
 use crate::scene;
 use crate::scene::Film;
 use luxfarm::halt::HaltRules;
@@ -193,21 +193,28 @@ pub fn checkpoint(farm: &Farm, rt: &JobRt) -> Result<()> {
 /// written one at a time, each reading the job's generation under that lock: two writing the
 /// same generation raced on its file, and the older film could replace the newer one after the
 /// store had counted the newer one's deltas as durable.
+///
+/// The film is copied into the job's kept copy (`JobRt::copy`, held until the checkpoint is
+/// written) with the ledger's last row read under the same film lock. A probe
+/// (`Farm::checkpoint_probe`) is told when this checkpoint waits for another and when it has
+/// copied the film and chosen its generation (tests drive interleavings with it).
 fn write_checkpoint(farm: &Farm, rt: &JobRt) -> Result<u64> {
-    let _one = lock(&rt.checkpointing);
+    let _one = farm.wait_lock(&rt.id, &rt.checkpointing);
     let row = farm.job_row(&rt.id)?;
-    let (film, version, max_rowid) = {
-        let film = lock(&rt.film);
-        let max_rowid = lock(&farm.db).ledger_max_rowid()?;
-        (film.clone(), rt.version.load(Ordering::Relaxed), max_rowid)
-    };
+    let mut slot = farm.wait_lock(&rt.id, &rt.copy);
+    let (film, read) = rt.copy_film(&mut slot, |_| {
+        let max_rowid = lock(&farm.db).ledger_max_rowid();
+        (rt.version.load(Ordering::Relaxed), max_rowid)
+    });
+    let (version, max_rowid) = (read.0, read.1?);
+    let generation = row.ckpt_gen + 1;
+    farm.probe(&rt.id, CheckpointStep::Copied { generation });
     let dir = farm.job_dir(&rt.id);
     let dir_rel = format!("jobs/{}", rt.id);
     std::fs::create_dir_all(&dir).map_err(ServerError::file(dir_rel.clone()))?;
-    let generation = row.ckpt_gen + 1;
     let rel = checkpoint_rel(&rt.id, generation);
     let path = farm.cfg.data_dir.join(&rel);
-    scene::write_checkpoint(&film, &path)
+    scene::write_checkpoint(film, &path)
         .map_err(|e| ServerError::Internal(format!("{rel}: {e}")))?;
     // The rename is made durable before the database points at the new file.
     std::fs::File::open(&dir)
@@ -323,9 +330,19 @@ fn finish_with(
     Ok(())
 }
 
-/// Drops an ended job from memory and frees its workers.
+/// Drops an ended job from memory (and the decoding films only it could use) and frees its
+/// workers.
 fn forget(farm: &Farm, rt: &JobRt) {
-    lock(&farm.jobs).remove(&rt.id);
+    let loaded: Vec<Arc<JobRt>> = {
+        let mut jobs = lock(&farm.jobs);
+        jobs.remove(&rt.id);
+        jobs.values().cloned().collect()
+    };
+    let layouts: Vec<&scene::SceneInfo> = loaded.iter().map(|j| &j.info).collect();
+    farm.scratch.retain(&layouts);
+    if loaded.is_empty() {
+        farm.received.clear();
+    }
     for w in lock(&farm.workers).values_mut() {
         if w.lease.as_ref().is_some_and(|(j, _)| *j == rt.id) {
             w.lease = None;
@@ -377,4 +394,81 @@ pub fn checkpoint_all(farm: &Farm) -> usize {
         }
     }
     failed
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::farm::CheckpointProbe;
+    use crate::test_util::{leased_job, upload};
+    use std::sync::{mpsc, Mutex};
+
+    /// Two checkpoints of one job racing, driven step by step through the probe: "a" copies
+    /// the film and is held there; a delta is merged; "b" starts. "b" must wait for "a" and
+    /// then write the next generation, so the newest checkpoint holds every delta the store
+    /// counts as durable. (Without the per-job lock, or with the generation read before it,
+    /// "b" reuses "a"'s generation, and "a" finishing last leaves its older film under the
+    /// store's claim that the second delta is durable: the asserts below fail.)
+    #[test]
+    fn a_racing_checkpoint_waits_and_takes_the_next_generation() {
+        let dir = tempfile::tempdir().unwrap();
+        let (farm, rt, worker, lease) = leased_job(dir.path(), |_| {});
+        upload(&farm, &rt, &worker, &lease, 1, 1.0);
+        let (events, seen) = mpsc::channel::<(String, CheckpointStep)>();
+        let (release, held) = mpsc::channel::<()>();
+        let (events, held) = (Mutex::new(events), Mutex::new(held));
+        let probe: CheckpointProbe = Arc::new(move |_job: &str, step| {
+            let who = std::thread::current().name().unwrap_or("").to_string();
+            let _ = lock(&events).send((who.clone(), step));
+            if who == "a" && matches!(step, CheckpointStep::Copied { .. }) {
+                let _ = lock(&held).recv();
+            }
+        });
+        *lock(&farm.checkpoint_probe) = Some(probe);
+        let spawn = |name: &str| {
+            let (f, r) = (farm.clone(), rt.clone());
+            std::thread::Builder::new()
+                .name(name.into())
+                .spawn(move || checkpoint(&f, &r))
+                .unwrap()
+        };
+        let a = spawn("a");
+        let first = seen.recv().unwrap();
+        assert_eq!(
+            first,
+            ("a".into(), CheckpointStep::Copied { generation: 1 })
+        );
+        upload(&farm, &rt, &worker, &lease, 2, 1.0);
+        let b = spawn("b");
+        // "b" either waits for "a" (its first step) or, were the race back, runs through.
+        let (who, b_first) = seen.recv().unwrap();
+        assert_eq!(who, "b");
+        let waiting_b = if b_first == CheckpointStep::Waiting {
+            Some(b)
+        } else {
+            b.join().unwrap().unwrap();
+            None
+        };
+        release.send(()).unwrap();
+        a.join().unwrap().unwrap();
+        if let Some(b) = waiting_b {
+            b.join().unwrap().unwrap();
+        }
+        let rest: Vec<(String, CheckpointStep)> = seen.try_iter().collect();
+        let row = farm.job_row(&rt.id).unwrap();
+        let on_disk = load_checkpoint(&farm, &row).unwrap().unwrap();
+        let merged = lock(&rt.film).clone();
+        assert_eq!(merged.total_samples(), 2.0 * rt.info.pixels as f64);
+        assert_eq!(lock(&farm.db).durable_seq(&lease).unwrap(), 2);
+        assert_eq!(
+            on_disk, merged,
+            "the newest checkpoint lacks a durable delta"
+        );
+        assert_eq!(row.ckpt_gen, 2, "two checkpoints wrote one generation");
+        assert_eq!(b_first, CheckpointStep::Waiting);
+        assert_eq!(
+            rest,
+            [("b".into(), CheckpointStep::Copied { generation: 2 })]
+        );
+    }
 }

@@ -6,8 +6,9 @@
 //! ```text
 //! NextAssignment --assign--> lease (stream id, budget from the job's haltspp)
 //! UploadDelta header --check_upload--> (lease held, job open, size bounded) before any byte
-//!   of the body is read; body --upload--> decode, ledger check, merge under the film lock,
-//!   acknowledgement (durable sequence number, master instance, budget, stop)
+//!   of the body is read; body --upload--> decode into a kept film of the job's layout
+//!   (`scratch`), ledger check, merge under the film lock, acknowledgement (durable sequence
+//!   number, master instance, budget, stop)
 //! Heartbeat --heartbeat--> stop, durable sequence number, budget
 //! ```
 //!
@@ -117,6 +118,7 @@ impl Farm {
             closed: false.into(),
             leases: Mutex::new(leases),
             checkpointing: Mutex::new(()),
+            copy: Mutex::new(None),
             state: Mutex::new(RunState {
                 halting: None,
                 checkpoint_version: 0,
@@ -124,6 +126,7 @@ impl Farm {
                 checkpoint_error: None,
                 history: VecDeque::from([(Instant::now(), samples)]),
                 convergence: Default::default(),
+                analysis_after: None,
                 noise_map: Default::default(),
                 trade: crate::trade::TradeState::with_history(crate::halt::load_trade(
                     self, &row.id,
@@ -301,18 +304,19 @@ impl Farm {
             return self.duplicate(&row, &rt, h);
         }
         let decode_start = Instant::now();
-        let delta = match luxfarm_wire::codec::decode_as(&h.encoding, data) {
-            Ok(d) => d,
-            Err(e) => {
-                let e = ServerError::from(e);
-                self.record_failure(worker, &row.id, &format!("delta refused: {e}"))?;
-                return Err(e);
-            }
-        };
+        // Decoded into a film kept for it (`scratch`): no fresh pages per upload.
+        let mut delta = self.scratch.take(&rt.info);
+        if let Err(e) = luxfarm_wire::codec::decode_as_into(&h.encoding, data, &mut delta) {
+            self.scratch.give_back(delta);
+            let e = ServerError::from(e);
+            self.record_failure(worker, &row.id, &format!("delta refused: {e}"))?;
+            return Err(e);
+        }
         let decode = decode_start.elapsed();
         let samples = delta.total_samples();
         let merge_start = Instant::now();
         let merged = self.merge_delta(h, data, &row, &rt, &delta);
+        self.scratch.give_back(delta);
         if let Err(ServerError::BadRequest(why)) = &merged {
             self.record_failure(worker, &row.id, why)?;
         }

@@ -7,14 +7,16 @@
 //! - `farm`: shared state, submission; `datadir`: the data directory's checks at startup;
 //!   `admission`: what a job may cost and whether it can render; `auth`: identities, roles,
 //!   tokens; `registry`: worker registration (protocol versions, credentials); `lease`:
-//!   leases, uploads, heartbeats; `budget`: per-lease sample budgets (precise haltspp);
-//!   `halt`: halt rules, checkpoints, job end, cancel; `analysis`: the film's convergence
-//!   tests and noise-aware maps, on the tick rather than the upload path; `db`: the SQLite store (schema versions
-//!   and upgrades in `db::migrate`); `schedule`: which job a worker gets (priority, tags,
-//!   memory, sequence policies); `sequence`: frame sequences; `blocks`: failing workers
-//!   blocked from jobs and quarantined; `noisemap`: noise-aware sampling maps built from the
-//!   merged film, sent to workers with their acknowledgements; `trade`: each running job's
-//!   error estimate over time, its projection to a target and the convergence map picture.
+//!   leases, uploads, heartbeats; `scratch`: the films deltas are decoded into, reused;
+//!   `budget`: per-lease sample budgets (precise haltspp); `halt`: halt rules, checkpoints,
+//!   job end, cancel; `analysis`: the film's convergence tests and noise-aware maps, on the
+//!   tick rather than the upload path, within a share of the master's time; `db`: the SQLite
+//!   store (schema versions and upgrades in `db::migrate`); `schedule`: which job a worker
+//!   gets (priority, tags, memory, sequence policies); `sequence`: frame sequences;
+//!   `blocks`: failing workers blocked from jobs and quarantined; `noisemap`: noise-aware
+//!   sampling maps built from the merged film, sent to workers with their acknowledgements;
+//!   `trade`: each running job's error estimate over time, its projection to a target and the
+//!   convergence map picture.
 //!
 //! Durability of acknowledged deltas: a delta is acknowledged once merged into the job's film
 //! in memory, and becomes durable with the next checkpoint (the film written atomically, then
@@ -64,8 +66,11 @@ pub(crate) mod registry;
 pub(crate) mod rest;
 pub(crate) mod scene;
 pub(crate) mod schedule;
+pub(crate) mod scratch;
 pub(crate) mod sequence;
 pub(crate) mod serve;
+#[cfg(test)]
+mod test_util;
 pub(crate) mod trade;
 pub(crate) mod views;
 pub(crate) mod webhooks;

@@ -8,7 +8,7 @@
 
 use crate::codec;
 use crate::error::{Result, ServerError};
-use luxfarm::atomic_write::write_bytes_atomic;
+use luxfarm::atomic_write::{write_atomic, FileError};
 use luxfarm::fileio::SceneFiles;
 pub use luxfarm::film::Film;
 use luxfarm::film::{BufferType, FilmParams};
@@ -144,9 +144,16 @@ pub fn new_film(info: &SceneInfo) -> Film {
     .unwrap_or_else(|_| Film::new(info.width, info.height, info.groups.clone()))
 }
 
-/// Writes a checkpoint (lossless `lxd1`) atomically.
+/// Writes a checkpoint (lossless `lxd1`) atomically, streamed to the file (no encoded copy
+/// of the film in memory).
 pub fn write_checkpoint(film: &Film, path: &Path) -> Result<()> {
-    write_bytes_atomic(path, &codec::encode(film)).map_err(|e| ServerError::Io(e.source))
+    write_atomic(path, |w| {
+        codec::encode_to(film, w).map_err(|source| FileError {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+    .map_err(|e: FileError| ServerError::Io(e.source))
 }
 
 /// Reads a checkpoint (errors leave naming the file to the caller).

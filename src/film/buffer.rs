@@ -67,7 +67,7 @@ pub fn check_size(width: u32, height: u32) -> Result<(), FilmError> {
 }
 
 /// The film buffers: f64 sums per light group, buffer and pixel, and f64 sample counts.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Debug, PartialEq)]
 pub struct Film {
     width: u32,
     height: u32,
@@ -77,6 +77,32 @@ pub struct Film {
     data: Vec<Vec<f64>>,
     samples: Vec<f64>,
     rejected: u64,
+}
+
+impl Clone for Film {
+    fn clone(&self) -> Film {
+        Film {
+            width: self.width,
+            height: self.height,
+            groups: self.groups.clone(),
+            buffer_types: self.buffer_types.clone(),
+            data: self.data.clone(),
+            samples: self.samples.clone(),
+            rejected: self.rejected,
+        }
+    }
+
+    /// Copies `source` into the buffers this film already holds (no fresh pages when the
+    /// layouts match: a snapshot taken again and again of a large film).
+    fn clone_from(&mut self, source: &Film) {
+        self.width = source.width;
+        self.height = source.height;
+        self.groups.clone_from(&source.groups);
+        self.buffer_types.clone_from(&source.buffer_types);
+        self.data.clone_from(&source.data);
+        self.samples.clone_from(&source.samples);
+        self.rejected = source.rejected;
+    }
 }
 
 impl Film {
@@ -149,6 +175,11 @@ impl Film {
     /// Samples rejected so far (non-finite or negative values, outliers).
     pub fn rejected(&self) -> u64 {
         self.rejected
+    }
+
+    /// Sets the rejection count (a delta decoded into a reused film).
+    pub fn set_rejected(&mut self, n: u64) {
+        self.rejected = n;
     }
 
     /// Counts samples rejected outside the film (e.g. by outlier rejection).
@@ -416,6 +447,25 @@ mod tests {
         assert!(f.merge_at(&t, 3, 3).is_err());
         f.clear();
         assert_eq!(f.pixel(0, 0, 3, 2), Some([0.0; 5]));
+    }
+
+    #[test]
+    fn clone_from_reuses_the_buffers_and_copies_everything() {
+        let mut a = Film::new(3, 2, vec!["a".into(), "b".into()]);
+        a.add_splat(1, 2, 1, [1.0, 2.0, 3.0], 1.0, 0.5);
+        a.add_sample_count(6.0);
+        a.add_rejected(2);
+        let mut b = Film::new(3, 2, vec!["x".into(), "y".into()]);
+        b.add_splat(0, 0, 0, [5.0, 5.0, 5.0], 1.0, 1.0);
+        let before = b.buffer(0, 0).map(<[f64]>::as_ptr);
+        b.clone_from(&a);
+        assert_eq!(b, a);
+        assert_eq!(b.buffer(0, 0).map(<[f64]>::as_ptr), before);
+        let mut c = Film::new(1, 1, vec![]);
+        c.clone_from(&a);
+        assert_eq!(c, a);
+        c.set_rejected(0);
+        assert_eq!(c.rejected(), 0);
     }
 
     #[test]

@@ -57,9 +57,28 @@ pub fn tvi(adaptation: f32) -> f32 {
 
 /// Contrast sensitivity (Barten 1989) at `cpd` cycles per degree and luminance `lum`.
 pub fn csf(cpd: f32, lum: f32) -> f32 {
-    let a = 440.0 * (1.0 + 0.7 / lum).powf(-0.2);
-    let b = 0.3 * (1.0 + 100.0 / lum).powf(0.15);
-    a * cpd * (-b * cpd).exp() * (1.0 + 0.06 * (b * cpd).exp()).sqrt()
+    Csf::at(lum).of(cpd)
+}
+
+/// Barten's contrast sensitivity at one luminance: its two luminance terms, computed once for
+/// the levels of a pixel (the same values [`csf`] gives).
+struct Csf {
+    a: f32,
+    b: f32,
+}
+
+impl Csf {
+    fn at(lum: f32) -> Csf {
+        Csf {
+            a: 440.0 * (1.0 + 0.7 / lum).powf(-0.2),
+            b: 0.3 * (1.0 + 100.0 / lum).powf(0.15),
+        }
+    }
+
+    fn of(&self, cpd: f32) -> f32 {
+        let (a, b) = (self.a, self.b);
+        a * cpd * (-b * cpd).exp() * (1.0 + 0.06 * (b * cpd).exp()).sqrt()
+    }
 }
 
 /// Visual masking (Daly 1993).
@@ -212,8 +231,9 @@ pub fn yee_compare(a: &RgbImage, b: &RgbImage, p: &YeeParams) -> Vec<(f32, bool)
             let sum = sum.max(1e-5);
             let adapt =
                 (0.5 * (la.get(x, y, adaptation_level) + lb.get(x, y, adaptation_level))).max(1e-5);
+            let sensitivity = Csf::at(adapt);
             let factor = (0..LEVELS - 2)
-                .map(|i| contrast[i] * freq[i] * mask(contrast[i] * csf(cpd[i], adapt)) / sum)
+                .map(|i| contrast[i] * freq[i] * mask(contrast[i] * sensitivity.of(cpd[i])) / sum)
                 .sum::<f32>()
                 .clamp(1.0, 10.0);
             let delta = (la.get(x, y, 0) - lb.get(x, y, 0)).abs();

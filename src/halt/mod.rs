@@ -21,7 +21,7 @@ pub mod convergence;
 pub use convergence::{ConvergenceTest, YeeParams};
 
 use crate::film::{Film, FilmParams};
-use crate::tonemap::{tonemap_display, TonemapParams};
+use crate::tonemap::{tonemap_display, RgbImage, TonemapParams};
 
 /// When a render stops. A rule left `None` never stops it.
 #[derive(Clone, Debug, PartialEq)]
@@ -171,9 +171,21 @@ impl HaltRules {
         film: &Film,
         tonemap: &TonemapParams,
     ) -> Option<HaltReason> {
+        self.threshold?;
+        self.test_convergence_display(state, film.spp(), &tonemap_display(film, tonemap))
+    }
+
+    /// As [`HaltRules::test_convergence`], on the film's display image already made
+    /// (`tonemap_display`) at `spp`.
+    pub fn test_convergence_display(
+        &self,
+        state: &mut Convergence,
+        spp: f64,
+        display: &RgbImage,
+    ) -> Option<HaltReason> {
         let haltthreshold = self.threshold?;
-        state.last_spp = film.spp();
-        let failing = state.test.update(&tonemap_display(film, tonemap));
+        state.last_spp = spp;
+        let failing = state.test.update(display);
         state.snapshots += 1;
         if state.snapshots < 2 {
             return None;

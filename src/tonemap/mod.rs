@@ -232,9 +232,17 @@ pub fn to_display(img: &mut RgbImage, params: &TonemapParams) {
 
 /// Tonemapped, clamped and gamma-corrected RGB in [0, 1] (PNG, TGA, previews).
 pub fn tonemap_display(film: &Film, params: &TonemapParams) -> RgbImage {
-    let mut img = tonemap(film, params);
-    to_display(&mut img, params);
-    img
+    display_from_xyz(film_xyz(film, params), params)
+}
+
+/// Steps 2 and 3 and the display transform on a film's XYZ image ([`film_xyz`]): what
+/// [`tonemap_display`] gives, for a caller that also reads the XYZ image itself.
+pub fn display_from_xyz(mut img: XyzImage, params: &TonemapParams) -> RgbImage {
+    apply_kernel(&mut img, params);
+    let mut rgb = to_rgb(img, &ColorSystem::new(&params.colorspace));
+    effects::after_rgb(&mut rgb, &params.effects);
+    to_display(&mut rgb, params);
+    rgb
 }
 
 #[cfg(test)]

@@ -2,9 +2,10 @@
 //! acknowledged deltas); FLM (f32, gzip) stays the download and output format.
 //!
 //! Data flow: a worker's session film -> [`encode_delta`] -> upload chunks -> the master's
-//! [`decode_as`] (checked against the upload's `encoding` name) -> a cleared [`Film`] holding
-//! exactly the sent sums, which the master adds to the job's film. Checkpoints go through
-//! [`encode`] and [`decode`].
+//! [`decode_as_into`] (checked against the upload's `encoding` name) -> a reused [`Film`] of
+//! the job's layout, every value, count and the rejection count overwritten with exactly the
+//! sent sums, which the master adds to the job's film ([`decode_as`] allocates a fresh film
+//! instead). Checkpoints go through [`encode`] and [`decode`].
 //!
 //! - `lxd1`: the film's f64 sums and sample counts, little endian, uncompressed. Checkpoints use
 //!   it (as fast to write and read as a copy) and old workers upload it.
@@ -41,11 +42,27 @@ pub fn encode_delta(film: &Film) -> Vec<u8> {
     lxd2::encode(film, Compressor::default())
 }
 
-/// Decodes a delta sent with the named encoding.
+/// Decodes a delta sent with the named encoding into a fresh film.
 pub fn decode_as(encoding: &str, bytes: &[u8]) -> Result<Film> {
+    check_encoding(encoding, bytes)?;
+    decode(bytes)
+}
+
+/// Decodes a delta sent with the named encoding into `film`, which must have the delta's
+/// layout (resolution, light group count, buffers): every value, sample count and the
+/// rejection count are overwritten, so a film reused across deltas needs no clearing and
+/// touches no fresh pages. A delta of another layout is refused before any value is read. On
+/// an error `film` holds unspecified values (the next successful decode overwrites them all).
+pub fn decode_as_into(encoding: &str, bytes: &[u8], film: &mut Film) -> Result<()> {
+    check_encoding(encoding, bytes)?;
+    decode_into(bytes, film)
+}
+
+/// The upload's encoding name must be known and match the bytes' magic.
+fn check_encoding(encoding: &str, bytes: &[u8]) -> Result<()> {
     let magic = bytes.get(..4).unwrap_or_default();
     match encoding {
-        "lxd1" | "lxd2" if magic.eq_ignore_ascii_case(encoding.as_bytes()) => decode(bytes),
+        "lxd1" | "lxd2" if magic.eq_ignore_ascii_case(encoding.as_bytes()) => Ok(()),
         "lxd1" | "lxd2" => Err(bad(&format!("not an {encoding} film"))),
         other => Err(WireError::UnknownEncoding(other.to_string())),
     }
@@ -56,17 +73,32 @@ pub fn encode(film: &Film) -> Vec<u8> {
     let values =
         film.pixel_count() * PIXEL_VALUES * film.groups().len() * film.buffer_types().len();
     let mut out = Vec::with_capacity(64 + values * 8);
-    write_header(&mut out, MAGIC, film);
+    // Writing to a Vec cannot fail.
+    let _ = encode_to(film, &mut out);
+    out
+}
+
+/// Writes a film as `lxd1` to `w` (a checkpoint file), a few thousand values at a time.
+pub fn encode_to(film: &Film, w: &mut impl std::io::Write) -> std::io::Result<()> {
+    let mut header = Vec::new();
+    write_header(&mut header, MAGIC, film);
+    w.write_all(&header)?;
+    let mut bytes = Vec::with_capacity(8 * 4096);
     for g in 0..film.groups().len() {
         for b in 0..film.buffer_types().len() {
-            if let Some(buf) = film.buffer(g, b) {
-                for v in buf {
-                    out.extend_from_slice(&v.to_le_bytes());
+            let Some(buf) = film.buffer(g, b) else {
+                continue;
+            };
+            for chunk in buf.chunks(4096) {
+                bytes.clear();
+                for v in chunk {
+                    bytes.extend_from_slice(&v.to_le_bytes());
                 }
+                w.write_all(&bytes)?;
             }
         }
     }
-    out
+    Ok(())
 }
 
 /// Writes the common header with its magic.
@@ -129,48 +161,128 @@ fn bad(why: &str) -> WireError {
     WireError::Delta(why.to_string())
 }
 
-/// Decodes an `lxd1` or `lxd2` film (told apart by the magic), refusing malformed input and
-/// non-finite or negative counts and values.
+/// Decodes an `lxd1` or `lxd2` film (told apart by the magic) into a fresh film, refusing
+/// malformed input and non-finite or negative counts and values.
 pub fn decode(bytes: &[u8]) -> Result<Film> {
     let mut r = Reader { bytes, pos: 0 };
+    let raw = read_magic(&mut r)?;
+    let header = read_header(&mut r, raw)?;
+    let mut film = header.new_film()?;
+    read_values(&mut r, raw, &mut film)?;
+    Ok(film)
+}
+
+/// As [`decode`], into a film of the delta's layout (see [`decode_as_into`]).
+pub fn decode_into(bytes: &[u8], film: &mut Film) -> Result<()> {
+    let mut r = Reader { bytes, pos: 0 };
+    let raw = read_magic(&mut r)?;
+    let header = read_header(&mut r, raw)?;
+    header.check_fits(film)?;
+    read_values(&mut r, raw, film)?;
+    header.set_counts(film);
+    Ok(())
+}
+
+/// Reads the magic: true for `lxd1` (raw values), false for `lxd2`.
+fn read_magic(r: &mut Reader) -> Result<bool> {
     let magic = r.take(4)?;
     if magic == lxd2::MAGIC {
-        let mut film = read_header(&mut r, false)?;
-        lxd2::read_values(&mut r, &mut film)?;
-        return Ok(film);
+        Ok(false)
+    } else if magic == MAGIC {
+        Ok(true)
+    } else {
+        Err(bad("not an lxd1 or lxd2 film"))
     }
-    if magic != MAGIC {
-        return Err(bad("not an lxd1 or lxd2 film"));
+}
+
+/// Reads the values after the header into every buffer of `film` (raw `lxd1` or `lxd2`).
+fn read_values(r: &mut Reader, raw: bool, film: &mut Film) -> Result<()> {
+    if !raw {
+        return lxd2::read_values(r, film);
     }
-    let mut film = read_header(&mut r, true)?;
     let (ngroups, nbuf) = (film.groups().len(), film.buffer_types().len());
     let per_buffer = film.pixel_count() * PIXEL_VALUES;
     for g in 0..ngroups {
         for b in 0..nbuf {
             let src = r.take(per_buffer * 8)?;
             let dst = film.buffer_mut(g, b).ok_or_else(|| bad("buffer missing"))?;
+            let mut finite = true;
             for (d, c) in dst.iter_mut().zip(src.chunks_exact(8)) {
                 let mut a = [0u8; 8];
                 a.copy_from_slice(c);
-                *d = finite(f64::from_le_bytes(a))?;
+                *d = f64::from_le_bytes(a);
+                finite &= d.is_finite();
+            }
+            if !finite {
+                return Err(bad("non-finite pixel value"));
             }
         }
     }
-    Ok(film)
+    Ok(())
 }
 
-/// A pixel value, refused when not finite.
-fn finite(v: f64) -> Result<f64> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(bad("non-finite pixel value"))
+/// A film's common header, read and bounded before anything is allocated.
+struct Header {
+    width: u32,
+    height: u32,
+    groups: Vec<String>,
+    types: Vec<BufferType>,
+    rejected: u64,
+    counts: Vec<f64>,
+}
+
+impl Header {
+    /// A cleared film of this layout, holding the header's counts.
+    fn new_film(self) -> Result<Film> {
+        let mut film = Film::with_buffers(self.width, self.height, self.groups, self.types)
+            .map_err(|e| bad(&e.to_string()))?;
+        film.set_rejected(self.rejected);
+        for (g, n) in self.counts.into_iter().enumerate() {
+            film.set_sample_count(g, n);
+        }
+        Ok(film)
+    }
+
+    /// Refuses a film whose layout is not this header's (as `Film::check_layout` words it).
+    fn check_fits(&self, film: &Film) -> Result<()> {
+        if (film.width(), film.height()) != (self.width, self.height) {
+            return Err(bad(&format!(
+                "resolution {}x{} against {}x{}",
+                film.width(),
+                film.height(),
+                self.width,
+                self.height
+            )));
+        }
+        if film.groups().len() != self.groups.len() {
+            return Err(bad(&format!(
+                "{} light groups against {}",
+                film.groups().len(),
+                self.groups.len()
+            )));
+        }
+        if film.buffer_types() != self.types.as_slice() {
+            return Err(bad(&format!(
+                "buffers {:?} against {:?}",
+                film.buffer_types(),
+                self.types
+            )));
+        }
+        Ok(())
+    }
+
+    /// Puts the header's sample counts and rejection count on a film of its layout.
+    fn set_counts(&self, film: &mut Film) {
+        film.set_rejected(self.rejected);
+        for (g, &n) in self.counts.iter().enumerate() {
+            film.set_sample_count(g, n);
+        }
     }
 }
 
-/// Reads the common header (after the magic) and allocates the cleared film it describes;
-/// with `raw`, only when exactly its raw f64 values follow.
-fn read_header(r: &mut Reader, raw: bool) -> Result<Film> {
+/// Reads the common header (after the magic), bounded like an upload; with `raw`, only when
+/// exactly its raw f64 values follow.
+fn read_header(r: &mut Reader, raw: bool) -> Result<Header> {
     let (width, height) = (r.u32()?, r.u32()?);
     luxfarm::film::check_size(width, height).map_err(|e| bad(&e.to_string()))?;
     let ngroups = r.u32()? as usize;
@@ -216,13 +328,14 @@ fn read_header(r: &mut Reader, raw: bool) -> Result<Film> {
             r.bytes.len()
         )));
     }
-    let mut film =
-        Film::with_buffers(width, height, groups, types).map_err(|e| bad(&e.to_string()))?;
-    film.add_rejected(rejected);
-    for (g, n) in counts.into_iter().enumerate() {
-        film.set_sample_count(g, n);
-    }
-    Ok(film)
+    Ok(Header {
+        width,
+        height,
+        groups,
+        types,
+        rejected,
+        counts,
+    })
 }
 
 #[cfg(test)]
@@ -244,6 +357,77 @@ mod tests {
         assert_eq!(f, g);
         assert_eq!(decode_as("lxd1", &encode(&f)).unwrap(), f);
         assert_eq!(decode_as("lxd2", &encode_delta(&f)).unwrap(), f);
+    }
+
+    #[test]
+    fn decoding_into_a_used_film_overwrites_everything() {
+        let f = sample_film();
+        let mut f2 = Film::new(3, 2, vec!["a".into(), "b".into()]);
+        f2.add_splat(1, 0, 0, [4.0, 3.0, 2.0], 0.0, 0.25);
+        f2.add_rejected(5);
+        for enc in [encode(&f), encode_delta(&f)] {
+            // A film of the layout holding other values, counts and rejections.
+            let mut used = Film::new(3, 2, vec!["x".into(), "y".into()]);
+            used.add_splat(0, 2, 1, [9.0, 9.0, 9.0], 1.0, 3.0);
+            used.add_sample_count(99.0);
+            used.add_rejected(7);
+            decode_into(&enc, &mut used).unwrap();
+            let mut want = f.clone();
+            want.set_group_name(0, "x");
+            want.set_group_name(1, "y");
+            assert_eq!(used, want);
+            // Again with another delta: nothing of the first stays.
+            decode_into(&encode_delta(&f2), &mut used).unwrap();
+            assert_eq!(used.rejected(), f2.rejected());
+            assert_eq!(used.sample_count(1), 0.0);
+            assert_eq!(used.buffer(0, 0), f2.buffer(0, 0));
+            assert_eq!(used.buffer(1, 0), f2.buffer(1, 0));
+        }
+        let mut used = Film::new(3, 2, vec!["x".into(), "y".into()]);
+        assert!(decode_as_into("lxd2", &encode_delta(&f), &mut used).is_ok());
+        assert!(decode_as_into("lxd1", &encode_delta(&f), &mut used).is_err());
+    }
+
+    #[test]
+    fn decoding_into_another_layout_is_refused() {
+        let f = sample_film();
+        for other in [
+            Film::new(2, 3, vec!["a".into(), "b".into()]),
+            Film::new(3, 2, vec!["a".into()]),
+            Film::with_buffers(
+                3,
+                2,
+                vec!["a".into(), "b".into()],
+                vec![BufferType::PerPixel, BufferType::PerScreen],
+            )
+            .unwrap(),
+        ] {
+            let mut other = other;
+            let untouched = other.clone();
+            let e = decode_into(&encode_delta(&f), &mut other).unwrap_err();
+            assert!(e.to_string().contains("against"), "{e}");
+            assert_eq!(other, untouched);
+        }
+    }
+
+    #[test]
+    fn streamed_checkpoints_are_the_encoded_bytes() {
+        // More values than one streamed chunk, in two groups.
+        let mut f = Film::new(40, 30, vec!["a".into(), "b".into()]);
+        for i in 0..1200u32 {
+            f.add_splat(
+                (i % 2) as usize,
+                i % 40,
+                i / 40,
+                [i as f32, 1.0, 0.5],
+                1.0,
+                0.25,
+            );
+        }
+        let mut streamed = Vec::new();
+        encode_to(&f, &mut streamed).unwrap();
+        assert_eq!(streamed, encode(&f));
+        assert_eq!(decode(&streamed).unwrap(), f);
     }
 
     #[test]

@@ -45,10 +45,9 @@ pub use fit::{PowerFit, Projection, ProjectionStatus};
 pub use history::{ErrorHistory, Metric, TradePoint};
 
 use fit::project;
-use luxfarm::film::Film;
 use luxfarm::halt::ConvergenceTest;
 use luxfarm::imageio::{encode_png_preview, LdrImage};
-use luxfarm::tonemap::{film_xyz, tonemap_display, TonemapParams};
+use luxfarm::tonemap::{RgbImage, XyzImage};
 use std::path::Path;
 
 /// The file of a job's saved history, in its job directory.
@@ -184,18 +183,10 @@ impl TradeState {
         }
     }
 
-    /// Takes a convergence test's moment: the film (a copy of the merged one) and the test's
-    /// failing fraction, at `secs` since the first lease. Adds a point once the previous
-    /// snapshot gives a relative error.
-    pub fn observe(
-        &mut self,
-        film: &Film,
-        tonemap: &TonemapParams,
-        secs: f64,
-        failing: Option<f64>,
-    ) {
-        let y: Vec<f32> = film_xyz(film, tonemap).xyz.iter().map(|p| p[1]).collect();
-        let spp = film.spp();
+    /// Takes a convergence test's moment: the film's luminance ([`luminance`] of a copy of the
+    /// merged film) at `spp` and the test's failing fraction, at `secs` since the first lease.
+    /// Adds a point once the previous snapshot gives a relative error.
+    pub fn observe(&mut self, y: Vec<f32>, spp: f64, secs: f64, failing: Option<f64>) {
         let err = self.marks.first().and_then(|s| relative_error(s, &y, spp));
         if self.marks.last().is_none_or(|m| spp >= 2.0 * m.spp) {
             self.marks.push(Snapshot { spp, y });
@@ -218,11 +209,12 @@ impl TradeState {
         self.own_tests == 0 || spp >= self.own_spp + step
     }
 
-    /// Runs this module's own convergence test on (a copy of) the merged film; the failing
-    /// fraction, once two snapshots were compared.
-    pub fn own_test(&mut self, film: &Film, tonemap: &TonemapParams) -> Option<f64> {
-        self.own_spp = film.spp();
-        let failing = self.own.update(&tonemap_display(film, tonemap));
+    /// Runs this module's own convergence test on the display image (`tonemap_display`) of (a
+    /// copy of) the merged film at `spp`; the failing fraction, once two snapshots were
+    /// compared.
+    pub fn own_test(&mut self, spp: f64, display: &RgbImage) -> Option<f64> {
+        self.own_spp = spp;
+        let failing = self.own.update(display);
         self.own_tests += 1;
         (self.own_tests >= 2).then_some(failing)
     }
@@ -231,6 +223,11 @@ impl TradeState {
     pub fn own_noise(&self) -> &[f32] {
         self.own.noise_map()
     }
+}
+
+/// The luminance (Y) of a film's XYZ image (`film_xyz`): what the relative error compares.
+pub fn luminance(xyz: &XyzImage) -> Vec<f32> {
+    xyz.xyz.iter().map(|p| p[1]).collect()
 }
 
 /// The colour of a pixel's visible difference relative to the threshold `r` (Yee's ratio;
@@ -273,6 +270,8 @@ pub fn overlay_png(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use luxfarm::film::Film;
+    use luxfarm::tonemap::{film_xyz, tonemap_display, TonemapParams};
 
     const REL: Metric = Metric::RelativeError;
 
@@ -355,11 +354,12 @@ mod tests {
         };
         add(&mut f, 0.5);
         add(&mut f, 0.7);
-        t.observe(&f, &tp, 1.0, None);
+        let y = |f: &Film| luminance(&film_xyz(f, &tp));
+        t.observe(y(&f), f.spp(), 1.0, None);
         assert!(t.history.points().is_empty());
         add(&mut f, 0.3);
         add(&mut f, 0.4);
-        t.observe(&f, &tp, 2.0, Some(0.5));
+        t.observe(y(&f), f.spp(), 2.0, Some(0.5));
         let pts = t.history.points();
         assert_eq!(pts.len(), 1);
         assert!(
@@ -374,12 +374,12 @@ mod tests {
         let marks = |t: &TradeState| t.marks.iter().map(|m| m.spp).collect::<Vec<_>>();
         assert_eq!(marks(&t), [2.0, 4.0]);
         add(&mut f, 0.6);
-        t.observe(&f, &tp, 3.0, None);
+        t.observe(y(&f), f.spp(), 3.0, None);
         assert_eq!(marks(&t), [2.0, 4.0]);
         for _ in 0..3 {
             add(&mut f, 0.6);
         }
-        t.observe(&f, &tp, 4.0, None);
+        t.observe(y(&f), f.spp(), 4.0, None);
         assert_eq!(marks(&t), [4.0, 8.0]);
         assert_eq!(t.history.points().len(), 3);
     }
@@ -434,12 +434,13 @@ mod tests {
         let mut t = TradeState::default();
         let tp = TonemapParams::default();
         assert!(t.own_due(0.0, 4.0));
-        assert_eq!(t.own_test(&f, &tp), None);
+        let display = tonemap_display(&f, &tp);
+        assert_eq!(t.own_test(f.spp(), &display), None);
         assert_eq!(t.own_noise().len(), 8);
         assert!(!t.own_due(f.spp() + 1.0, 4.0));
         assert!(t.own_due(f.spp() + 4.0, 4.0));
         // the same image again: nothing fails
-        assert_eq!(t.own_test(&f, &tp), Some(0.0));
+        assert_eq!(t.own_test(f.spp(), &display), Some(0.0));
     }
 
     #[test]

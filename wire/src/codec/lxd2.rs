@@ -190,50 +190,91 @@ fn decode_band(tag: u8, src: &[u8], dst: &mut [f64]) -> Result<(), WireError> {
     })
 }
 
+/// Bits of a float's exponent: all set for infinities and NaNs.
+const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+
 /// Gathers each value's 8 bytes from the byte planes straight into the interleaved pixels,
-/// undoes alpha XOR weight and checks that every value is finite.
+/// undoes alpha XOR weight and checks that every value is finite. Eight pixels at a time:
+/// per channel, the 8 bytes of each plane are one word and the 8 x 8 byte matrix is
+/// transposed in registers ([`transpose8`]), so every plane is read a word at a time and the
+/// pixels are written in order.
 fn unshuffle(shuffled: &[u8], dst: &mut [f64]) -> Result<(), WireError> {
     let m = dst.len();
     let n = m / PIXEL_VALUES;
-    let p: Vec<&[u8]> = shuffled.chunks_exact(m).collect();
-    let [p0, p1, p2, p3, p4, p5, p6, p7] = p[..] else {
+    if n * PIXEL_VALUES != m || shuffled.len() != m * 8 {
         return Err(bad("band has the wrong size"));
-    };
-    // Weight before alpha: alpha's bits are XORed with the weight's.
-    for c in [WEIGHT, 0, 1, 2, ALPHA] {
-        let range = c * n..(c + 1) * n;
-        let planes = [
-            &p0[range.clone()],
-            &p1[range.clone()],
-            &p2[range.clone()],
-            &p3[range.clone()],
-            &p4[range.clone()],
-            &p5[range.clone()],
-            &p6[range.clone()],
-            &p7[range],
-        ];
-        for (i, px) in dst.chunks_exact_mut(PIXEL_VALUES).enumerate() {
-            let bits = u64::from_le_bytes([
-                planes[0][i],
-                planes[1][i],
-                planes[2][i],
-                planes[3][i],
-                planes[4][i],
-                planes[5][i],
-                planes[6][i],
-                planes[7][i],
-            ]);
-            px[c] = f64::from_bits(if c == ALPHA {
-                bits ^ px[WEIGHT].to_bits()
-            } else {
-                bits
-            });
+    }
+    let mut planes: [&[u8]; 8] = [&[]; 8];
+    for (k, p) in shuffled.chunks_exact(m).enumerate() {
+        if let Some(slot) = planes.get_mut(k) {
+            *slot = p;
         }
     }
-    if dst.iter().all(|v| v.is_finite()) {
-        Ok(())
-    } else {
+    // Every index below is under m: value c of pixel i sits at c * n + i with i < n.
+    let mut nonfinite = false;
+    let full = n / 8;
+    for (block, px) in dst.chunks_exact_mut(8 * PIXEL_VALUES).enumerate() {
+        let i = block * 8;
+        let mut words = [[0u64; 8]; PIXEL_VALUES];
+        for (c, w) in words.iter_mut().enumerate() {
+            let at = c * n + i;
+            for (row, plane) in w.iter_mut().zip(&planes) {
+                let mut b = [0u8; 8];
+                b.copy_from_slice(&plane[at..at + 8]);
+                *row = u64::from_le_bytes(b);
+            }
+            transpose8(w);
+        }
+        let weight = words[WEIGHT];
+        for (a, w) in words[ALPHA].iter_mut().zip(weight) {
+            *a ^= w;
+        }
+        for (j, p) in px.chunks_exact_mut(PIXEL_VALUES).enumerate() {
+            for (v, w) in p.iter_mut().zip(&words) {
+                let bits = w[j];
+                nonfinite |= bits & EXPONENT == EXPONENT;
+                *v = f64::from_bits(bits);
+            }
+        }
+    }
+    for i in full * 8..n {
+        let value = |c: usize| {
+            let at = c * n + i;
+            u64::from_le_bytes(planes.map(|p| p[at]))
+        };
+        let weight = value(WEIGHT);
+        for c in 0..PIXEL_VALUES {
+            let bits = if c == ALPHA {
+                value(c) ^ weight
+            } else {
+                value(c)
+            };
+            nonfinite |= bits & EXPONENT == EXPONENT;
+            dst[i * PIXEL_VALUES + c] = f64::from_bits(bits);
+        }
+    }
+    if nonfinite {
         Err(bad("non-finite pixel value"))
+    } else {
+        Ok(())
+    }
+}
+
+/// Transposes an 8 x 8 byte matrix held as 8 little-endian words (byte j of word k becomes
+/// byte k of word j): three rounds swap the off-diagonal blocks of 4, 2 and 1 bytes.
+fn transpose8(r: &mut [u64; 8]) {
+    const ROUNDS: [(usize, u64); 3] = [
+        (4, 0x0000_0000_ffff_ffff),
+        (2, 0x0000_ffff_0000_ffff),
+        (1, 0x00ff_00ff_00ff_00ff),
+    ];
+    for (s, mask) in ROUNDS {
+        let shift = 8 * s as u32;
+        for a in (0..8).filter(|a| a & s == 0) {
+            let t = ((r[a] >> shift) ^ r[a + s]) & mask;
+            r[a + s] ^= t;
+            r[a] ^= t << shift;
+        }
     }
 }
 
@@ -286,6 +327,79 @@ mod tests {
         let g = decode(&encode(&f, Compressor::default())).unwrap();
         assert_eq!(g.buffer(0, 0).unwrap()[0].to_bits(), (-0.0f64).to_bits());
         assert_eq!(f, g);
+    }
+
+    /// The byte planes of `values` as `encode_band` lays them out before compression.
+    fn shuffle(values: &[u64]) -> Vec<u8> {
+        let m = values.len();
+        let mut out = vec![0u8; m * 8];
+        for (k, plane) in out.chunks_exact_mut(m).enumerate() {
+            for (o, v) in plane.iter_mut().zip(values) {
+                *o = (v >> (8 * k)) as u8;
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn transpose8_moves_byte_j_of_word_k_to_byte_k_of_word_j() {
+        let mut r = [0u64; 8];
+        for (k, w) in r.iter_mut().enumerate() {
+            *w = u64::from_le_bytes(std::array::from_fn(|j| (16 * k + j) as u8));
+        }
+        let before = r;
+        transpose8(&mut r);
+        for (k, row) in before.iter().enumerate() {
+            for (j, word) in r.iter().enumerate() {
+                assert_eq!(word.to_le_bytes()[k], row.to_le_bytes()[j]);
+            }
+        }
+    }
+
+    #[test]
+    fn unshuffle_restores_pixels_for_every_band_width() {
+        // Pixel counts with and without a tail after the blocks of eight.
+        for n in [1usize, 7, 8, 9, 16, 23, 64] {
+            let mut rng: u64 = 0x2545_f491_4f6c_dd1d ^ n as u64;
+            let mut next = || {
+                rng ^= rng << 13;
+                rng ^= rng >> 7;
+                rng ^= rng << 17;
+                f64::from_bits(rng >> 2)
+            };
+            let pixels: Vec<[f64; PIXEL_VALUES]> =
+                (0..n).map(|_| std::array::from_fn(|_| next())).collect();
+            // Planes as the encoder lays them out: channel by channel, alpha XOR weight.
+            let mut planes = vec![0u64; n * PIXEL_VALUES];
+            for (i, p) in pixels.iter().enumerate() {
+                for (c, v) in p.iter().enumerate() {
+                    let bits = v.to_bits();
+                    planes[c * n + i] = if c == ALPHA {
+                        bits ^ p[WEIGHT].to_bits()
+                    } else {
+                        bits
+                    };
+                }
+            }
+            let mut dst = vec![-1.0; n * PIXEL_VALUES];
+            unshuffle(&shuffle(&planes), &mut dst).unwrap();
+            let want: Vec<u64> = pixels.iter().flatten().map(|v| v.to_bits()).collect();
+            let got: Vec<u64> = dst.iter().map(|v| v.to_bits()).collect();
+            assert_eq!(got, want, "{n} pixels");
+            // A non-finite value anywhere, in a block or in the tail, is refused.
+            for at in [0, planes.len() - 1] {
+                let mut bad_planes = planes.clone();
+                bad_planes[at] = f64::INFINITY.to_bits();
+                if at / n == ALPHA {
+                    bad_planes[at] ^= planes[WEIGHT * n + at % n];
+                }
+                assert!(
+                    unshuffle(&shuffle(&bad_planes), &mut dst).is_err(),
+                    "{n} {at}"
+                );
+            }
+            assert!(unshuffle(&shuffle(&planes)[1..], &mut dst).is_err());
+        }
     }
 
     #[test]
