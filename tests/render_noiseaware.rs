@@ -4,7 +4,8 @@
 //! passes sample every pixel `pixelsamples` times; once the session has built its map (two
 //! convergence tests, `convergencestep` 4 spp apart) the noisy half takes clearly more samples
 //! per pixel than the converged one. The box filter of radius 0.5 puts each sample's weight 1
-//! in its own pixel only, so a pixel's weight sum is its sample count. The noise-aware film is
+//! in its own pixel only, so a pixel's weight sum is its sample count (the samples of the
+//! sample extent's margin, past the right and bottom edges, land in no pixel). The noise-aware film is
 //! deterministic (1 and 2 threads give the same bytes) and agrees with a uniform render.
 
 mod render_util;
@@ -12,6 +13,7 @@ mod render_util;
 use luxfarm::film::flm::write_flm;
 use luxfarm::film::Film;
 use luxfarm::render::{Session, SessionOptions};
+use luxfarm::sampler::map::max_pixel_samples;
 use render_util::*;
 use std::path::Path;
 
@@ -91,6 +93,7 @@ fn sampling_follows_the_map_once_it_is_built() {
     );
     let mut before = vec![0.0; (W * H) as usize];
     let mut uniform_passes = 0;
+    let mut margin_samples = 0.0;
     let mut ratios = Vec::new();
     for _ in 0..8 {
         let had_map = s.sampling_map().is_some();
@@ -98,12 +101,22 @@ fn sampling_follows_the_map_once_it_is_built() {
         assert!(stats.complete);
         let now = weights(s.film());
         let counts: Vec<f64> = now.iter().zip(&before).map(|(a, b)| a - b).collect();
-        // The pass's samples are the film's, and every sample landed in one pixel.
+        // The pass's samples are the film's, and every sample landed in one pixel but those
+        // of the sample extent's margin: LuxRender's extent for this box filter reaches one
+        // column and one row past the image, whose samples weigh on no pixel of the film.
         let total: f64 = counts.iter().sum();
+        let margin = stats.samples as f64 - total;
+        let margin_pixels = f64::from(W + H + 1);
+        let most = if had_map {
+            f64::from(max_pixel_samples(4)) * margin_pixels
+        } else {
+            4.0 * margin_pixels + 2.0
+        };
         assert!(
-            (total - stats.samples as f64).abs() < 1e-6,
+            margin >= 0.0 && margin <= most && (had_map || margin >= most - 4.0),
             "{total} vs {stats:?}"
         );
+        margin_samples += margin;
         if had_map {
             let (l, r) = halves(&counts);
             ratios.push(l / r);
@@ -126,7 +139,7 @@ fn sampling_follows_the_map_once_it_is_built() {
     );
     assert_eq!(
         s.film().total_samples(),
-        weights(s.film()).iter().sum::<f64>()
+        weights(s.film()).iter().sum::<f64>() + margin_samples
     );
 }
 
@@ -147,7 +160,9 @@ fn noise_aware_films_are_deterministic_and_agree_with_uniform_sampling() {
     assert!(a == b, "noise-aware FLMs differ between 1 and 2 threads");
     let mut u = session(false, 2);
     assert!(!u.noise_aware());
-    for _ in 0..5 {
+    // The uniform reference renders twice as long: its own noise then takes less of the
+    // tolerance (at 5 passes one of its blocks was 5 % above the three others).
+    for _ in 0..10 {
         u.render_pass();
     }
     let fu = u.take_film();

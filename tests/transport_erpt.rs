@@ -127,13 +127,14 @@ fn image_mean_of_known_emitters_matches_path() {
     let mp = image_mean(&render(&p, &here(), 0, 8));
     let fe = render(&e, &here(), 1, 8);
     let me = image_mean(&fe);
-    // 8 passes of ⌈32·32·16 / 5⌉ = 3277 seeds, each counting 5 samples. The seeds'
+    // 8 passes of ⌈33·33·16 / 5⌉ = 3485 seeds (the sample extent: 32² widened by the
+    // 0.5-wide box filter, `luxfarm::render::extent`), each counting 5 samples. The seeds'
     // energies (0, 1.5 and 4) and their rounded chain counts give one pass's mean a
     // relative standard deviation of 2.0 % (measured over 32 passes: 1.1 per seed), so
     // 8 passes have 0.7 %; path's mean varies by about 0.4 % (pixels on the edges). 3 % is
     // four of their combined standard errors; a quantum or chain count off by a factor,
     // or counts rounded down (no chain from the dim half), miss it by far.
-    assert_eq!(fe.sample_count(0), f64::from(8 * 3277 * 5));
+    assert_eq!(fe.sample_count(0), f64::from(8 * 3485 * 5));
     eprintln!("image mean: path {mp:.1}, erpt {me:.1} ({:.4})", me / mp);
     assert!((me - mp).abs() < 0.03 * mp, "erpt {me} vs path {mp}");
 }
@@ -179,8 +180,9 @@ fn erpt_film_does_not_depend_on_threads() {
 #[test]
 fn two_workers_merge_as_an_exact_sum() {
     let a = assert_streams_merge_exactly(ERPT_BIDIR);
-    // 2 passes of ⌈24·24·2 / 33⌉ = 35 seeds, each counting 33 samples.
-    assert_eq!(a.sample_count(0), f64::from(2 * 35 * 33));
+    // 2 passes of ⌈25·25·2 / 33⌉ = 38 seeds (24² widened by the box filter), each counting
+    // 33 samples.
+    assert_eq!(a.sample_count(0), f64::from(2 * 38 * 33));
 }
 
 /// LuxRender's TestSuite scene written for erpt (dispersion through a prism, gaussian

@@ -49,7 +49,9 @@ fn chains_accept_a_sane_share_of_proposals() {
     s.render_pass();
     s.render_pass();
     let st = s.chain_stats().expect("metropolis chains");
-    assert_eq!(st.proposed, 2 * 32 * 32 * 4);
+    // Two passes of sample extent pixels × pixelsamples steps: Cornell's 0.5-wide box
+    // filter widens 32² to 33² (`luxfarm::render::extent`).
+    assert_eq!(st.proposed, 2 * 33 * 33 * 4);
     let rate = st.accepted as f64 / st.proposed as f64;
     eprintln!("acceptance {rate:.3} over {} proposals", st.proposed);
     assert!(rate > 0.05 && rate < 0.95, "acceptance rate {rate}");
@@ -65,7 +67,8 @@ fn metropolis_film_does_not_depend_on_threads() {
 #[test]
 fn two_workers_merge_as_an_exact_sum() {
     let a = assert_streams_merge_exactly(MLT_BIDIR);
-    assert_eq!(a.sample_count(0), f64::from(2 * 24 * 24 * 2));
+    // Two passes of 25² extent pixels × 2 (24² widened by the box filter).
+    assert_eq!(a.sample_count(0), f64::from(2 * 25 * 25 * 2));
 }
 
 /// A render cut into many short sessions (a farm's leases: each lease is a session with

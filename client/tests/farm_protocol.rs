@@ -129,8 +129,10 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         assert_eq!(v["samples"], 48.0, "{v}");
         assert_eq!(v["merged_deltas"], 1);
         assert_eq!(v["state"], "rendering");
-        // two more spp: haltspp 3 holds, the lease is told to stop
-        let d2 = delta(8, 6, 0.5, 2.0);
+        // haltspp counts against the sample extent's pixels (LuxRender's samplePerPass: 8 × 6
+        // widened to 9 × 7 by the 0.5-wide box filter), so 3 spp are 189 samples: 144 more
+        // reach them, the lease is told to stop
+        let d2 = delta(8, 6, 0.5, 3.0);
         let ack = upload(&mut c, w, &a.lease_id, 2, &d2).await.unwrap();
         assert_eq!(ack.status, "merged");
         assert!(ack.stop, "haltspp reached: the worker must stop");
@@ -168,7 +170,7 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
         c.upload_delta(tokio_stream::iter(chunks)).await.unwrap();
         let v = tokio::task::block_in_place(|| wait_job(&s, &id, 30, |v| v["state"] == "done"));
         assert_eq!(v["state"], "done", "{v}");
-        assert_eq!(v["samples"], 48.0 * 3.0);
+        assert_eq!(v["samples"], 48.0 * 4.0);
         // after the end, a late upload is refused as a conflict
         last.seq = 4;
         let chunks = vec![
@@ -215,7 +217,7 @@ fn replay_ignored_wrong_resolution_refused_and_halt_stops() {
                 .unwrap();
             assert_eq!(flm.status().as_u16(), 200);
             let (film, _) = luxfarm::film::flm::read_flm(&flm.bytes().unwrap()[..]).unwrap();
-            assert_eq!(film.total_samples(), 48.0 * 3.0);
+            assert_eq!(film.total_samples(), 48.0 * 4.0);
         });
     });
 }

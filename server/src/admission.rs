@@ -275,6 +275,7 @@ mod tests {
             width: w,
             height: h,
             pixels: u64::from(w) * u64::from(h),
+            pass_pixels: u64::from(w + 4) * u64::from(h + 4),
             groups: (0..groups).map(|i| format!("g{i}")).collect(),
             buffers: vec![luxfarm::film::BufferType::PerPixel],
             haltspp: None,

@@ -1,7 +1,8 @@
 //! Sample budgets: how a job's haltspp is shared out among its leases so that it ends within
 //! one pass per worker of haltspp, whatever the upload interval.
 //!
-//! A job with haltspp has a target of `haltspp x pixels` samples. Each lease holds a budget
+//! A job with haltspp has a target of `haltspp x pixels` samples, the pixels of the sample
+//! extent (which a pass samples, `luxfarm::render::extent`). Each lease holds a budget
 //! (the samples it may render in all); a worker renders a pass only while it has rendered
 //! less than its budget, so it ends at most one pass beyond it, and uploads at once when its
 //! budget is spent. Budgets are handed out from the pool the leases have not claimed:
@@ -72,7 +73,7 @@ pub fn grant(
 /// Grants on the job's runtime state (locks its film, then its leases).
 pub fn grant_for(rt: &JobRt, id: &str, target: Option<f64>) -> Option<f64> {
     let merged = lock(&rt.film).total_samples();
-    let pass_estimate = rt.info.pixels as f64;
+    let pass_estimate = rt.info.pass_pixels as f64;
     let mut leases = lock(&rt.leases);
     grant(&mut leases, id, target, merged, pass_estimate)
 }

@@ -59,7 +59,7 @@ pub fn after_merge(farm: &Farm, row: &JobRow, rt: &Arc<JobRt>) -> Result<()> {
             st.history.pop_front();
         }
     }
-    if let Some(reason) = rules(row, rt).spp_reached(samples, rt.info.pixels as f64) {
+    if let Some(reason) = rules(row, rt).spp_reached(samples, rt.info.pass_pixels as f64) {
         begin_halt(farm, rt, reason.to_string());
     }
     Ok(())

@@ -221,7 +221,7 @@ impl Farm {
     /// Grows a lease's budget when due (see `budget`), recording it in the store.
     fn grant(&self, row: &JobRow, rt: &JobRt, lease: &str) -> Result<Option<f64>> {
         let before = lock(&rt.leases).get(lease).and_then(|l| l.budget);
-        let target = budget::target(row.haltspp, rt.info.pixels);
+        let target = budget::target(row.haltspp, rt.info.pass_pixels);
         let after = budget::grant_for(rt, lease, target);
         if let Some(b) = after.filter(|b| Some(*b) != before) {
             lock(&self.db).set_lease_budget(lease, b)?;

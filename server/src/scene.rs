@@ -25,6 +25,10 @@ pub struct SceneInfo {
     pub width: u32,
     pub height: u32,
     pub pixels: u64,
+    /// Pixels of the sample extent (the buffer widened by the pixel filter's width): what a
+    /// pass samples and haltspp counts against, as LuxRender's `samplePerPass`
+    /// (`luxfarm::render::extent`).
+    pub pass_pixels: u64,
     pub groups: Vec<String>,
     /// The film's buffers (a bidirectional render adds a per-screen light buffer), as the
     /// workers' films have them.
@@ -102,6 +106,8 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
         width: params.x_pixel_count,
         height: params.y_pixel_count,
         pixels: params.pixel_count(),
+        pass_pixels: luxfarm::render::SampleExtent::of_scene(&desc)
+            .map_or(params.pixel_count(), |e| e.pixels()),
         groups,
         buffers: luxfarm::render::film_buffers(&desc),
         haltspp: params.haltspp.map(f64::from),

@@ -2,14 +2,18 @@
 //! which film position a point of the scene is seen at, and the importance the camera gives
 //! to light arriving from it.
 //!
-//! Only the perspective camera is connectable (pinhole or thin lens, fixed or moving). The
-//! importance follows the film's normalisation: a camera sample is spread uniformly over the
-//! film area it covers (the Film's crop window), so over the plane z = 1 in camera space the
-//! directional density of camera rays is `1 / (A cos³θ)`, A the crop window's area on that
-//! plane and θ the angle from the optical axis. A light path connected to the lens at
-//! distance d then contributes `β·f·|cos| / (A cos³θ d²)` to a per-screen buffer, which the
-//! film scales by pixels / samples: the same pixel value as camera paths give (for a camera
-//! path the sample weight is 1 and the per-pixel buffer averages).
+//! Only the perspective camera is connectable (pinhole or thin lens, fixed or moving). Eye
+//! samples are spread uniformly over the Film's sample extent (its pixels widened by the
+//! filter's reach, [`Camera::sample_extent`]; see `crate::render::extent`), and light paths
+//! are accepted over the same extent, as LuxRender's perspective camera does: otherwise a
+//! border pixel would lack the part of its filter footprint beyond the image in the light
+//! buffer while its eye samples cover it. Over the plane z = 1 in camera space the
+//! directional density of camera rays is `1 / (A cos³θ)`, A the extent's area on that plane
+//! (LuxRender's `Apixel`) and θ the angle from the optical axis; the importance is the same
+//! function. A light path connected to the lens at distance d then contributes
+//! `β·f·|cos| / (A cos³θ d²)`; the render session scales it by extent pixels / image pixels
+//! and the per-screen buffer by image pixels / samples, which gives the same pixel value as
+//! the camera paths (each sample traces one light path).
 //!
 //! Data flow: `integrator::bidirectional` asks [`Camera::connect`] for every light vertex it
 //! joins to the camera vertex of its eye path, and [`Camera::dir_pdf`] when it weighs a path
@@ -70,19 +74,20 @@ impl Camera {
         ray.o - ray.d * (oc.z / dc.z)
     }
 
-    /// Area of the crop window on the plane z = 1 in camera space (perspective camera).
+    /// Area of the sample extent on the plane z = 1 in camera space (perspective camera).
     fn film_area(&self) -> f32 {
         let CameraModel::Perspective(c) = &self.model else {
             return 0.0;
         };
-        let [x0, x1, y0, y1] = self.film.pixel_bounds();
+        let [x0, x1, y0, y1] = self.sample_extent();
         let w = c.screen.window;
         let (sx, sy) = (
             (w[1] - w[0]).abs() / c.screen.xres,
             (w[3] - w[2]).abs() / c.screen.yres,
         );
         let t = c.tan_half_fov;
-        (x1 - x0) as f32 * sx * (y1 - y0) as f32 * sy * t * t
+        let (nx, ny) = (f64::from(x1) - f64::from(x0), f64::from(y1) - f64::from(y0));
+        (nx * ny) as f32 * sx * sy * t * t
     }
 
     /// Raster position of a camera-space ray from lens point `lens` (z = 0) along `d`
@@ -104,15 +109,15 @@ impl Camera {
         r.is_finite().then_some(r)
     }
 
-    /// Whether a raster position lies in the crop window's pixels.
-    fn in_crop(&self, r: Vec2) -> bool {
-        let [x0, x1, y0, y1] = self.film.pixel_bounds();
+    /// Whether a raster position lies in the sample extent.
+    fn in_extent(&self, r: Vec2) -> bool {
+        let [x0, x1, y0, y1] = self.sample_extent();
         r.x >= x0 as f32 && r.x < x1 as f32 && r.y >= y0 as f32 && r.y < y1 as f32
     }
 
     /// The film position at which the world point `p` is seen through the lens point `lens`
     /// (world space, from [`Camera::lens_point`]) at `time`, and the connection's weight;
-    /// `None` outside the crop window, behind the camera or outside the clipping planes.
+    /// `None` outside the sample extent, behind the camera or outside the clipping planes.
     pub fn connect(&self, lens: Vec3A, p: Vec3A, time: f32) -> Option<CameraHit> {
         if !self.connectable() {
             return None;
@@ -127,7 +132,7 @@ impl Camera {
         let cos = d.z / dist2.sqrt();
         let lens_plane = Vec3A::new(lc.x, lc.y, 0.0);
         let raster = self.raster_of(lens_plane, d)?;
-        if !self.in_crop(raster) {
+        if !self.in_extent(raster) {
             return None;
         }
         let area = self.film_area();
@@ -141,8 +146,8 @@ impl Camera {
     }
 
     /// Solid-angle density with which the camera's rays leave in world direction `dir` at
-    /// `time`: `1 / (A cos³θ)` inside the crop window's frustum; 0 for cameras light paths
-    /// cannot reach.
+    /// `time`: `1 / (A cos³θ)`, A the sample extent's area on the plane z = 1; 0 for cameras
+    /// light paths cannot reach.
     pub fn dir_pdf(&self, dir: Vec3A, time: f32) -> f32 {
         if !self.connectable() {
             return 0.0;
@@ -227,5 +232,43 @@ mod tests {
         assert!(cam
             .connect(Vec3A::ZERO, Vec3A::new(0.0, -1.0, 0.0), 0.0)
             .is_none());
+    }
+
+    /// Light paths reach the camera over the sample extent, margin included, and the
+    /// importance is normalised over the extent's area: hits in the margin are accepted,
+    /// beyond it refused, and the density scales by the crop area over the extent's.
+    #[test]
+    fn connections_cover_the_sample_extent() {
+        let film = FilmGeometry::new(64, 48);
+        let mut cam = camera("", film);
+        assert_eq!(cam.sample_extent(), [0, 64, 0, 48]);
+        let seen_at = |cam: &Camera, x: f32, y: f32| {
+            let cs = CameraSample {
+                p_film: Vec2::new(x, y),
+                p_lens: Vec2::new(0.5, 0.5),
+                time: 0.0,
+            };
+            let (ray, _) = cam.generate_ray(&cs).unwrap();
+            cam.connect(cam.lens_point(&ray), ray.o + ray.d * 5.0, 0.0)
+        };
+        let inside = seen_at(&cam, 30.5, 20.5).unwrap();
+        assert!(
+            seen_at(&cam, -1.5, 20.5).is_none(),
+            "margin refused without an extent"
+        );
+        cam.set_sample_extent([-2, 66, -2, 50]);
+        let margin = seen_at(&cam, -1.5, 20.5).expect("margin accepted");
+        assert!((margin.raster - Vec2::new(-1.5, 20.5)).length() < 2e-3);
+        assert!(seen_at(&cam, -2.5, 20.5).is_none());
+        assert!(seen_at(&cam, 30.5, 50.5).is_none());
+        let wider = seen_at(&cam, 30.5, 20.5).unwrap();
+        let ratio = inside.weight / wider.weight;
+        assert!(
+            (ratio - 68.0 * 52.0 / (64.0 * 48.0)).abs() < 1e-3,
+            "{ratio}"
+        );
+        // An empty extent is ignored.
+        cam.set_sample_extent([5, 5, 0, 10]);
+        assert_eq!(cam.sample_extent(), [-2, 66, -2, 50]);
     }
 }

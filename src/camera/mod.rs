@@ -131,6 +131,10 @@ pub struct Camera {
     pub yon: f32,
     pub autofocus: bool,
     film: FilmGeometry,
+    /// The raster pixels `[x0, x1, y0, y1]` (half-open, possibly beyond the image) that eye
+    /// samples are drawn over and light paths may reach: the Film's sample extent
+    /// (`crate::render::extent`), the crop window's pixels until the render setup sets it.
+    sample_extent: [i32; 4],
     /// Camera-to-world in f32 when the camera does not move: rays are transformed in f32
     /// (the f64 transform cost 2% of a Cornell render). A ray's origin is not on a surface,
     /// so the few extra ulps of its position need no offset; moving cameras interpolate
@@ -206,12 +210,31 @@ impl Camera {
             yon,
             autofocus,
             film: *film,
+            sample_extent: film
+                .pixel_bounds()
+                .map(|v| i32::try_from(v).unwrap_or(i32::MAX)),
             fixed,
         })
     }
 
     pub fn film(&self) -> &FilmGeometry {
         &self.film
+    }
+
+    /// The raster pixels `[x0, x1, y0, y1]` (half-open) eye samples cover and light paths
+    /// may reach (see [`Camera::set_sample_extent`]).
+    pub fn sample_extent(&self) -> [i32; 4] {
+        self.sample_extent
+    }
+
+    /// Sets the sample extent: the pixels the sampler draws camera samples over (the Film's
+    /// pixels widened by the filter's reach), which light paths connected to the camera
+    /// must cover too. An empty extent is ignored.
+    pub fn set_sample_extent(&mut self, extent: [i32; 4]) {
+        let [x0, x1, y0, y1] = extent;
+        if x0 < x1 && y0 < y1 {
+            self.sample_extent = extent;
+        }
     }
 
     /// The world-space ray for a camera sample, and its weight (1). `None` when the sample is

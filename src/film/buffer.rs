@@ -204,7 +204,9 @@ impl Film {
         self.samples.iter().copied().fold(0.0, f64::max)
     }
 
-    /// Samples per pixel: samples / buffer pixels, as LuxRender reports it.
+    /// Samples per pixel: samples / buffer pixels, as LuxRender reports it. The count holds
+    /// the samples of the sample extent's margin too, so this reads slightly above the
+    /// `pixelsamples` per pass that haltspp counts (`crate::render::extent`).
     pub fn spp(&self) -> f64 {
         self.total_samples() / self.pixel_count() as f64
     }

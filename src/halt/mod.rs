@@ -3,7 +3,9 @@
 //! and why.
 //!
 //! The rules are LuxRender's fleximage film's (DESIGN.md):
-//! - `haltspp`: done once the film's samples reach haltspp x its pixel count;
+//! - `haltspp`: done once the film's samples reach haltspp x the pixels of its sample extent
+//!   (LuxRender's `samplePerPass`: the image's pixels widened by the pixel filter's width,
+//!   which every pass samples; the convention is stated in `crate::render::extent`);
 //! - `halttime`: done once the render has run that many seconds;
 //! - `haltthreshold`: every `convergencestep` spp the display image (tonemapped, clamped, gamma
 //!   applied) is compared with the previous snapshot by Yee's perceptual test
@@ -142,7 +144,8 @@ impl HaltRules {
         self.spp.is_none() && self.time.is_none() && self.threshold.is_none()
     }
 
-    /// `haltspp`: `samples` (the film's sample count) against haltspp x `pixels`.
+    /// `haltspp`: `samples` (the film's sample count) against haltspp x `pixels` (the sample
+    /// extent's pixels, which a pass samples).
     pub fn spp_reached(&self, samples: f64, pixels: f64) -> Option<HaltReason> {
         let haltspp = self.spp?;
         (samples >= haltspp * pixels).then(|| HaltReason::Spp {
@@ -197,16 +200,18 @@ impl HaltRules {
         })
     }
 
-    /// Every rule at once, as a local render asks after each pass: haltspp, halttime, then
-    /// (when due) the convergence test.
+    /// Every rule at once, as a local render asks after each pass: haltspp (against
+    /// `pass_pixels`, the sample extent's pixels), halttime, then (when due) the convergence
+    /// test.
     pub fn check(
         &self,
         state: &mut Convergence,
         film: &Film,
         tonemap: &TonemapParams,
         secs: f64,
+        pass_pixels: f64,
     ) -> Option<HaltReason> {
-        self.spp_reached(film.total_samples(), film.pixel_count() as f64)
+        self.spp_reached(film.total_samples(), pass_pixels)
             .or_else(|| self.time_reached(secs))
             .or_else(|| {
                 self.convergence_due(state, film.spp())
@@ -254,9 +259,12 @@ mod tests {
         );
         let mut c = Convergence::default();
         let tp = TonemapParams::default();
-        assert_eq!(r.check(&mut c, &film(2), &tp, 0.0), None);
-        let reason = r.check(&mut c, &film(3), &tp, 0.0).unwrap();
+        assert_eq!(r.check(&mut c, &film(2), &tp, 0.0, 2.0), None);
+        let reason = r.check(&mut c, &film(3), &tp, 0.0, 2.0).unwrap();
         assert_eq!(reason.to_string(), "haltspp 3 reached (3.00 spp)");
+        // Counted against the sample extent's pixels (here 3, wider than the film's 2).
+        assert_eq!(r.check(&mut c, &film(4), &tp, 0.0, 3.0), None);
+        assert!(r.check(&mut c, &film(5), &tp, 0.0, 3.0).is_some());
     }
 
     #[test]
@@ -270,12 +278,12 @@ mod tests {
         let mut c = Convergence::default();
         let tp = TonemapParams::default();
         assert!(matches!(
-            r.check(&mut c, &film(1), &tp, 3.0),
+            r.check(&mut c, &film(1), &tp, 3.0, 2.0),
             Some(HaltReason::Time { .. })
         ));
         // haltspp is reported first when both hold
         assert!(matches!(
-            r.check(&mut c, &film(10), &tp, 3.0),
+            r.check(&mut c, &film(10), &tp, 3.0, 2.0),
             Some(HaltReason::Spp { .. })
         ));
     }
@@ -288,12 +296,12 @@ mod tests {
         assert!(!r.convergence_due(&c, 3.9));
         assert!(r.convergence_due(&c, 4.0));
         // a constant film: the first snapshot only starts the comparison
-        assert_eq!(r.check(&mut c, &film(4), &tp, 0.0), None);
+        assert_eq!(r.check(&mut c, &film(4), &tp, 0.0, 2.0), None);
         assert_eq!(c.last_failing, None);
         assert!(!r.convergence_due(&c, 7.0));
-        assert_eq!(r.check(&mut c, &film(7), &tp, 0.0), None);
+        assert_eq!(r.check(&mut c, &film(7), &tp, 0.0, 2.0), None);
         // the second compares with the first: identical, nothing fails
-        let reason = r.check(&mut c, &film(8), &tp, 0.0).unwrap();
+        let reason = r.check(&mut c, &film(8), &tp, 0.0, 2.0).unwrap();
         assert_eq!(c.last_failing, Some(0.0));
         assert!(reason.to_string().starts_with("haltthreshold 0 reached"));
         // without a threshold no test is ever due

@@ -8,7 +8,7 @@
 //!   chain j of seed i: chainlength × { small_mutation --trace--> judge } --deposits--> pass film
 //! ```
 //!
-//! A pass takes `⌈pixels × pixelsamples / (1 + chainlength)⌉` seeds (at least one), about
+//! A pass takes `⌈extent pixels × pixelsamples / (1 + chainlength)⌉` seeds (at least one), about
 //! as many traces as a pass of the other samplers since a seed starts one chain on average.
 //! Each seed counts `1 + chainlength` samples in the film and its deposits are scaled by the
 //! same factor: the per-screen buffer's value (sum × pixels / count) is unchanged, and the
@@ -41,7 +41,7 @@ const WARM_UP_UNIT: u64 = 1024;
 /// Warm-up units between two looks at the cancel flag.
 const WARM_UP_WAVE: u64 = 64;
 
-/// Seeds in a pass of `samples` (pixels × pixelsamples) traces with chains of
+/// Seeds in a pass of `samples` (extent pixels × pixelsamples) traces with chains of
 /// `chain_length` mutations.
 pub fn seeds_per_pass(samples: u64, chain_length: u32) -> u64 {
     samples.div_ceil(samples_per_seed(chain_length)).max(1)

@@ -8,8 +8,8 @@
 //! Chain::judge --weights--> deposits --(chain order, after each batch)--> pass film
 //! ```
 //!
-//! A pass takes `pixels × pixelsamples` steps, shared among [`CHAINS`] chains. Chains run in
-//! parallel in fixed batches of [`BATCH`] steps; each batch's deposits are added to the
+//! A pass takes `extent pixels × pixelsamples` steps (`super::extent`), shared among
+//! [`CHAINS`] chains. Chains run in parallel in fixed batches of [`BATCH`] steps; each batch's deposits are added to the
 //! pass film in chain order and the large steps' luminance (the normaliser) is updated in
 //! chain order too, so the film depends only on (seed, stream, pass), never on threads.
 //! Within a batch the normaliser is fixed (from the earlier batches and [`BOOTSTRAP`]
@@ -17,9 +17,10 @@
 //! At the end of a pass every chain's pending weight is deposited, so a pass film is a
 //! complete estimate and films of passes, sessions and farm workers add up exactly.
 //!
-//! Film positions are drawn over the filter's sample extent (beyond the buffer by the
-//! filter radius, as LuxRender samples); contributions are scaled by that area over the
-//! buffer's pixel count, the per-screen buffer's own normalisation.
+//! Film positions are drawn over the sample extent (beyond the buffer by the filter's
+//! width, as LuxRender samples, `super::extent`); every contribution, the eye's and the
+//! light paths' splats alike (the camera's importance is normalised over the same extent),
+//! is scaled by extent pixels / buffer pixels for the per-screen buffer's normalisation.
 
 use super::buffers::LIGHT_BUFFER;
 use super::setup::Renderable;
@@ -275,23 +276,17 @@ impl MltState {
     }
 }
 
-/// The frame of a session: film positions over the filter's sample extent, small mutations
-/// moving them by at most `range` pixels.
+/// The frame of a session: film positions over the sample extent, small mutations moving
+/// them by at most `range` pixels.
 pub(super) fn frame(scene: &Renderable, range: f32) -> Frame {
     let fp = &scene.setup.film_params;
-    let [x0, x1, y0, y1] = scene.setup.filter.sample_extent(
-        fp.x_pixel_start,
-        fp.x_pixel_count,
-        fp.y_pixel_start,
-        fp.y_pixel_count,
-    );
-    let span = Vec2::new((x1 - x0).max(1) as f32, (y1 - y0).max(1) as f32);
-    let pixels = (fp.x_pixel_count.max(1) as f32) * (fp.y_pixel_count.max(1) as f32);
+    let e = scene.setup.sample_extent();
+    let span = Vec2::new((e.x1 - e.x0).max(1) as f32, (e.y1 - e.y0).max(1) as f32);
     Frame {
-        origin: Vec2::new(x0 as f32, y0 as f32),
+        origin: Vec2::new(e.x0 as f32, e.y0 as f32),
         span,
         film0: [i64::from(fp.x_pixel_start), i64::from(fp.y_pixel_start)],
-        scale: span.x * span.y / pixels,
+        scale: e.per_screen_scale(),
         range_xy: [(range / span.x).min(1.0), (range / span.y).min(1.0)],
     }
 }

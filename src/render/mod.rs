@@ -22,6 +22,7 @@
 
 pub mod buffers;
 pub mod erpt;
+pub mod extent;
 pub mod mlt;
 pub mod noise;
 pub mod setup;
@@ -36,6 +37,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 pub use buffers::film_buffers;
+pub use extent::SampleExtent;
 pub use tile::{tiles, Tile, TILE_SIZE};
 
 /// Tiles rendered in parallel before their splats are added (a fixed number, so that the
@@ -75,7 +77,7 @@ pub struct SessionOptions {
 /// What one pass did.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PassStats {
-    /// Camera samples taken (pixels × pixelsamples).
+    /// Camera samples taken (sample extent pixels × pixelsamples, see [`extent`]).
     pub samples: u64,
     /// Contributions discarded as NaN/Inf/negative.
     pub rejected: u64,
@@ -251,6 +253,12 @@ impl Session {
         self.scene.setup.sampler.pixel_samples()
     }
 
+    /// Samples a pass takes without a sampling map: sample extent pixels × pixelsamples
+    /// ([`extent`]; an erpt pass rounds up to whole seeds).
+    pub fn pass_samples(&self) -> u64 {
+        self.traces_per_pass()
+    }
+
     /// The accumulated film since the last take; the session film is cleared.
     pub fn take_film(&mut self) -> Film {
         let mut fresh = self.film.clone();
@@ -278,7 +286,8 @@ impl Session {
         self.cancel.clone()
     }
 
-    /// Renders one more pass of `pixelsamples` samples over every pixel into the film.
+    /// Renders one more pass of `pixelsamples` samples over every pixel of the sample extent
+    /// ([`extent`]) into the film.
     pub fn render_pass(&mut self) -> PassStats {
         if self.mlt.is_some() {
             return self.render_pass_mlt();
@@ -343,6 +352,7 @@ impl Session {
             seed: self.opts.seed,
             stream: self.opts.stream,
             buffers,
+            extent: self.scene.setup.sample_extent(),
             map,
         }
     }
@@ -362,6 +372,8 @@ impl Session {
         let mut pass_film = self.film.clone();
         pass_film.clear();
         let origin = [fp.x_pixel_start, fp.y_pixel_start];
+        // Each sample's light path lands per screen: scaled as the extent's samples are.
+        let splat_scale = ctx.extent.per_screen_scale();
         let (mut rejected, mut outliers, mut samples) = (0, 0, 0);
         for batch in list.chunks(SPLAT_BATCH) {
             let results: Vec<Option<tile::TileOut>> = self.pool.install(|| {
@@ -396,7 +408,7 @@ impl Session {
                         &scene.setup.filter,
                         origin,
                         &r.splats,
-                        1.0,
+                        splat_scale,
                     );
                 outliers += r.discarded.outliers;
             }
@@ -420,7 +432,7 @@ impl Session {
         self.erpt.as_ref().and_then(erpt::ErptState::quantum)
     }
 
-    /// A pass of the erpt sampler: seeds for about `pixels × pixelsamples` traces and their
+    /// A pass of the erpt sampler: seeds for about `extent pixels × pixelsamples` traces and their
     /// chains into a pass film, merged into the session film once complete.
     fn render_pass_erpt(&mut self) -> PassStats {
         let start = Instant::now();
@@ -437,7 +449,7 @@ impl Session {
         self.merge_chain_pass(start, samples, invalid.map(|i| (pass_film, i)))
     }
 
-    /// A pass of the metropolis sampler: `pixels × pixelsamples` chain steps into a pass
+    /// A pass of the metropolis sampler: `extent pixels × pixelsamples` chain steps into a pass
     /// film, merged into the session film once complete.
     fn render_pass_mlt(&mut self) -> PassStats {
         let start = Instant::now();
@@ -450,13 +462,11 @@ impl Session {
         self.merge_chain_pass(start, steps, invalid.map(|i| (pass_film, i)))
     }
 
-    /// Samples traced per pass of a chain sampler: `pixels × pixelsamples`.
+    /// Samples traced per pass of a chain sampler: `extent pixels × pixelsamples`, as many
+    /// as a pass of the pixel samplers draws ([`extent`]).
     fn traces_per_pass(&self) -> u64 {
-        let fp = &self.scene.setup.film_params;
         let spp = self.scene.setup.sampler.pixel_samples().max(1);
-        u64::from(fp.x_pixel_count)
-            .saturating_mul(u64::from(fp.y_pixel_count))
-            .saturating_mul(u64::from(spp))
+        self.scene.setup.sample_extent().pass_samples(spp)
     }
 
     /// A cleared film of the session's layout for one chain pass.

@@ -9,6 +9,7 @@
 //!
 //! The world never sees the setup's types: it is told what it needs ([`WorldOptions`]).
 
+use super::extent::SampleExtent;
 use crate::camera::{Camera, FilmGeometry};
 use crate::fileio::SceneFiles;
 use crate::film::{FilmError, FilmParams};
@@ -42,6 +43,11 @@ impl RenderSetup {
     /// The film buffers this setup renders into (see [`super::buffers`]).
     pub fn buffers(&self) -> Vec<crate::film::BufferType> {
         super::buffers::buffers(self.sampler.per_screen(), self.integrator.splats())
+    }
+
+    /// The pixels eye samples are drawn over (see [`super::extent`]).
+    pub fn sample_extent(&self) -> SampleExtent {
+        SampleExtent::new(&self.film_params, &self.filter)
     }
 }
 
@@ -89,6 +95,8 @@ impl Renderable {
         };
         let mut camera = Camera::build_in(cam_desc, &fg, Some(&files), &mut warnings)?;
         let filter = Filter::build(desc.pixel_filter.as_ref(), &mut warnings)?;
+        // Light paths reach the camera over the pixels eye samples cover.
+        camera.set_sample_extent(SampleExtent::new(&film_params, &filter).bounds());
         let sampler = Sampler::build(desc.sampler.as_ref(), &mut warnings)?;
         let integrator = Integrator::build(desc.surface_integrator.as_ref(), &mut warnings)?;
         let volume = VolumeIntegrator::build(desc.volume_integrator.as_ref(), &mut warnings);

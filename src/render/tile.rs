@@ -3,10 +3,16 @@
 //! region when the Film asks for a Z output (each camera ray's first hit, found by one more
 //! intersection of the primary ray; nothing is traced for depth otherwise).
 //!
+//! A tile samples its own pixels and, on the sides where it touches the buffer's edge, the
+//! pixels of the sample extent's margin beyond it (`super::extent`): every pixel of the
+//! extent is sampled by exactly one tile, so border pixels get their full filter footprint
+//! and the tile reports every sample it drew.
+//!
 //! Under a sampling map (noise-aware sampling) each pixel takes the map's count of samples
 //! for the pass instead of `pixelsamples` (`crate::sampler::map`), with sample indices of
 //! their own; the tile reports the samples it took.
 
+use super::extent::SampleExtent;
 use super::setup::{RenderSetup, Renderable};
 use crate::film::{BufferType, Film, OutlierRejector, ZBuffer};
 use crate::integrator::{SampleOut, Splat};
@@ -77,7 +83,8 @@ pub struct TileOut {
 }
 
 /// What every tile of one pass shares: the pass, samples per pixel, job seed and stream, the
-/// film's buffer layout and the sampling map (noise-aware sampling), if any.
+/// film's buffer layout, the sample extent and the sampling map (noise-aware sampling), if
+/// any.
 #[derive(Clone, Copy)]
 pub struct PassCtx<'a> {
     pub pass: u64,
@@ -85,12 +92,14 @@ pub struct PassCtx<'a> {
     pub seed: u64,
     pub stream: u64,
     pub buffers: &'a [BufferType],
+    pub extent: SampleExtent,
     pub map: Option<&'a SamplingMap>,
 }
 
 impl PassCtx<'_> {
-    /// Samples of buffer pixel (`bx`, `by`), image pixel (`px`, `py`), in this pass.
-    fn pixel_plan(&self, bx: u32, by: u32, px: u32, py: u32) -> u32 {
+    /// Samples of raster pixel (`px`, `py`) in this pass; `bx`, `by` is the buffer pixel
+    /// whose map count it takes (itself, or for a margin pixel the nearest buffer pixel).
+    fn pixel_plan(&self, bx: u32, by: u32, px: i32, py: i32) -> u32 {
         match self.map {
             None => self.spp,
             Some(m) => m.pixel_samples(
@@ -100,8 +109,9 @@ impl PassCtx<'_> {
                 PassKey {
                     seed: self.seed,
                     stream: self.stream,
-                    px,
-                    py,
+                    // Margin pixels left of or above the image wrap, as their sample keys do.
+                    px: px as u32,
+                    py: py as u32,
                     pass: self.pass,
                 },
             ),
@@ -149,14 +159,17 @@ pub fn render_tile(scene: &Renderable, t: &Tile, ctx: &PassCtx) -> TileOut {
     let mut splats = Vec::new();
     let mut discarded = Discarded::default();
     let mut outliers = outlier_rejector(setup, &t);
-    for by in t.y0..t.y1 {
-        for bx in t.x0..t.x1 {
-            let (px, py) = (bx + fp.x_pixel_start, by + fp.y_pixel_start);
+    let [px0, px1, py0, py1] =
+        sampled_pixels(&t, ctx.extent, fp.x_pixel_start, fp.y_pixel_start, bw, bh);
+    for py in py0..py1 {
+        for px in px0..px1 {
+            let bx = clamp_to(px, fp.x_pixel_start, bw);
+            let by = clamp_to(py, fp.y_pixel_start, bh);
             let n = ctx.pixel_plan(bx, by, px, py);
             samples += u64::from(n);
             for k in 0..n {
                 let index = ctx.sample_index(k);
-                let mut st = setup.sampler.start(seed, stream, px, py, index);
+                let mut st = setup.sampler.start_at(seed, stream, px, py, index);
                 let cs = st.camera_sample();
                 let Some((ray, w)) = setup.camera.generate_ray(&cs) else {
                     continue;
@@ -219,6 +232,28 @@ pub fn render_tile(scene: &Renderable, t: &Tile, ctx: &PassCtx) -> TileOut {
     }
 }
 
+/// The raster pixels `[x0, x1, y0, y1]` (half-open) tile `t` samples: its own, widened to the
+/// extent's edge on each side where the tile touches the buffer's (buffer pixel (0, 0) is
+/// raster pixel (`xs`, `ys`), the buffer `w` × `h`).
+fn sampled_pixels(t: &Tile, e: SampleExtent, xs: u32, ys: u32, w: u32, h: u32) -> [i32; 4] {
+    let axis = |a: u32, b: u32, start: u32, len: u32, lo: i32, hi: i32| {
+        let r = |v: u32| i32::try_from(i64::from(start) + i64::from(v)).unwrap_or(i32::MAX);
+        let from = if a == 0 { lo.min(r(a)) } else { r(a) };
+        let to = if b >= len { hi.max(r(b)) } else { r(b) };
+        (from, to)
+    };
+    let (x0, x1) = axis(t.x0, t.x1, xs, w, e.x0, e.x1);
+    let (y0, y1) = axis(t.y0, t.y1, ys, h, e.y0, e.y1);
+    [x0, x1, y0, y1]
+}
+
+/// The buffer index on an axis nearest to raster pixel `p` (buffer pixel 0 at raster
+/// `start`, `len` pixels).
+fn clamp_to(p: i32, start: u32, len: u32) -> u32 {
+    let i = i64::from(p) - i64::from(start);
+    i.clamp(0, i64::from(len.max(1)) - 1) as u32
+}
+
 /// The film's `outlierrejection_k` test over this tile's film region, when enabled. Each tile
 /// keeps its own record of outliers, so the result does not depend on the thread count.
 fn outlier_rejector(setup: &RenderSetup, t: &Tile) -> Option<OutlierRejector> {
@@ -249,5 +284,33 @@ mod tests {
             }
         }
         assert!(seen.iter().all(|&c| c == 1));
+    }
+
+    /// With the sample extent's margin, the tiles' sampled pixels cover the extent once.
+    #[test]
+    fn sampled_pixels_cover_the_extent_once() {
+        let (w, h, xs, ys) = (70u32, 33u32, 5u32, 2u32);
+        let e = SampleExtent {
+            x0: 3,
+            x1: 78,
+            y0: 0,
+            y1: 36,
+            image_pixels: u64::from(w * h),
+        };
+        let (ew, eh) = ((e.x1 - e.x0) as usize, (e.y1 - e.y0) as usize);
+        let mut seen = vec![0u8; ew * eh];
+        for t in tiles(w, h) {
+            let [x0, x1, y0, y1] = sampled_pixels(&t, e, xs, ys, w, h);
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    let i = (y - e.y0) as usize * ew + (x - e.x0) as usize;
+                    seen[i] += 1;
+                }
+            }
+        }
+        assert!(seen.iter().all(|&c| c == 1), "{seen:?}");
+        assert_eq!(clamp_to(1, 5, 70), 0);
+        assert_eq!(clamp_to(80, 5, 70), 69);
+        assert_eq!(clamp_to(-4, 5, 70), 0);
     }
 }

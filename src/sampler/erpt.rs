@@ -28,7 +28,7 @@
 //! `initsamples` (100000 warm-up samples), `chainlength` (2000 mutations per chain),
 //! `mutationrange` ((width + height) / 50 pixels), `basesampler` (the seeds' sampler: only
 //! "random" is built, others draw their seeds at random with a warning), `pixelsamples` (4:
-//! a pass takes about pixels × pixelsamples traces, see `crate::render::erpt`).
+//! a pass takes about extent pixels × pixelsamples traces, see `crate::render::erpt`).
 
 use super::hash::{combine, mix64, unit_f32};
 use super::metropolis::small_mutation;

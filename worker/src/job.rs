@@ -210,10 +210,8 @@ fn render_thread(
     let files = SceneFiles::confined(root, base).map_err(|e| shown(&e))?;
     let mut session = Session::new(&desc, files, opts).map_err(|e| shown(&e))?;
     session.follow_external_maps();
-    let fp = session.film_params();
-    let pass = f64::from(fp.x_pixel_count)
-        * f64::from(fp.y_pixel_count)
-        * f64::from(session.pixel_samples().max(1));
+    // Over the sample extent, as the film counts them (luxfarm::render::extent).
+    let pass = session.pass_samples() as f64;
     store_f64(&flags.pass_samples, pass);
     *flags.cancel.lock().unwrap_or_else(|p| p.into_inner()) = Some(session.cancel_flag());
     if flags.stop.load(Ordering::SeqCst) {

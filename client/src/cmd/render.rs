@@ -112,6 +112,8 @@ pub fn render(args: Args) -> anyhow::Result<Vec<PathBuf>> {
     let bar = progress_bar(&rules);
     let start = Instant::now();
     let pixels = f64::from(fp.x_pixel_count) * f64::from(fp.y_pixel_count);
+    // haltspp counts the samples of the sample extent's pixels, as LuxRender's samplePerPass.
+    let pass_pixels = session.renderable().setup.sample_extent().pixels() as f64;
     let mut samples = 0u64;
     loop {
         let stats = session.render_pass();
@@ -123,7 +125,13 @@ pub fn render(args: Args) -> anyhow::Result<Vec<PathBuf>> {
             Some(_) => spp.floor() as u64,
             None => secs as u64,
         });
-        let done = rules.check(&mut convergence, session.film(), &fp.tonemap, secs);
+        let done = rules.check(
+            &mut convergence,
+            session.film(),
+            &fp.tonemap,
+            secs,
+            pass_pixels,
+        );
         bar.set_message(match convergence.last_failing {
             Some(f) => format!(
                 "{spp:.1} spp, {:.2} Msamples/s, {:.2}% of pixels changing",
