@@ -157,6 +157,7 @@ mod tests {
             width,
             height,
             pixels: u64::from(width) * u64::from(height),
+            pass_pixels: u64::from(width) * u64::from(height),
             groups: (0..groups).map(|g| format!("g{g}")).collect(),
             buffers: vec![BufferType::PerPixel],
             haltspp: None,
