@@ -163,7 +163,10 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
         max_workers: row.max_workers,
         failures: farm.job_failures(&row.id)?,
     };
+    // haltspp counts samples over the sample extent's pixels (`luxfarm::render::extent`).
+    let mut pass_pixels = pixels;
     if let Some(rt) = rt {
+        pass_pixels = (rt.info.pass_pixels as f64).max(1.0);
         let samples = lock(&rt.film).total_samples();
         view.samples = samples;
         view.spp = samples / pixels;
@@ -186,7 +189,7 @@ pub fn job_view(farm: &Farm, row: &JobRow) -> Result<JobView> {
             w.active = leases.get(&w.lease_id).is_some_and(|l| !l.ended);
         }
     }
-    view.eta = eta(&view);
+    view.eta = eta(&view, pass_pixels);
     Ok(view)
 }
 
@@ -230,14 +233,15 @@ pub fn convergence_png(farm: &Farm, id: &str, max_size: u32) -> Result<Vec<u8>> 
         .map_err(ServerError::Internal)
 }
 
-fn eta(v: &JobView) -> Option<f64> {
+/// Seconds left by the job's halt rules: haltspp's sample count (`pass_pixels`, the sample
+/// extent's pixels, per spp) at the current rate, and halttime.
+fn eta(v: &JobView, pass_pixels: f64) -> Option<f64> {
     if v.state.is_final() {
         return None;
     }
     let by_spp = v.haltspp.and_then(|h| {
-        (v.samples_per_sec > 0.0).then(|| {
-            ((h * v.width as f64 * v.height as f64 - v.samples) / v.samples_per_sec).max(0.0)
-        })
+        (v.samples_per_sec > 0.0)
+            .then(|| ((h * pass_pixels - v.samples) / v.samples_per_sec).max(0.0))
     });
     let by_time = v.halttime.map(|t| (t - v.elapsed).max(0.0));
     match (by_spp, by_time) {
@@ -451,5 +455,35 @@ mod tests {
         assert!(!r.contains_key("w3"), "{r:?}");
         // A minute later nothing is recent.
         assert!(worker_rates(&farm, NOW + 200_000).unwrap().is_empty());
+    }
+
+    #[test]
+    fn eta_counts_haltspp_over_the_sample_extent() {
+        let dir = tempfile::tempdir().unwrap();
+        let farm = Farm::open(Config::local(dir.path().to_path_buf())).unwrap();
+        lock(&farm.db)
+            .insert_job(&NewJob {
+                id: "j",
+                name: "j",
+                bundle_hash: "h",
+                scene_path: "s.lxs",
+                seed: 1,
+                haltspp: Some(4.0),
+                width: 8,
+                height: 6,
+                ..Default::default()
+            })
+            .unwrap();
+        let mut v = job_view(&farm, &farm.job_row("j").unwrap()).unwrap();
+        v.state = crate::db::JobState::Rendering;
+        v.samples = 100.0;
+        v.samples_per_sec = 10.0;
+        // 4 spp over a 9 x 7 extent (an 8 x 6 image under a 0.5 box) is 252 samples.
+        assert_eq!(eta(&v, 63.0), Some(15.2));
+        assert_eq!(eta(&v, 48.0), Some(9.2));
+        v.samples = 1000.0;
+        assert_eq!(eta(&v, 63.0), Some(0.0));
+        v.state = crate::db::JobState::Done;
+        assert_eq!(eta(&v, 63.0), None);
     }
 }
