@@ -18,38 +18,48 @@ use transport_common::*;
 /// Both integrators over the same paths (up to 32 vertices, `maxdepth` = 16 + 16 − 2);
 /// Russian roulette (unbiased) keeps the paths short.
 const PATH: &str = "Sampler \"random\" \"integer pixelsamples\" [4]\nSurfaceIntegrator \"path\" \"integer maxdepth\" [30]";
-const BIDIR: &str = "Sampler \"random\" \"integer pixelsamples\" [2]\nSurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [16] \"integer lightdepth\" [16]";
 
+/// Cornell with the random and sobol samplers (metropolis: `transport_mlt`).
 #[test]
 fn cornell_bidirectional_matches_path() {
     let (p, dir) = scene("cornell/cornell.lxs", PATH, 64, 64);
-    let (b, _) = scene("cornell/cornell.lxs", BIDIR, 64, 64);
-    let t = std::time::Instant::now();
     let rp = runs(&p, &dir, 0, 6, 2, 32);
-    eprintln!("path {:?}", t.elapsed());
-    let t = std::time::Instant::now();
-    let rb = runs(&b, &dir, 100, 6, 2, 32);
-    eprintln!("bidir {:?}", t.elapsed());
-    assert_agree("cornell bidir/path", &rp, &rb, 4.0, 0.0);
+    for (i, sampler) in ["random", "sobol"].iter().enumerate() {
+        let (b, _) = scene("cornell/cornell.lxs", &bidir_with(sampler), 64, 64);
+        let rb = runs(&b, &dir, 100 * (i as u64 + 1), 6, 2, 32);
+        assert_agree(&format!("cornell bidir+{sampler}/path"), &rp, &rb, 4.0, 0.0);
+    }
 }
 
-const PATH_SOBOL: &str = "Sampler \"sobol\" \"integer pixelsamples\" [4]\nSurfaceIntegrator \"path\" \"integer maxdepth\" [30]";
-const BIDIR_SOBOL: &str = "Sampler \"sobol\" \"integer pixelsamples\" [2]\nSurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [16] \"integer lightdepth\" [16]";
+/// Bidirectional with `sampler` (`pixelsamples` 2, its other parameters at their defaults).
+fn bidir_with(sampler: &str) -> String {
+    format!(
+        "Sampler \"{sampler}\" \"integer pixelsamples\" [2]\nSurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [16] \"integer lightdepth\" [16]"
+    )
+}
+
+/// The path tracer's block means on a TestSuite scene, then bidirectional's with the random,
+/// sobol and metropolis samplers, each against them (independent streams per run).
+fn each_sampler_matches_path(rel: &str, w: u32, h: u32, name: &str) {
+    let (p, dir) = scene(rel, PATH, w, h);
+    let rp = runs(&p, &dir, 0, 6, 2, 32);
+    for (i, sampler) in ["random", "sobol", "metropolis"].iter().enumerate() {
+        let (b, _) = scene(rel, &bidir_with(sampler), w, h);
+        let rb = runs(&b, &dir, 100 * (i as u64 + 1), 6, 2, 32);
+        assert_agree(&format!("{name} bidir+{sampler}/path"), &rp, &rb, 4.0, 0.0);
+    }
+}
 
 /// LuxRender's own bidirectional regression scene (matte box, blackbody area light),
-/// bidirectional with the sobol sampler against path.
+/// bidirectional with each sampler against path.
 #[test]
-fn testsuite_bidirectional_simple_sobol_matches_path() {
+fn testsuite_bidirectional_simple_each_sampler_matches_path() {
     let rel = "testsuite/core_regression_tests/tests/integrators/bidirectional/simple/default.lxs";
-    let (p, dir) = scene(rel, PATH_SOBOL, 64, 64);
-    let (b, _) = scene(rel, BIDIR_SOBOL, 64, 64);
-    let rp = runs(&p, &dir, 0, 6, 2, 32);
-    let rb = runs(&b, &dir, 100, 6, 2, 32);
-    assert_agree("simple bidir+sobol/path", &rp, &rb, 4.0, 0.0);
+    each_sampler_matches_path(rel, 64, 64, "simple");
 }
 
 /// Matte translucent surfaces (light carried through transmission, where the adjoint
-/// handling of shading normals matters), bidirectional against path.
+/// handling of shading normals matters), bidirectional with each sampler against path.
 ///
 /// This scene once looked like a bidirectional bias (10-25 % brighter, z up to 6.7) while
 /// the path tracer ran with `maxdepth` 16: that path tracer misses the paths of 19 to 32
@@ -62,13 +72,9 @@ fn testsuite_bidirectional_simple_sobol_matches_path() {
 /// 1 % there). With equal path sets both agree (max |z| 0.42 on these settings); a path
 /// tracer at `maxdepth` 64 agrees with bidirectional too (max |z| 1.75).
 #[test]
-fn testsuite_mattetranslucent_bidirectional_matches_path() {
+fn testsuite_mattetranslucent_each_sampler_matches_path() {
     let rel = "testsuite/mattetranslucent/mattetranslucenttest.lxs";
-    let (p, dir) = scene(rel, PATH, 64, 48);
-    let (b, _) = scene(rel, BIDIR, 64, 48);
-    let rp = runs(&p, &dir, 0, 6, 2, 32);
-    let rb = runs(&b, &dir, 100, 6, 2, 32);
-    assert_agree("mattetranslucent bidir/path", &rp, &rb, 4.0, 0.0);
+    each_sampler_matches_path(rel, 64, 48, "mattetranslucent");
 }
 
 /// A closed grey room (camera inside) with two emitting cubes side by side (light subpaths

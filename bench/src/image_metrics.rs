@@ -9,6 +9,7 @@
 
 use luxfarm::film::Film;
 use luxfarm::spectrum::{xyz_to_rgb, Rgb};
+use luxfarm::tonemap::{film_xyz, TonemapParams};
 
 /// Index pairs (a, b) of pixels compared when A is shifted down by `rows` rows (rows without a
 /// partner are left out).
@@ -58,22 +59,16 @@ pub fn metrics(a: &[[f32; 3]], b: &[[f32; 3]]) -> Metrics {
     }
 }
 
-/// Linear RGB of light group 0, buffer 0 of a film: weight-normalised XYZ turned back into the
-/// renderer's RGB (the inverse of `spectrum::rgb_to_xyz`, no tonemapping), row by row.
+/// Linear RGB of a film: every light group (at scale 1) and every buffer combined as the
+/// tonemapper's first step combines them (per-pixel buffers weight-normalised, per-screen
+/// buffers such as light tracing's and Metropolis' scaled by pixels / samples), turned back
+/// into the renderer's RGB (the inverse of `spectrum::rgb_to_xyz`), no tonemapping, row by row.
 pub fn film_rgb(film: &Film) -> Vec<Rgb> {
-    let mut px = Vec::with_capacity(film.pixel_count());
-    for y in 0..film.height() {
-        for x in 0..film.width() {
-            let v = film.pixel(0, 0, x, y).unwrap_or([0.0; 5]);
-            let s = if v[4] != 0.0 { 1.0 / v[4] } else { 0.0 };
-            px.push(xyz_to_rgb([
-                (v[0] * s) as f32,
-                (v[1] * s) as f32,
-                (v[2] * s) as f32,
-            ]));
-        }
-    }
-    px
+    film_xyz(film, &TonemapParams::default())
+        .xyz
+        .iter()
+        .map(|&p| xyz_to_rgb(p))
+        .collect()
 }
 
 #[cfg(test)]
@@ -105,6 +100,31 @@ mod tests {
         let m = metrics(&a, &b);
         assert!((m.rmse - 0.5).abs() < 1e-12);
         assert!((m.mean_ratio - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn film_rgb_adds_per_screen_buffers_and_every_group() {
+        use luxfarm::film::BufferType;
+        let mut f = Film::with_buffers(
+            2,
+            1,
+            vec!["a".into(), "b".into()],
+            vec![BufferType::PerPixel, BufferType::PerScreen],
+        )
+        .unwrap();
+        let xyz = luxfarm::spectrum::rgb_to_xyz(Rgb::new(0.5, 0.5, 0.5));
+        // Eye samples: 0.5 on pixel 1 in group 0; light splats: 0.8 summed on pixel 0 in
+        // group 1's per-screen buffer over 4 samples on 2 pixels (0.8 * 2 / 4 = 0.4).
+        f.add_splat(0, 1, 0, xyz, 1.0, 1.0);
+        f.add_buffer_splat(1, 1, 0, 0, xyz.map(|c| c * 1.6), 1.0, 1.0);
+        f.add_sample_count(4.0);
+        let px = film_rgb(&f);
+        for (got, want) in px[0].to_array().iter().zip([0.4; 3]) {
+            assert!((got - want).abs() < 1e-4, "{got} vs {want}");
+        }
+        for (got, want) in px[1].to_array().iter().zip([0.5; 3]) {
+            assert!((got - want).abs() < 1e-4, "{got} vs {want}");
+        }
     }
 
     #[test]

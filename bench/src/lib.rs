@@ -5,6 +5,8 @@
 //!
 //! - [`bvh`]: ray throughput of the BVH on incoherent rays, per obvhs configuration.
 //! - [`cornell`]: the Cornell scene against LuxCore, speed and RMSE.
+//! - [`efficiency`]: light transport at equal wall time (path, bidirectional, each sampler,
+//!   LuxCore's PATHCPU and BIDIRCPU) on the Cornell scene and a caustic variant.
 //! - [`parse`]: parse speed and peak memory on a generated mesh scene.
 //! - [`flm`]: FLM decode, merge and encode throughput.
 //! - [`master`]: master capacity under simulated workers over gRPC.
@@ -20,6 +22,7 @@
 
 pub mod bvh;
 pub mod cornell;
+pub mod efficiency;
 pub mod flm;
 pub mod image_metrics;
 pub mod master;
@@ -39,6 +42,9 @@ pub enum Command {
     /// Issue 3's Cornell benchmark side by side with LuxCore: samples/s and RMSE against the
     /// 2048-spp reference.
     Cornell(cornell::Args),
+    /// Light transport at equal wall time: RMSE against a long reference of path,
+    /// bidirectional and each sampler, beside LuxCore's PATHCPU and BIDIRCPU.
+    Efficiency(efficiency::Args),
     /// Parse speed and peak memory on a generated mesh scene.
     Parse(parse::Args),
     /// FLM decode + merge and encode throughput of a 1080p delta.
@@ -59,6 +65,7 @@ pub fn run(command: Command) -> anyhow::Result<ExitCode> {
     match command {
         Command::Bvh(a) => bvh::run(a),
         Command::Cornell(a) => cornell::run(a),
+        Command::Efficiency(a) => efficiency::run(a),
         Command::Parse(a) => parse::run(a),
         Command::Flm(a) => flm::run(a),
         Command::Master(a) => master::run(a),

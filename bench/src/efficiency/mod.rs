@@ -1,0 +1,366 @@
+//! `luxfarm bench efficiency`: light transport at equal wall time. Each contestant (luxfarm's
+//! integrators and samplers, LuxCore's PATHCPU and BIDIRCPU) renders the same scene for the
+//! same wall-clock budget, one after the other in one run, and is measured by RMSE against a
+//! long reference render.
+//!
+//! Two scenes, both built from `../shared/bench/cornell_scene.py`'s Cornell benchmark scene:
+//! - `cornell`: the benchmark scene itself (`cornell-mesh.lxs`);
+//! - `caustic`: the same box with its ceiling lamp shrunk to a 0.1 × 0.1 square of 25 times
+//!   the radiance (the same power): the glass sphere throws a caustic onto the floor, and every
+//!   diffuse surface sees the lamp through the glass. A path tracer finds those paths only by
+//!   hitting the small lamp after a specular bounce; light tracing finds them directly.
+//!
+//! **Depth** is in path segments (`--maxdepth`, default 16, where the Cornell box's light has
+//! fallen below 10⁻⁴ so every integrator converges to one image): luxfarm's path `maxdepth`
+//! D − 1, bidirectional `eyedepth` = `lightdepth` = D + 1 (vertices, camera and light
+//! included), LuxCore's `path.pathdepth.total` D and `path.maxdepth` = `light.maxdepth` D.
+//! Russian roulette is off everywhere.
+//!
+//! **The reference** of each scene is two independent halves rendered by LuxCore's BIDIRCPU
+//! (`--reference-seconds` each, kept in `--reference-dir` and reused). Their mean is the
+//! reference; half their squared difference estimates its own noise, which is subtracted from
+//! each contestant's mean squared error: the "RMSE" column is the contestant's own error, the
+//! raw one is printed beside it. Pixels whose reference luminance exceeds `--exclude-above`
+//! (the lamp seen directly, where pixel-area sampling noise is the same for every integrator)
+//! are left out, as is the mean ratio's.
+//!
+//! Pixel conventions: LuxCore's rows sit one row lower than LuxRender's, so luxfarm's images
+//! are compared one row up (as in `bench cornell`).
+
+mod luxcore;
+mod ours;
+mod reference;
+
+use crate::cornell::Run;
+use anyhow::{bail, Context as _};
+use luxcore::LuxCore;
+use ours::Ours;
+use reference::Reference;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The shared material (default: ../shared beside the repository, else /work/shared).
+    #[arg(long)]
+    pub shared: Option<PathBuf>,
+    /// Scenes to run, comma-separated (cornell, caustic).
+    #[arg(long, default_value = "caustic,cornell", value_delimiter = ',')]
+    pub scenes: Vec<String>,
+    /// Image width and height in pixels.
+    #[arg(long, default_value_t = 128)]
+    pub res: u32,
+    /// Path depth in segments (see the module documentation).
+    #[arg(long, default_value_t = 16)]
+    pub maxdepth: u32,
+    /// Wall seconds each contestant renders.
+    #[arg(long, default_value_t = 30.0)]
+    pub budget: f64,
+    /// Rounds of all contestants (alternating); medians are reported.
+    #[arg(long, default_value_t = 1)]
+    pub runs: usize,
+    /// luxfarm's contestants as integrator:sampler, comma-separated.
+    #[arg(
+        long,
+        default_value = "path:random,path:sobol,path:metropolis,bidirectional:random,bidirectional:sobol,bidirectional:metropolis,bidirectional:erpt",
+        value_delimiter = ','
+    )]
+    pub luxfarm: Vec<String>,
+    /// LuxCore's contestants as ENGINE:SAMPLER, comma-separated ("" or none: leave LuxCore out).
+    #[arg(
+        long,
+        default_value = "PATHCPU:RANDOM,BIDIRCPU:RANDOM,BIDIRCPU:METROPOLIS",
+        value_delimiter = ','
+    )]
+    pub luxcore: Vec<String>,
+    /// Render threads for all (0: all cores).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Where the references are kept (default: target/bench-efficiency in the repository).
+    #[arg(long)]
+    pub reference_dir: Option<PathBuf>,
+    /// Wall seconds of each of a reference's two halves, when they must be rendered.
+    #[arg(long, default_value_t = 600.0)]
+    pub reference_seconds: f64,
+    /// Leave out pixels whose reference luminance exceeds this (the lamp seen directly).
+    #[arg(long, default_value_t = 5.0)]
+    pub exclude_above: f64,
+    /// Python interpreter with pyluxcore.
+    #[arg(long, default_value = "python3")]
+    pub python: String,
+}
+
+/// Which scene: the benchmark scene, or its small-lamp caustic variant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Variant {
+    Cornell,
+    /// Lamp half-side and radiance factor.
+    Caustic {
+        half: f64,
+        scale: f64,
+    },
+}
+
+/// The caustic variant: a 0.1 × 0.1 lamp (the benchmark's is 0.5 × 0.5) of 25 times the
+/// radiance.
+const CAUSTIC: Variant = Variant::Caustic {
+    half: 0.05,
+    scale: 25.0,
+};
+
+impl Variant {
+    fn parse(s: &str) -> anyhow::Result<Variant> {
+        match s {
+            "cornell" => Ok(Variant::Cornell),
+            "caustic" => Ok(CAUSTIC),
+            other => bail!("scene {other:?}: cornell or caustic"),
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Variant::Cornell => "cornell",
+            Variant::Caustic { .. } => "caustic",
+        }
+    }
+}
+
+/// Who renders.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Renderer {
+    Luxfarm,
+    LuxCore,
+}
+
+/// One contestant: a renderer with an integrator (engine) and a sampler.
+#[derive(Clone, Debug)]
+pub struct Contestant {
+    pub renderer: Renderer,
+    pub integrator: String,
+    pub sampler: String,
+}
+
+impl Contestant {
+    fn parse(renderer: Renderer, s: &str) -> anyhow::Result<Contestant> {
+        let (i, smp) = s
+            .split_once(':')
+            .with_context(|| format!("contestant {s:?} is not INTEGRATOR:SAMPLER"))?;
+        Ok(Contestant {
+            renderer,
+            integrator: i.trim().to_string(),
+            sampler: smp.trim().to_string(),
+        })
+    }
+
+    fn label(&self) -> String {
+        match self.renderer {
+            Renderer::Luxfarm => format!("luxfarm {}+{}", self.integrator, self.sampler),
+            Renderer::LuxCore => format!("LuxCore {}+{}", self.integrator, self.sampler),
+        }
+    }
+
+    /// Rows this renderer's images sit below LuxCore's (the reference's).
+    fn row_shift(&self) -> i64 {
+        match self.renderer {
+            Renderer::Luxfarm => 1,
+            Renderer::LuxCore => 0,
+        }
+    }
+}
+
+/// A contestant's medians over the runs.
+struct Summary {
+    who: Contestant,
+    rate: f64,
+    spp: f64,
+    seconds: f64,
+    rmse: f64,
+    raw_rmse: f64,
+    mean_ratio: f64,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+fn machine() -> String {
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    format!("{cores} cores, load average {}", crate::support::loadavg())
+}
+
+fn contestants(a: &Args, lc: &LuxCore) -> anyhow::Result<Vec<Contestant>> {
+    let mut v = Vec::new();
+    for s in a.luxfarm.iter().filter(|s| !s.is_empty()) {
+        v.push(Contestant::parse(Renderer::Luxfarm, s)?);
+    }
+    let wanted: Vec<&String> = a.luxcore.iter().filter(|s| !s.is_empty()).collect();
+    if !wanted.is_empty() && !lc.available() {
+        println!("LuxCore: pyluxcore not found, left out");
+        return Ok(v);
+    }
+    for s in wanted {
+        v.push(Contestant::parse(Renderer::LuxCore, s)?);
+    }
+    Ok(v)
+}
+
+pub fn run(a: Args) -> anyhow::Result<ExitCode> {
+    let shared = a.shared.clone().unwrap_or_else(crate::support::shared_dir);
+    let repo = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
+    let ref_dir = a
+        .reference_dir
+        .clone()
+        .unwrap_or_else(|| repo.join("target/bench-efficiency"));
+    std::fs::create_dir_all(&ref_dir)?;
+    let depth = a.maxdepth.clamp(2, 63);
+    let lc = LuxCore {
+        python: a.python.clone(),
+        script: repo.join("scripts/luxcore_efficiency.py"),
+        shared: shared.clone(),
+        threads: a.threads,
+        depth,
+        res: a.res,
+    };
+    let who = contestants(&a, &lc)?;
+    let tmp = tempfile::tempdir()?;
+    println!("machine: {} (before)", machine());
+    println!(
+        "{}x{} pixels, at most {depth} path segments, Russian roulette off, {} s per render",
+        a.res, a.res, a.budget
+    );
+    let mut out = String::new();
+    for scene in &a.scenes {
+        let variant = Variant::parse(scene)?;
+        let reference = Reference::load_or_render(&lc, variant, &ref_dir, a.reference_seconds)?;
+        let mask = reference.mask(a.exclude_above);
+        println!(
+            "{}: reference {} (its own RMSE {:.5}); {} of {} pixels above luminance {} left out",
+            variant.name(),
+            reference.describe(),
+            reference.own_rmse(&mask),
+            mask.iter().filter(|m| !**m).count(),
+            mask.len(),
+            a.exclude_above
+        );
+        let ours = Ours::new(
+            &shared.join("scenes/cornell/cornell-mesh.lxs"),
+            variant,
+            a.res,
+            depth,
+            a.threads,
+        )?;
+        let mut runs: Vec<Vec<Run>> = who.iter().map(|_| Vec::new()).collect();
+        for i in 0..a.runs.max(1) {
+            for (k, c) in who.iter().enumerate() {
+                let seed = 100 + i as u64;
+                let r = match c.renderer {
+                    Renderer::Luxfarm => ours.run(c, a.budget, seed)?,
+                    Renderer::LuxCore => lc.run(variant, c, a.budget, seed, tmp.path())?,
+                };
+                let m = reference.measure(&r.rgb, c.row_shift(), &mask);
+                println!(
+                    "{} run {i}: {:<36} {:>9.0} samples/s, {:>7.1} spp in {:.1} s, RMSE {:.5}",
+                    variant.name(),
+                    c.label(),
+                    r.samples_per_sec,
+                    r.spp,
+                    r.seconds,
+                    m.rmse
+                );
+                runs[k].push(r);
+            }
+        }
+        let sums: Vec<Summary> = who
+            .iter()
+            .zip(&runs)
+            .map(|(c, rs)| summarize(c, rs, &reference, &mask))
+            .collect();
+        out.push_str(&report(variant, &sums, a.budget));
+    }
+    println!("machine: {} (after)", machine());
+    print!("{out}");
+    Ok(ExitCode::SUCCESS)
+}
+
+fn summarize(c: &Contestant, runs: &[Run], reference: &Reference, mask: &[bool]) -> Summary {
+    let ms: Vec<_> = runs
+        .iter()
+        .map(|r| reference.measure(&r.rgb, c.row_shift(), mask))
+        .collect();
+    Summary {
+        who: c.clone(),
+        rate: median(runs.iter().map(|r| r.samples_per_sec).collect()),
+        spp: median(runs.iter().map(|r| r.spp).collect()),
+        seconds: median(runs.iter().map(|r| r.seconds).collect()),
+        rmse: median(ms.iter().map(|m| m.rmse).collect()),
+        raw_rmse: median(ms.iter().map(|m| m.raw_rmse).collect()),
+        mean_ratio: median(ms.iter().map(|m| m.mean_ratio).collect()),
+    }
+}
+
+fn find<'a>(sums: &'a [Summary], r: Renderer, integ: &str, sampler: &str) -> Option<&'a Summary> {
+    sums.iter().find(|s| {
+        s.who.renderer == r
+            && s.who.integrator.eq_ignore_ascii_case(integ)
+            && s.who.sampler.eq_ignore_ascii_case(sampler)
+    })
+}
+
+/// The table of one scene, and the ratios the issue asks for.
+fn report(variant: Variant, sums: &[Summary], budget: f64) -> String {
+    let mut out = String::new();
+    let base = find(sums, Renderer::Luxfarm, "path", "random");
+    let _ = writeln!(
+        out,
+        "\n{} at {budget} s:\n| renderer | samples/s | spp | s | RMSE | raw RMSE | mean / reference | RMSE / luxfarm path+random |",
+        variant.name()
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
+    for s in sums {
+        let rel = base.map_or("-".into(), |b| format!("{:.3}", s.rmse / b.rmse));
+        let _ = writeln!(
+            out,
+            "| {} | {:.0} | {:.1} | {:.1} | {:.5} | {:.5} | {:.4} | {rel} |",
+            s.who.label(),
+            s.rate,
+            s.spp,
+            s.seconds,
+            s.rmse,
+            s.raw_rmse,
+            s.mean_ratio
+        );
+    }
+    let pairs = [
+        (
+            (Renderer::Luxfarm, "bidirectional", "metropolis"),
+            (Renderer::Luxfarm, "path", "random"),
+        ),
+        (
+            (Renderer::Luxfarm, "bidirectional", "random"),
+            (Renderer::LuxCore, "BIDIRCPU", "RANDOM"),
+        ),
+        (
+            (Renderer::Luxfarm, "bidirectional", "metropolis"),
+            (Renderer::LuxCore, "BIDIRCPU", "METROPOLIS"),
+        ),
+        (
+            (Renderer::Luxfarm, "path", "random"),
+            (Renderer::LuxCore, "PATHCPU", "RANDOM"),
+        ),
+    ];
+    for ((ra, ia, sa), (rb, ib, sb)) in pairs {
+        if let (Some(x), Some(y)) = (find(sums, ra, ia, sa), find(sums, rb, ib, sb)) {
+            let _ = writeln!(
+                out,
+                "{}: {} / {}: RMSE at equal time {:.3}",
+                variant.name(),
+                x.who.label(),
+                y.who.label(),
+                x.rmse / y.rmse
+            );
+        }
+    }
+    out
+}
