@@ -15,9 +15,7 @@ mod transport_common;
 use transport_common::*;
 
 /// A closed grey room, the camera inside looking at the far wall; an emitting panel on the
-/// ceiling along the left wall, facing down and out of view (no path of light tracing
-/// alone sees an emitter directly: it joins light vertices after the first to the camera),
-/// lights the left wall brightly where it meets the image's left and top edges; 32 × 32,
+/// ceiling along the left wall, facing down and out of view, lights the left wall brightly where it meets the image's left and top edges; 32 × 32,
 /// a box filter of width 2.
 fn border_scene(setup: &str) -> String {
     let panel = "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
@@ -53,4 +51,33 @@ fn light_tracing_matches_path_at_the_image_border() {
     let rp = runs(&p, &here, 0, 6, 2, 4);
     let rl = runs(&l, &here, 100, 6, 2, 4);
     assert_agree("border light/path", &rp, &rl, 4.0, 0.0);
+}
+
+/// The same room with a second emitting panel on the far wall, facing the camera and in
+/// view. Light tracing alone reaches the camera from the panel only by joining the light
+/// subpath's origin to the camera (the strategy s = t = 1, as LuxRender's bidirectional
+/// joins it): without it the panel's pixels stay dark while the path tracer sees them lit.
+#[test]
+fn light_tracing_sees_an_emitter_in_view() {
+    let here = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let with_panel = |setup: &str| {
+        border_scene(setup).replace(
+            "WorldEnd\n",
+            "AttributeBegin\nAreaLightSource \"area\" \"color L\" [0.5 0.6 0.9] \"float power\" [0]\n\
+             Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
+             [-0.6 1.99 -0.5  0.6 1.99 -0.5  0.6 1.99 0.5  -0.6 1.99 0.5]\nAttributeEnd\nWorldEnd\n",
+        )
+    };
+    let path = with_panel(
+        "Sampler \"random\" \"integer pixelsamples\" [8]\n\
+         SurfaceIntegrator \"path\" \"integer maxdepth\" [3]",
+    );
+    let light = with_panel(
+        "Sampler \"random\" \"integer pixelsamples\" [8]\n\
+         SurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [1] \"integer lightdepth\" [4]",
+    );
+    let (p, l) = (scene_text(&path, &here), scene_text(&light, &here));
+    let rp = runs(&p, &here, 0, 6, 2, 4);
+    let rl = runs(&l, &here, 100, 6, 2, 4);
+    assert_agree("emitter in view light/path", &rp, &rl, 4.0, 0.0);
 }

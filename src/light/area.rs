@@ -218,6 +218,7 @@ impl AreaLight {
             le: self.le(&si, d, None),
             pdf_pos,
             pdf_dir,
+            uv,
         })
     }
 

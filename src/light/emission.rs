@@ -52,6 +52,9 @@ pub struct LightRay {
     pub pdf_pos: f32,
     /// Solid-angle density of the direction (1 for a delta direction).
     pub pdf_dir: f32,
+    /// Surface coordinates of the origin on an area light's shape (textured emission); zero
+    /// for the other lights.
+    pub uv: Vec2,
 }
 
 impl Light {
@@ -136,6 +139,7 @@ impl Light {
             le: ls.li,
             pdf_pos: sphere.disc_pdf(),
             pdf_dir: ls.pdf,
+            uv: Vec2::ZERO,
         })
     }
 

@@ -133,6 +133,7 @@ impl PointLight {
             le: self.intensity_toward(d),
             pdf_pos: 1.0,
             pdf_dir,
+            uv: glam::Vec2::ZERO,
         })
     }
 

@@ -221,6 +221,7 @@ impl SpotLight {
             le: self.intensity_toward(d),
             pdf_pos: 1.0,
             pdf_dir: self.pdf_dir(d),
+            uv: glam::Vec2::ZERO,
         })
     }
 

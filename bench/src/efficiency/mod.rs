@@ -173,6 +173,7 @@ impl Contestant {
 struct Summary {
     who: Contestant,
     rate: f64,
+    cpu_rate: f64,
     spp: f64,
     seconds: f64,
     rmse: f64,
@@ -292,6 +293,7 @@ fn summarize(c: &Contestant, runs: &[Run], reference: &Reference, mask: &[bool])
     Summary {
         who: c.clone(),
         rate: median(runs.iter().map(|r| r.samples_per_sec).collect()),
+        cpu_rate: median(runs.iter().map(|r| r.samples_per_cpu_sec).collect()),
         spp: median(runs.iter().map(|r| r.spp).collect()),
         seconds: median(runs.iter().map(|r| r.seconds).collect()),
         rmse: median(ms.iter().map(|m| m.rmse).collect()),
@@ -314,17 +316,18 @@ fn report(variant: Variant, sums: &[Summary], budget: f64) -> String {
     let base = find(sums, Renderer::Luxfarm, "path", "random");
     let _ = writeln!(
         out,
-        "\n{} at {budget} s:\n| renderer | samples/s | spp | s | RMSE | raw RMSE | mean / reference | RMSE / luxfarm path+random |",
+        "\n{} at {budget} s:\n| renderer | samples/s | samples/CPU-s | spp | s | RMSE | raw RMSE | mean / reference | RMSE / luxfarm path+random |",
         variant.name()
     );
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|");
     for s in sums {
         let rel = base.map_or("-".into(), |b| format!("{:.3}", s.rmse / b.rmse));
         let _ = writeln!(
             out,
-            "| {} | {:.0} | {:.1} | {:.1} | {:.5} | {:.5} | {:.4} | {rel} |",
+            "| {} | {:.0} | {:.0} | {:.1} | {:.1} | {:.5} | {:.5} | {:.4} | {rel} |",
             s.who.label(),
             s.rate,
+            s.cpu_rate,
             s.spp,
             s.seconds,
             s.rmse,

@@ -8,7 +8,10 @@
 //! density `pdir0` differs from the light subpath's origin density pl₀, as LuxRender does.
 //! The weight of the strategy that found the path is p_s² / Σ p_{s'}² over the strategies
 //! that could have found it: within the eye and light depths, connecting two non-delta
-//! vertices, reaching the camera only when light paths may (t = 1), and never s = t = 1.
+//! vertices, reaching the camera only when light paths may (t = 1). s = t = 1 (a path of two
+//! vertices: a point on an area light seen by the camera) is the light subpath's origin
+//! joined to the camera, as LuxRender's bidirectional joins it: its density is pl₀, and it
+//! exists only when x₀ is on an area light ([`PathDensities::area_origin`]).
 //!
 //! In a scene with media, a subpath may scatter in media at most `max_scatters` times (the
 //! volume integrator's limit): a strategy whose light part or eye part holds more medium
@@ -29,10 +32,13 @@ pub struct PathDensities {
     pub delta: Vec<bool>,
     /// Vertices that are scattering points in a medium.
     pub medium: Vec<bool>,
-    /// Density of x₀ under direct lighting (strategy s = 1).
+    /// Density of x₀ under strategy s = 1: direct lighting's, or in a path of two vertices
+    /// the light subpath origin's (s = t = 1).
     pub pdir0: f32,
     /// x₀ is a delta position or direction: no ray can hit it (s = 0 impossible).
     pub light_delta: bool,
+    /// x₀ is a point on an area light (the strategy s = t = 1 exists for it).
+    pub area_origin: bool,
 }
 
 /// Limits on the strategies that exist.
@@ -69,6 +75,7 @@ impl PathDensities {
         self.medium.resize(k, false);
         self.pdir0 = 0.0;
         self.light_delta = false;
+        self.area_origin = false;
     }
 
     fn k(&self) -> usize {
@@ -95,7 +102,7 @@ impl PathDensities {
             return false;
         }
         let t = k - s;
-        if s > lim.max_light || t > lim.max_eye || (s == 1 && t == 1) {
+        if s > lim.max_light || t > lim.max_eye || (s == 1 && t == 1 && !self.area_origin) {
             return false;
         }
         if t == 1 && !lim.camera {
@@ -249,6 +256,33 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn two_vertex_paths_weigh_the_origin_join_only_on_area_lights() {
+        let lim = Limits {
+            max_light: 8,
+            max_eye: 8,
+            camera: true,
+            max_scatters: usize::MAX,
+        };
+        // x0 on a light, x1 the camera: s = 0 (the eye ray meets it), s = 1 (x0 joined to
+        // the camera) only when x0 lies on an area light.
+        let mut d = densities(2, 5);
+        assert!(d.valid(0, &lim) && !d.valid(1, &lim));
+        assert!((d.weight(0, &lim) - 1.0).abs() < 1e-6);
+        d.area_origin = true;
+        d.pdir0 = d.pl[0];
+        assert!(d.valid(0, &lim) && d.valid(1, &lim));
+        let (w0, w1) = (d.weight(0, &lim), d.weight(1, &lim));
+        assert!((w0 + w1 - 1.0).abs() < 1e-5, "{w0} + {w1}");
+        assert!((w1 - brute(&d, 1, &lim)).abs() < 1e-5);
+        // The camera cannot be joined: s = 0 alone again.
+        let no_cam = Limits {
+            camera: false,
+            ..lim
+        };
+        assert!(!d.valid(1, &no_cam) && (d.weight(0, &no_cam) - 1.0).abs() < 1e-6);
     }
 
     #[test]

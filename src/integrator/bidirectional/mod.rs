@@ -6,7 +6,8 @@
 //! subpath per `lightpathstrategy` draw ([`walk::light_walk`]); then every strategy
 //! ([`strategies`]): the eye path meeting lights (s = 0), direct lighting at each eye vertex
 //! with the `lightstrategy` selection (s = 1), every light vertex joined to every eye vertex
-//! (s, t ≥ 2), and every light vertex joined to the camera (t = 1). The last ones land at
+//! (s, t ≥ 2), and every light vertex joined to the camera (t = 1, the light's own origin
+//! included when it lies on an area light, as LuxRender joins it). The last ones land at
 //! other film positions: they are returned as splats, which the render session adds to the
 //! film's per-screen "light" buffer; the others go to the sample's own position ("eye"
 //! buffer). Weights follow [`mis`].
@@ -199,6 +200,9 @@ impl BidirIntegrator {
             };
             walk::light_walk(&ctx, index, draws, p, s, &self.layout, &mut sc.light);
             let nl = sc.light.len();
+            if camera.connectable() {
+                strategies::origin_to_camera(&ctx, &mut sc.dens, &sc.eye, &sc.light, index, out);
+            }
             for sl in 2..=nl {
                 for t in 2..=ne {
                     strategies::connect(&ctx, &mut sc.dens, &sc.eye, t, &sc.light, sl, index, out);

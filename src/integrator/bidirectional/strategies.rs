@@ -94,8 +94,14 @@ pub fn weight(
         return 0.0;
     };
     dens.pl[0] = ctx.origin_density(x0);
-    dens.pdir0 = ctx.direct_density(x0);
+    // s = 1 in a path of two vertices is the origin joined to the camera, not direct lighting.
+    dens.pdir0 = if k == 2 {
+        dens.pl[0]
+    } else {
+        ctx.direct_density(x0)
+    };
     dens.light_delta = !ctx.hittable(x0);
+    dens.area_origin = area_of(ctx, x0).is_some();
     dens.delta[s] = false;
     if s == 0 {
         if let Some(x1) = x(1) {
@@ -361,6 +367,69 @@ fn shading_correction(l: &Vertex, w: glam::Vec3A) -> f32 {
         return 0.0;
     }
     wo.dot(ns).abs() * w.dot(ng).abs() / c
+}
+
+/// The area light a vertex lies on: a light subpath's origin on it, or a surface hit on it.
+fn area_of<'c>(ctx: &'c Ctx, v: &Vertex) -> Option<&'c crate::light::AreaLight> {
+    let i = match v.kind {
+        Kind::LightPoint(i) => i,
+        Kind::Surface { emitter: Some(i) } => i,
+        _ => return None,
+    };
+    match ctx.light(i)? {
+        Light::Area(a) => Some(a),
+        _ => None,
+    }
+}
+
+/// s = t = 1: the light subpath's origin L₀ on an area light joined to the camera, as
+/// LuxRender's bidirectional joins it (so a light tracer, `eyedepth` 1, sees emitters too);
+/// a splat. Weighted against s = 0 (the eye ray meeting the emitter).
+pub fn origin_to_camera(
+    ctx: &Ctx,
+    dens: &mut PathDensities,
+    eye: &[Vertex],
+    light: &[Vertex],
+    index: u32,
+    out: &mut SampleOut,
+) {
+    let (Some(cam), Some(l)) = (eye.first(), light.first()) else {
+        return;
+    };
+    let Some(area) = area_of(ctx, l) else {
+        return;
+    };
+    let pl0 = ctx.origin_density(l);
+    if !(pl0 > 0.0) {
+        return;
+    }
+    let Some(hit) = ctx.camera.connect(cam.p(), l.p(), ctx.time) else {
+        return;
+    };
+    let w_lc = -hit.dir;
+    let le = area.le(&l.si, w_lc, None);
+    let c = le * (l.si.it.n.dot(w_lc).abs() / pl0) * hit.weight;
+    if c.is_black() || !c.is_finite() {
+        return;
+    }
+    let Some(g) = ctx.segment(cam, l).filter(|g| !g.tr.is_black()) else {
+        return;
+    };
+    let link = Link {
+        to_eye: g.b_to_a,
+        to_light: g.a_to_b,
+    };
+    let w = weight(ctx, dens, eye, 1, light, 1, None, link);
+    let c = c * g.tr * w;
+    if c.is_black() || !c.is_finite() {
+        return;
+    }
+    out.splats.push(Splat {
+        p_film: Vec2::new(hit.raster.x, hit.raster.y),
+        group: group_of(ctx, index) as u32,
+        l: c,
+        weight: w,
+    });
 }
 
 /// s ≥ 2, t = 1: joins light vertex L_{s−1} to the camera vertex E₀; a splat.

@@ -479,6 +479,7 @@ fn light_origin(
         si.it.p = lr.ray.o;
         si.it.n = lr.n;
         si.it.time = ctx.time;
+        si.uv = lr.uv;
         Vertex::new(kind, si, lr.le, 0.0)
     } else {
         Vertex::at_infinity(kind, -d, lr.le, 0.0)
