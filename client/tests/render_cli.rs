@@ -1,5 +1,7 @@
 //! `luxfarm render`: the halt rules of a local render, haltthreshold included (LuxRender's
-//! convergence test every `convergencestep` spp), and the error when a scene has none.
+//! convergence test every `convergencestep` spp), the error when a scene has none, and the
+//! user sampling map (`--sampling-map IMAGE`: the film's pixel size, its crop window's when
+//! it has one).
 
 use std::path::Path;
 use std::process::Command;
@@ -93,4 +95,99 @@ fn a_scene_without_halt_condition_is_refused() {
     let out = render(&s, &dir.path().join("x"), &["--haltthreshold", "2"]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("not a fraction"));
+}
+
+/// A gray 8-bit PNG at `path` whose pixel (x, y) is `v(x, y)`.
+fn write_png(path: &Path, w: u32, h: u32, v: impl Fn(u32, u32) -> u8) {
+    use luxfarm::imageio::{encode_png, ChannelSet, LdrImage};
+    let gray: Vec<f32> = (0..w * h)
+        .map(|i| (f32::from(v(i % w, i / w)) + 0.5) / 255.0)
+        .collect();
+    let img = LdrImage {
+        width: w,
+        height: h,
+        rgb: &vec![[0.0; 3]; gray.len()],
+        gray: &gray,
+        alpha: &[],
+    };
+    let mut out = Vec::new();
+    encode_png(&mut out, &img, ChannelSet::Y, false).unwrap();
+    std::fs::write(path, out).unwrap();
+}
+
+/// Mean per-pixel weight (the box filter's: sample counts) of the left and right halves of
+/// an FLM's film.
+fn weight_halves(flm: &Path) -> (f64, f64) {
+    let f = std::fs::File::open(flm).unwrap();
+    let (film, _) = luxfarm::film::flm::read_flm(std::io::BufReader::new(f)).unwrap();
+    let w = film.width();
+    let (mut l, mut r) = (0.0, 0.0);
+    for (i, p) in film.buffer(0, 0).unwrap().chunks(5).enumerate() {
+        if (i as u32 % w) < w / 2 {
+            l += p[4];
+        } else {
+            r += p[4];
+        }
+    }
+    let n = f64::from(w / 2 * film.height());
+    (l / n, r / n)
+}
+
+#[test]
+fn a_sampling_map_of_the_wrong_size_is_an_error_naming_both_sizes() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene(dir.path(), "");
+    let map = dir.path().join("map.png");
+    write_png(&map, 64, 48, |_, _| 100);
+    let out = render(
+        &s,
+        &dir.path().join("o"),
+        &["--haltspp", "1", "--sampling-map", map.to_str().unwrap()],
+    );
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("64x48") && err.contains("128x96"), "{err}");
+    assert!(err.contains("map.png"), "{err}");
+    // a file that is no image
+    std::fs::write(&map, b"hello").unwrap();
+    let out = render(
+        &s,
+        &dir.path().join("o"),
+        &["--haltspp", "1", "--sampling-map", map.to_str().unwrap()],
+    );
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("sampling map image"), "{err}");
+}
+
+#[test]
+fn a_sampling_map_of_the_films_size_renders_and_weighs_the_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    // The crop window's buffer is 64x48: the map takes its size.
+    let s = scene(dir.path(), r#""float cropwindow" [0 0.5 0 0.5]"#);
+    let big = dir.path().join("big.png");
+    write_png(&big, 128, 96, |_, _| 100);
+    let out = render(
+        &s,
+        &dir.path().join("o"),
+        &["--haltspp", "1", "--sampling-map", big.to_str().unwrap()],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("64x48"), "{err}");
+    let map = dir.path().join("map.png");
+    write_png(&map, 64, 48, |x, _| if x < 32 { 225 } else { 25 });
+    let o = dir.path().join("mapped");
+    let out = render(
+        &s,
+        &o,
+        &["--haltspp", "8", "--sampling-map", map.to_str().unwrap()],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (l, r) = weight_halves(&o.with_extension("flm"));
+    assert!((l / r - 9.0).abs() < 1.0, "left {l} right {r}");
+    assert!(l > 8.0, "left {l}");
 }

@@ -283,6 +283,7 @@ mod tests {
             haltthreshold: None,
             convergence_step: 32.0,
             noise_aware: false,
+            map_refusal: None,
             basename: "s".into(),
             name: "s".into(),
             scene: "s.lxs".into(),

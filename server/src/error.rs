@@ -9,6 +9,10 @@ pub enum ServerError {
     /// The request is malformed or its content is refused (bad bundle, bad scene, bad override).
     #[error("{0}")]
     BadRequest(String),
+    /// The request is well-formed but its content cannot be used (e.g. a sampling map of the
+    /// wrong size, or with negative weights).
+    #[error("{0}")]
+    Unprocessable(String),
     /// The upload is larger than the configured limit.
     #[error("{0}")]
     TooLarge(String),
@@ -76,6 +80,7 @@ impl ServerError {
     pub fn status(&self) -> StatusCode {
         match self {
             ServerError::BadRequest(_) => StatusCode::BAD_REQUEST,
+            ServerError::Unprocessable(_) => StatusCode::UNPROCESSABLE_ENTITY,
             ServerError::TooLarge(_) => StatusCode::PAYLOAD_TOO_LARGE,
             ServerError::Unsupported(_) => StatusCode::UNSUPPORTED_MEDIA_TYPE,
             ServerError::NotFound(_) => StatusCode::NOT_FOUND,
@@ -97,6 +102,7 @@ impl ServerError {
     pub fn kind(&self) -> &'static str {
         match self {
             ServerError::BadRequest(_) => "bad_request",
+            ServerError::Unprocessable(_) => "unprocessable",
             ServerError::TooLarge(_) => "payload_too_large",
             ServerError::Unsupported(_) => "unsupported_media_type",
             ServerError::NotFound(_) => "not_found",
@@ -157,7 +163,7 @@ impl From<ServerError> for tonic::Status {
     fn from(e: ServerError) -> tonic::Status {
         use tonic::Code;
         let code = match &e {
-            ServerError::BadRequest(_) => Code::InvalidArgument,
+            ServerError::BadRequest(_) | ServerError::Unprocessable(_) => Code::InvalidArgument,
             ServerError::TooLarge(_) => Code::ResourceExhausted,
             ServerError::Unsupported(_) => Code::InvalidArgument,
             ServerError::NotFound(_) => Code::NotFound,

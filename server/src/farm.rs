@@ -157,7 +157,8 @@ pub struct RunState {
     pub convergence: crate::scene::Convergence,
     /// No analysis before this moment (`crate::analysis`: the job's share of time).
     pub analysis_after: Option<Instant>,
-    /// The noise-aware sampling map built from the merged film (noise-aware jobs).
+    /// The sampling maps sent to the workers: the noise-aware map built from the merged film
+    /// (noise-aware jobs) and the user sampling map (`crate::usermap`), combined.
     pub noise_map: crate::noisemap::NoiseMapState,
     /// The error estimate over time (`crate::trade`); empty again after a master restart.
     pub trade: crate::trade::TradeState,

@@ -101,6 +101,13 @@ impl Farm {
             None => scene::new_film(&info),
         };
         let samples = film.total_samples();
+        // The user sampling map survives restarts: the stored one, at its stored version.
+        let mut noise_map = crate::noisemap::NoiseMapState::default();
+        if info.map_refusal.is_none() {
+            let (user, version) =
+                crate::usermap::initial_user_map(self, &row.id, info.width, info.height)?;
+            noise_map.set_user(user, version);
+        }
         let mut leases = HashMap::new();
         {
             let db = lock(&self.db);
@@ -127,7 +134,7 @@ impl Farm {
                 history: VecDeque::from([(Instant::now(), samples)]),
                 convergence: Default::default(),
                 analysis_after: None,
-                noise_map: Default::default(),
+                noise_map,
                 trade: crate::trade::TradeState::with_history(crate::halt::load_trade(
                     self, &row.id,
                 )),

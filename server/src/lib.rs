@@ -14,7 +14,9 @@
 //!   store (schema versions and upgrades in `db::migrate`); `schedule`: which job a worker
 //!   gets (priority, tags, memory, sequence policies); `sequence`: frame sequences;
 //!   `blocks`: failing workers blocked from jobs and quarantined; `noisemap`: noise-aware
-//!   sampling maps built from the merged film, sent to workers with their acknowledgements;
+//!   sampling maps built from the merged film, combined with the job's user sampling map
+//!   (`usermap`: set through REST, kept in the store), sent to workers with their
+//!   acknowledgements;
 //!   `trade`: each running job's error estimate over time, its projection to a target and the
 //!   convergence map picture.
 //!
@@ -72,6 +74,7 @@ pub(crate) mod serve;
 #[cfg(test)]
 mod test_util;
 pub(crate) mod trade;
+pub(crate) mod usermap;
 pub(crate) mod views;
 pub(crate) mod webhooks;
 

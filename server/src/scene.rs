@@ -40,6 +40,9 @@ pub struct SceneInfo {
     /// The sampler draws pixels by a noise-aware sampling map (`"bool noiseaware"`): the
     /// master builds it from the merged film and sends it to the workers.
     pub noise_aware: bool,
+    /// Why the scene's sampler takes no sampling maps (metropolis, erpt), when it does not:
+    /// a user sampling map is then stored but not applied (`crate::usermap`).
+    pub map_refusal: Option<&'static str>,
     /// Base name of the outputs in the job's output directory (`output::farm_basename`: the
     /// last component of the film's `filename`, else the scene's stem).
     pub basename: String,
@@ -115,6 +118,7 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
         haltthreshold: params.haltthreshold.map(f64::from),
         convergence_step: params.convergence_step.max(1.0),
         noise_aware: noise_aware(&desc),
+        map_refusal: map_refusal(&desc),
         basename,
         name,
         scene: scene.to_string_lossy().replace('\\', "/"),
@@ -131,6 +135,15 @@ fn noise_aware(desc: &luxfarm::lxs::SceneDescription) -> bool {
     let mut warnings = Vec::new();
     luxfarm::sampler::Sampler::build(desc.sampler.as_ref(), &mut warnings)
         .is_ok_and(|s| s.noise_aware())
+}
+
+/// Why the scene's sampler takes no sampling maps, when it does not (a sampler that does not
+/// build: none, the workers refuse the scene anyway).
+fn map_refusal(desc: &luxfarm::lxs::SceneDescription) -> Option<&'static str> {
+    let mut warnings = Vec::new();
+    luxfarm::sampler::Sampler::build(desc.sampler.as_ref(), &mut warnings)
+        .ok()
+        .and_then(|s| s.map_refusal())
 }
 
 /// Error messages name files inside the bundle relative to it, not the master's disk.

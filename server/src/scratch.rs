@@ -165,6 +165,7 @@ mod tests {
             haltthreshold: None,
             convergence_step: 32.0,
             noise_aware: false,
+            map_refusal: None,
             basename: "b".into(),
             name: "n".into(),
             scene: "s.lxs".into(),

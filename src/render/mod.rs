@@ -19,6 +19,20 @@
 //! `convergencestep` spp ([`noise`], which documents the pass count); a farm worker's session
 //! instead takes the maps its master sends ([`Session::follow_external_maps`],
 //! [`Session::set_sampling_map`]). Passes count the samples they actually took.
+//!
+//! A session may also be given a user sampling map ([`Session::set_user_map`], read from an
+//! image by [`usermap`]): every sampler that takes maps (all but metropolis and erpt) then
+//! samples by it, multiplied pixel by pixel with the noise-aware map when the sampler is
+//! noise-aware, as LuxRender's film combines them:
+//!
+//! ```text
+//! noise-aware map (built here, or the master's) --\
+//!                                                  product (or the one present) --> passes
+//! user map (set_user_map) ------------------------/
+//! ```
+//!
+//! On the farm the master combines the two and sends the result; the worker's session takes
+//! it as its external map and has no user map of its own.
 
 pub mod buffers;
 pub mod erpt;
@@ -27,6 +41,7 @@ pub mod mlt;
 pub mod noise;
 pub mod setup;
 mod tile;
+pub mod usermap;
 
 use crate::film::{BufferType, Film, FilmParams, ZBuffer};
 use crate::lxs::SceneDescription;
@@ -104,8 +119,13 @@ pub struct Session {
     mlt: Option<mlt::MltState>,
     /// The seeds and chains of an erpt sampler.
     erpt: Option<erpt::ErptState>,
-    /// The sampling map of a noise-aware sampler (none yet: uniform).
+    /// The sampling map the passes follow (none: uniform): the noise-aware map, the user
+    /// map, or their product.
     map: Option<Arc<SamplingMap>>,
+    /// The noise-aware map (built from the film, or the master's on a farm worker).
+    noise_map: Option<Arc<SamplingMap>>,
+    /// The user sampling map, when one was given.
+    user_map: Option<Arc<SamplingMap>>,
     /// Rebuilds the map from this session's film (local renders of a noise-aware sampler).
     map_builder: Option<noise::MapBuilder>,
 }
@@ -165,6 +185,8 @@ impl Session {
             mlt,
             erpt,
             map: None,
+            noise_map: None,
+            user_map: None,
             map_builder,
         })
     }
@@ -185,16 +207,63 @@ impl Session {
         self.map_builder = None;
     }
 
-    /// Sets the sampling map of the next passes. Refused when its size is not the film
-    /// buffer's; ignored (false) when the sampler is not noise-aware.
+    /// Whether this session's sampler draws pixels by sampling maps at all (every sampler but
+    /// metropolis and erpt, whose chains fill per-screen buffers).
+    pub fn takes_maps(&self) -> bool {
+        self.scene.setup.sampler.takes_maps()
+    }
+
+    /// Sets the noise-aware sampling map of the next passes from elsewhere (a farm worker's
+    /// master, which has already multiplied in the job's user map). Refused when its size is
+    /// not the film buffer's; ignored (false) when the sampler takes no maps.
     pub fn set_sampling_map(&mut self, map: Arc<SamplingMap>) -> Result<bool, MapError> {
         let fp = &self.scene.setup.film_params;
         map.check_film(fp.x_pixel_count, fp.y_pixel_count)?;
-        if !self.noise_aware() {
+        if !self.takes_maps() {
             return Ok(false);
         }
-        self.map = Some(map);
+        self.noise_map = Some(map);
+        self.combine_maps();
         Ok(true)
+    }
+
+    /// Sets (or with `None` clears) the user sampling map of the next passes: LuxRender's
+    /// `luxSetUserSamplingMap`. Refused when its size is not the film buffer's; ignored
+    /// (false) when the sampler takes no maps (metropolis, erpt: the caller warns, see
+    /// [`crate::sampler::Sampler::map_refusal`]).
+    pub fn set_user_map(&mut self, map: Option<Arc<SamplingMap>>) -> Result<bool, MapError> {
+        if let Some(m) = &map {
+            let fp = &self.scene.setup.film_params;
+            m.check_film(fp.x_pixel_count, fp.y_pixel_count)?;
+        }
+        if !self.takes_maps() {
+            return Ok(false);
+        }
+        self.user_map = map;
+        self.combine_maps();
+        Ok(true)
+    }
+
+    /// The user sampling map, when one is set.
+    pub fn user_map(&self) -> Option<&SamplingMap> {
+        self.user_map.as_deref()
+    }
+
+    /// The map the passes follow: the product of the noise-aware and user maps when both
+    /// exist, else the one that does (LuxRender's `Film::UpdateSamplingMap`).
+    fn combine_maps(&mut self) {
+        self.map = match (&self.noise_map, &self.user_map) {
+            (Some(n), Some(u)) => match n.product(u) {
+                Ok(m) => Some(Arc::new(m)),
+                // Both were checked against the film: sizes always match.
+                Err(e) => {
+                    tracing::error!("sampling maps not combined: {e}");
+                    Some(u.clone())
+                }
+            },
+            (Some(m), None) | (None, Some(m)) => Some(m.clone()),
+            (None, None) => None,
+        };
     }
 
     /// After a pass: rebuilds the map from the film when due (local noise-aware renders).
@@ -206,7 +275,8 @@ impl Session {
             return;
         }
         if let Some(m) = b.update(&self.film, &self.scene.setup.film_params.tonemap) {
-            self.map = Some(Arc::new(m));
+            self.noise_map = Some(Arc::new(m));
+            self.combine_maps();
         }
     }
 

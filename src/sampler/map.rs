@@ -1,13 +1,21 @@
-//! Sampling maps of noise-aware sampling (`"bool noiseaware"`): per pixel of the film buffer,
-//! a relative sample density (mean 1 over the buffer) that says how many of a pass's samples
-//! each pixel gets.
+//! Sampling maps of noise-aware sampling (`"bool noiseaware"`) and the user sampling map: per
+//! pixel of the film buffer, a relative sample density (mean 1 over the buffer) that says how
+//! many of a pass's samples each pixel gets.
 //!
 //! ```text
 //! convergence test's per-pixel noise (visible difference / threshold, crate::halt)
 //!   --from_noise: cap, 3x3 box blur, normalise to mean 1, mix with a floor-->  SamplingMap
+//! user's weights (an image's luminance, crate::render::usermap)
+//!   --from_weights: finite, >= 0, not all zero, normalise to mean 1-->  SamplingMap
+//! noise-aware map x user map --product (pixel by pixel, renormalised)-->  SamplingMap
 //!   --(farm) to_cells: downsampled cells, f32--> wire --from_cells: validate, expand-->
 //!   SamplingMap --pixel_samples(spp, pixel, pass)--> samples of that pixel in that pass
 //! ```
+//!
+//! LuxRender 1.x keeps the user's map beside its noise-aware one and samples by their pixel
+//! by pixel product when it has both (`Film::UpdateSamplingMap`), by the one it has otherwise.
+//! A user map may give pixels weight 0: they take no samples of their own (a filter wider than
+//! a pixel still brings them their neighbours' samples), as in LuxRender.
 //!
 //! A pixel's expected samples in a pass are `spp × density`; the count is that number rounded
 //! up or down at random (a hash of seed, stream, pixel and pass), so it is unbiased and
@@ -47,6 +55,10 @@ pub enum MapError {
     Value { index: usize, value: f32 },
     #[error("sampling map cell size {0} does not tile a {1}x{2} film")]
     Cells(u32, u32, u32),
+    #[error("sampling map pixel ({x}, {y}) is {value} (must be finite and not negative)")]
+    Pixel { x: u32, y: u32, value: f32 },
+    #[error("sampling map is zero everywhere (at least one pixel must have a weight above 0)")]
+    AllZero,
     #[error("sampling map is {got_w}x{got_h}, the film is {want_w}x{want_h}")]
     Mismatch {
         got_w: u32,
@@ -136,6 +148,44 @@ impl SamplingMap {
             vec![1.0; blurred.len()]
         };
         Ok(SamplingMap::normalised(w, h, density))
+    }
+
+    /// A user sampling map from per-pixel weights (`w` × `h`, row-major, row 0 at the top):
+    /// each finite and not negative, not all zero; normalised to mean 1 (capped at
+    /// [`MAX_DENSITY`]).
+    pub fn from_weights(weights: &[f32], w: u32, h: u32) -> Result<SamplingMap, MapError> {
+        let n = check_size(w, h)?;
+        if weights.len() as u64 != n {
+            return Err(MapError::Count {
+                got: weights.len(),
+                want: n,
+            });
+        }
+        if let Err(MapError::Value { index, value }) = check_values(weights) {
+            let (x, y) = (
+                (index as u64 % u64::from(w)) as u32,
+                (index as u64 / u64::from(w)) as u32,
+            );
+            return Err(MapError::Pixel { x, y, value });
+        }
+        if weights.iter().all(|v| *v == 0.0) {
+            return Err(MapError::AllZero);
+        }
+        Ok(SamplingMap::normalised(w, h, weights.to_vec()))
+    }
+
+    /// The pixel by pixel product of two maps of the same size (LuxRender's noise-aware map
+    /// times its user map), normalised to mean 1; a product that is zero everywhere gives the
+    /// uniform map.
+    pub fn product(&self, other: &SamplingMap) -> Result<SamplingMap, MapError> {
+        other.check_film(self.width, self.height)?;
+        let density = self
+            .density
+            .iter()
+            .zip(&other.density)
+            .map(|(a, b)| a * b)
+            .collect();
+        Ok(SamplingMap::normalised(self.width, self.height, density))
     }
 
     /// The uniform map (every pixel at density 1).
@@ -413,6 +463,59 @@ mod tests {
         // all zero: uniform
         let z = SamplingMap::from_cells(2, 1, 1, 2, 1, &[0.0, 0.0]).unwrap();
         assert_eq!(z.densities(), &[1.0, 1.0]);
+    }
+
+    #[test]
+    fn user_weights_are_checked_normalised_and_multiply_with_a_noise_map() {
+        // 9:1 left to right
+        let w: Vec<f32> = (0..8).map(|i| if i % 4 < 2 { 9.0 } else { 1.0 }).collect();
+        let m = SamplingMap::from_weights(&w, 4, 2).unwrap();
+        assert!((m.density(0, 0) - 1.8).abs() < 1e-6 && (m.density(3, 1) - 0.2).abs() < 1e-6);
+        // zeros are kept (those pixels take no samples), all zero is refused
+        let z = SamplingMap::from_weights(&[0.0, 1.0], 2, 1).unwrap();
+        assert_eq!(z.densities(), &[0.0, 2.0]);
+        assert_eq!(z.pixel_samples(4, 0, 0, key(0, 0, 1)), 0);
+        assert_eq!(
+            SamplingMap::from_weights(&[0.0, 0.0], 2, 1),
+            Err(MapError::AllZero)
+        );
+        assert_eq!(
+            SamplingMap::from_weights(&[1.0, 1.0, -2.0, 1.0], 2, 2),
+            Err(MapError::Pixel {
+                x: 0,
+                y: 1,
+                value: -2.0
+            })
+        );
+        assert!(matches!(
+            SamplingMap::from_weights(&[1.0, f32::NAN], 2, 1),
+            Err(MapError::Pixel { x: 1, y: 0, .. })
+        ));
+        assert!(matches!(
+            SamplingMap::from_weights(&[1.0, f32::INFINITY], 2, 1),
+            Err(MapError::Pixel { x: 1, y: 0, .. })
+        ));
+        assert!(matches!(
+            SamplingMap::from_weights(&[1.0; 3], 2, 1),
+            Err(MapError::Count { got: 3, want: 2 })
+        ));
+        // the product, pixel by pixel, renormalised
+        let noise =
+            SamplingMap::from_cells(4, 2, 1, 4, 2, &[1.0, 3.0, 1.0, 3.0, 1.0, 3.0, 1.0, 3.0])
+                .unwrap();
+        let p = noise.product(&m).unwrap();
+        let raw = [9.0f32, 27.0, 1.0, 3.0];
+        let mean = raw.iter().sum::<f32>() / 4.0;
+        for x in 0..4u32 {
+            let want = raw[x as usize] / mean;
+            assert!(
+                (p.density(x, 0) - want).abs() < 1e-5,
+                "{x}: {}",
+                p.density(x, 0)
+            );
+            assert_eq!(p.density(x, 0), p.density(x, 1));
+        }
+        assert!(noise.product(&SamplingMap::uniform(2, 2).unwrap()).is_err());
     }
 
     #[test]

@@ -12,7 +12,8 @@
 //! give each pixel a number of samples in proportion to a sampling map built from the film's
 //! convergence test ([`map`]; the render session keeps the map). Metropolis accepts the
 //! parameter but refuses it with a located warning (its per-screen buffer would be biased),
-//! erpt ignores it with a warning, as LuxRender's.
+//! erpt ignores it with a warning, as LuxRender's. The user sampling map
+//! (`crate::render::usermap`) applies to the same samplers ([`Sampler::takes_maps`]).
 //!
 //! Metropolis and erpt samplers do not visit pixels: the render session runs their chains
 //! ([`metropolis::Chain`], [`erpt::ErptChain`]) and traces each proposal through
@@ -185,6 +186,28 @@ impl Sampler {
     /// erpt, whose per-screen buffers the map would bias).
     pub fn noise_aware(&self) -> bool {
         self.noise_aware && !self.per_screen()
+    }
+
+    /// Whether the sampler draws pixels by sampling maps at all (noise-aware or the user's):
+    /// every sampler but metropolis and erpt.
+    pub fn takes_maps(&self) -> bool {
+        !self.per_screen()
+    }
+
+    /// Why a user sampling map is not applied with this sampler (`None`: it is).
+    pub fn map_refusal(&self) -> Option<&'static str> {
+        match self.kind {
+            SamplerKind::Erpt => Some(
+                "the erpt sampler does not take sampling maps (nor does LuxRender's); the map \
+                 is not applied",
+            ),
+            SamplerKind::Metropolis => Some(
+                "the metropolis sampler's samples go to a per-screen buffer normalised by the \
+                 total sample count, where drawing pixels by a map would bias the image; the \
+                 map is not applied",
+            ),
+            _ => None,
+        }
     }
 
     /// This sampler with noise-aware sampling on or off (metropolis and erpt stay off).

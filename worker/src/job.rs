@@ -12,7 +12,8 @@
 //! heartbeat loop: every interval, and at once when the render thread needs more budget:
 //!   stop, budget, durable_seq, master instance
 //! ack.sampling_map --crate::map::MapSlot--> render thread, before its next pass:
-//!   checked against the film, Session::set_sampling_map (noise-aware jobs)
+//!   checked against the film, Session::set_sampling_map (noise-aware jobs, and jobs with a
+//!   user sampling map: the master sends the maps already combined)
 //! ```
 //!
 //! A worker's session never builds a sampling map from its own film (it only holds the
@@ -278,7 +279,7 @@ fn apply_map(session: &mut Session, slot: &MapSlot) {
         });
     match map {
         Ok(true) => tracing::info!(version = m.version, "noise-aware sampling map applied"),
-        Ok(false) => tracing::debug!("sampling map ignored: the sampler is not noise-aware"),
+        Ok(false) => tracing::debug!("sampling map ignored: the sampler takes no maps"),
         Err(e) => tracing::warn!(version = m.version, error = %e, "sampling map refused"),
     }
 }

@@ -1,6 +1,9 @@
-//! Noise-aware sampling maps from the master: an acknowledgement may carry the job's newest
-//! map (`pb::SamplingMap`, cells of `cell` × `cell` film pixels, f32 little endian); the
-//! render thread checks it against its film and hands it to its session for the next passes.
+//! Sampling maps from the master: an acknowledgement may carry the job's newest map
+//! (`pb::SamplingMap`, cells of `cell` × `cell` film pixels, f32 little endian): the
+//! noise-aware map, the job's user sampling map, or their product, as the master combined
+//! them (a uniform map once the user's is cleared). The render thread checks it against its
+//! film and hands it to its session for the next passes (every sampler but metropolis and
+//! erpt takes it).
 //!
 //! ```text
 //! upload loop: ack.sampling_map (newer than ours) --offer--> pending (latest wins)

@@ -236,6 +236,7 @@ fn render_and_compare(
         output: Some(base.clone()),
         frame: None,
         workers: args.workers,
+        sampling_map: None,
     })?;
     let flm = written
         .into_iter()

@@ -1,5 +1,5 @@
 //! `luxfarm render SCENE.lxs [--workers N] [--threads N] [--haltspp N] [--halttime S]
-//! [--haltthreshold F] [--seed S]
+//! [--haltthreshold F] [--seed S] [--sampling-map IMAGE]
 //! [-o BASENAME]`: renders a scene locally on all cores (or, with `--workers`, on a local farm)
 //! with a progress bar, halting at the
 //! scene's (or the given) haltspp/halttime/haltthreshold, and writes what the Film asks for.
@@ -9,15 +9,21 @@
 //! is compared with the previous snapshot by Yee's perceptual test; the render stops once the
 //! fraction of pixels that still change perceptibly is at most the threshold). The outputs
 //! are the core's too (`luxfarm::output`): the files the Film asks for, named as on a farm.
+//!
+//! `--sampling-map IMAGE` is LuxRender's user sampling map: an image of the film's pixel size
+//! (the crop window's, when the Film has one) whose pixels' luminance weigh how many samples
+//! each pixel takes (`luxfarm::render::usermap`); with a noise-aware sampler it multiplies the
+//! noise-aware map.
 
 use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
 use luxfarm::halt::{Convergence, HaltRules};
 use luxfarm::lxs::ParseOptions;
 use luxfarm::output;
-use luxfarm::render::{Session, SessionOptions};
+use luxfarm::render::{usermap, Session, SessionOptions};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 #[derive(clap::Args)]
@@ -50,6 +56,10 @@ pub struct Args {
     /// this many worker processes over loopback (`--threads` is then per worker).
     #[arg(long)]
     pub workers: Option<usize>,
+    /// The user sampling map: an image (PNG, JPEG, TGA, HDR, EXR) of the film's pixel size
+    /// (its crop window's, when it has one) whose luminance weighs each pixel's samples.
+    #[arg(long, value_name = "IMAGE")]
+    pub sampling_map: Option<PathBuf>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
@@ -62,6 +72,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 /// Renders as `luxfarm render` does and returns the files written.
 pub fn render(args: Args) -> anyhow::Result<Vec<PathBuf>> {
     if let Some(workers) = args.workers {
+        if args.sampling_map.is_some() {
+            bail!(
+                "--sampling-map is not supported with --workers: submit the job and set its \
+                 map with PUT /api/v1/jobs/ID/sampling-map"
+            );
+        }
         return super::farm_render::render(super::farm_render::Options {
             scene: args.scene,
             workers,
@@ -93,6 +109,9 @@ pub fn render(args: Args) -> anyhow::Result<Vec<PathBuf>> {
     let mut session = Session::new(&desc, &base_dir, opts)?;
     for w in session.warnings() {
         eprintln!("warning: {w}");
+    }
+    if let Some(path) = &args.sampling_map {
+        set_user_map(&mut session, path)?;
     }
     let fp = session.film_params().clone();
     let rules = HaltRules::from_film(&fp).with_overrides(
@@ -162,6 +181,26 @@ pub fn render(args: Args) -> anyhow::Result<Vec<PathBuf>> {
         session.outlier_samples(),
     );
     Ok(written)
+}
+
+/// Reads the user sampling map image at `path` and gives it to the session (a warning when
+/// the sampler takes no maps).
+fn set_user_map(session: &mut Session, path: &Path) -> anyhow::Result<()> {
+    let bytes =
+        std::fs::read(path).with_context(|| format!("--sampling-map {}", path.display()))?;
+    let fp = session.film_params();
+    let map = usermap::map_from_image(&bytes, fp.x_pixel_count, fp.y_pixel_count)
+        .with_context(|| format!("--sampling-map {}", path.display()))?;
+    if !session.set_user_map(Some(Arc::new(map)))? {
+        let why = session
+            .renderable()
+            .setup
+            .sampler
+            .map_refusal()
+            .unwrap_or("the sampler takes no sampling maps");
+        eprintln!("warning: --sampling-map {}: {why}", path.display());
+    }
+    Ok(())
 }
 
 fn progress_bar(rules: &HaltRules) -> ProgressBar {

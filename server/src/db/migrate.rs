@@ -10,6 +10,7 @@
 //!      --upgrade to 3: pools (workers' tags/memory/build, jobs' tags/min_memory/max_workers)
 //!                      and failing workers (table `failures`, workers' forgiven_ms)
 //!      --upgrade to 4: webhooks (jobs' own hook URL, the outbox table `webhooks`)
+//!      --upgrade to 5: user sampling maps (table `sampling_maps`)
 //! ```
 //!
 //! Every upgrade runs in one transaction together with the new version number, so a store is
@@ -20,7 +21,7 @@ use crate::error::{Result, ServerError};
 use rusqlite::Connection;
 
 /// The schema version this master writes.
-pub const CURRENT: i64 = 4;
+pub const CURRENT: i64 = 5;
 
 /// Columns a store written by a master before versions were kept may lack:
 /// (table, column, type).
@@ -91,6 +92,20 @@ CREATE INDEX IF NOT EXISTS webhooks_pending ON webhooks (next_ms)
     WHERE delivered_ms IS NULL AND gave_up_ms IS NULL;
 ";
 
+/// Version 5: user sampling maps, one row per job that ever had one (`crate::usermap`): the
+/// weights as uploaded (f32 little endian, row-major; NULL once cleared) and the map version
+/// the master gave the last change.
+const VERSION_5: &str = "
+CREATE TABLE IF NOT EXISTS sampling_maps (
+    job_id TEXT PRIMARY KEY,
+    width INTEGER NOT NULL,
+    height INTEGER NOT NULL,
+    weights BLOB,
+    version INTEGER NOT NULL,
+    updated_ms INTEGER NOT NULL
+);
+";
+
 /// The store's schema version.
 pub fn version(conn: &Connection) -> Result<i64> {
     Ok(conn.query_row("PRAGMA user_version", [], |r| r.get(0))?)
@@ -116,7 +131,8 @@ pub fn upgrade(conn: &mut Connection) -> Result<()> {
             }
             2 => tx.execute_batch(VERSION_2)?,
             3 => tx.execute_batch(VERSION_3)?,
-            _ => tx.execute_batch(VERSION_4)?,
+            4 => tx.execute_batch(VERSION_4)?,
+            _ => tx.execute_batch(VERSION_5)?,
         }
         tx.pragma_update(None, "user_version", next)?;
         tx.commit()?;

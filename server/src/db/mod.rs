@@ -10,7 +10,8 @@
 //!
 //! Queries live by subject: [`jobs`] (jobs), [`sequences`] (frame sequences), [`work`]
 //! (workers, leases, ledger, checkpoints), [`tokens`] (user tokens), [`outbox`] (webhook
-//! deliveries, queued with a job's end in one transaction); [`migrate`] upgrades a
+//! deliveries, queued with a job's end in one transaction), [`usermaps`] (user sampling
+//! maps); [`migrate`] upgrades a
 //! store of an older master (schema versions); this file holds the types, the base schema and
 //! opening.
 
@@ -20,11 +21,13 @@ pub mod migrate;
 mod outbox;
 mod sequences;
 mod tokens;
+mod usermaps;
 mod work;
 
 pub use blocks::FailureRow;
 pub use outbox::{HookOutcome, HookRow, HookTargets};
 pub use sequences::SequenceRow;
+pub use usermaps::UserMapRow;
 
 use crate::error::Result;
 use rusqlite::{Connection, OptionalExtension, Row};

@@ -19,8 +19,10 @@ use axum::{Json, Router};
 use std::sync::Arc;
 use utoipa::OpenApi;
 
+mod maps;
 mod outputs;
 
+use maps::*;
 use outputs::*;
 
 type AppState = Arc<Farm>;
@@ -45,6 +47,9 @@ type AppState = Arc<Farm>;
         film_flm,
         image_exr,
         image_png,
+        put_sampling_map,
+        get_sampling_map,
+        delete_sampling_map,
         list_workers,
         forgive_worker,
         list_sequences,
@@ -59,6 +64,7 @@ type AppState = Arc<Farm>;
         JobView,
         WorkerView,
         ErrorBody,
+        crate::usermap::UserMapView,
         views::JobWorkerView,
         crate::webhooks::WebhookView,
         crate::sequence::SequenceView,
@@ -93,6 +99,12 @@ pub fn router(farm: AppState) -> Router {
         .route("/api/v1/jobs/{id}/film.flm", get(film_flm))
         .route("/api/v1/jobs/{id}/image.exr", get(image_exr))
         .route("/api/v1/jobs/{id}/image.png", get(image_png))
+        .route(
+            "/api/v1/jobs/{id}/sampling-map",
+            get(get_sampling_map)
+                .put(put_sampling_map)
+                .delete(delete_sampling_map),
+        )
         .route("/api/v1/workers", get(list_workers))
         .route("/api/v1/workers/{id}/forgive", post(forgive_worker))
         .route(
