@@ -137,18 +137,19 @@ const BONDS: [(&str, &str, &str); 7] = [
 
 /// Bricks on the quad: LuxRender's bricks stack along texture z, so the texture space is the
 /// world with y and z exchanged (a symmetric matrix, the same in either storage order), set in
-/// LuxRender as the transform in force at the declaration.
+/// LuxRender as the transform in force at the declaration (`TransformBegin`: an attribute
+/// block would also scope the texture's name).
 fn bricks() -> Vec<Case> {
     BONDS
         .iter()
         .map(|&(name, lxs_bond, lc_bond)| {
             let lxs = format!(
-                "AttributeBegin\nTransform [1 0 0 0 0 0 1 0 0 1 0 0 0 0 0 1]\n\
+                "TransformBegin\nTransform [1 0 0 0 0 0 1 0 0 1 0 0 0 0 0 1]\n\
                  Texture \"tex\" \"color\" \"brick\" \"string brickbond\" [\"{lxs_bond}\"] \
                  \"float brickwidth\" [0.4] \"float brickheight\" [0.15] \"float brickdepth\" \
                  [0.37] \"float mortarsize\" [0.02] \"float brickrun\" [0.75] \
                  \"color bricktex\" [0.7 0.3 0.2] \"color mortartex\" [0.8 0.8 0.75] \
-                 \"color brickmodtex\" [1 1 1] \"string coordinates\" [\"global\"]\nAttributeEnd"
+                 \"color brickmodtex\" [1 1 1] \"string coordinates\" [\"global\"]\nTransformEnd"
             );
             let lc = json!({"type": "brick", "brickbond": lc_bond, "brickwidth": 0.4,
                 "brickheight": 0.15, "brickdepth": 0.37, "mortarsize": 0.02, "brickrun": 0.75,
@@ -251,7 +252,7 @@ fn surfaces() -> Vec<Case> {
              LuxCore fixed the order",
         ),
         case(
-            "dots, LuxCore given inside/outside swapped",
+            "dots, LuxCore given inside and outside swapped",
             EMIT_C,
             format!("Texture \"tex\" \"color\" \"dots\" \"color inside\" [0.9 0.3 0.1] \
                      \"color outside\" [0.1 0.2 0.8] {uv4}"),

@@ -210,6 +210,19 @@ fn print_table(rows: &[Row], tolerance: f64) {
     }
 }
 
+/// A case name as a file name: letters and digits kept, runs of anything else one `_`.
+fn file_stem(name: &str) -> String {
+    let mut s = String::new();
+    for c in name.chars() {
+        if c.is_ascii_alphanumeric() {
+            s.push(c);
+        } else if !s.ends_with('_') {
+            s.push('_');
+        }
+    }
+    s.trim_matches('_').to_string()
+}
+
 fn default_script() -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../scripts/luxcore_textures.py"))
 }
@@ -247,8 +260,9 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         if !a.only.is_empty() && !a.only.iter().any(|o| case.name.contains(o.as_str())) {
             continue;
         }
-        let lxs_path = dir.join(format!("{}.lxs", case.name));
-        let json_path = dir.join(format!("{}.json", case.name));
+        let stem = file_stem(case.name);
+        let lxs_path = dir.join(format!("{stem}.lxs"));
+        let json_path = dir.join(format!("{stem}.json"));
         let text = case.lxs(a.res);
         std::fs::write(&lxs_path, &text)?;
         std::fs::write(
@@ -257,8 +271,8 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         )?;
         let result = (|| {
             let (ours, warnings) = render_ours(&text, &lxs_path, a.spp, a.threads)?;
-            write_exr(&dir.join(format!("{}-luxfarm.exr", case.name)), a.res, a.res, &ours)?;
-            let exr = dir.join(format!("{}-luxcore.exr", case.name));
+            write_exr(&dir.join(format!("{stem}-luxfarm.exr")), a.res, a.res, &ours)?;
+            let exr = dir.join(format!("{stem}-luxcore.exr"));
             let theirs = render_luxcore(&a, &script, &json_path, &exr)?;
             anyhow::Ok((agreement(&ours, &theirs, res, res, a.shift_rows), warnings))
         })();
@@ -333,9 +347,16 @@ mod tests {
     }
 
     #[test]
+    fn file_stems_are_plain() {
+        assert_eq!(file_stem("bump imagemap, uscale 32 on uvs spanning 1/32"),
+            "bump_imagemap_uscale_32_on_uvs_spanning_1_32");
+        assert_eq!(file_stem("reference: constant"), "reference_constant");
+    }
+
+    #[test]
     fn every_case_has_a_unique_name_and_a_tex() {
         let all = cases::all();
-        let mut names: Vec<_> = all.iter().map(|c| c.name).collect();
+        let mut names: Vec<_> = all.iter().map(|c| file_stem(c.name)).collect();
         names.sort_unstable();
         names.dedup();
         assert_eq!(names.len(), all.len());

@@ -6,11 +6,15 @@
 //!
 //! A case's textures end in one named `tex`, shown by its [`Surface`]:
 //! - [`Surface::Emission`]: `tex` is the emission of a black matte seen straight on, with no
-//!   other light, so the image is the texture itself (float textures go through LuxRender's
-//!   `mix` of black and white, which is the float; LuxCore takes a float texture as emission
-//!   directly; a signed float is shown as the `mix` of 0.5 and 1 in both);
+//!   other light, so the image is the texture itself. Float textures are shown through a
+//!   `mix` of black and white whose amount is the texture, in both (LuxCore would otherwise
+//!   emit the colour some of its blender textures also compute); a signed float (values in
+//!   [-1, 1]) as 0.5 + 0.5·tex, LuxRender's `mix` of 0.5 and 1, LuxCore's `scale` by 0.5 then
+//!   `add` 0.5 (LuxCore's `mix` clamps its amount to [0, 1], LuxRender's does not);
 //! - [`Surface::Bump`]: a grey matte with `tex` as its bump map, lit by a distant light from the
-//!   upper left, so relief shows as shading;
+//!   upper left, so relief shows as shading (LuxCore's `sharpdistant`: its `distant` spreads
+//!   the light over a 10-degree cone whose radiance is `color`, about 1/10.5 of the
+//!   irradiance of LuxRender's);
 //! - [`Surface::Metal`]: a `metal2` with `tex` as its fresnel texture under a constant white
 //!   infinite light, seen obliquely, so the image is the reflectance over 40-80 degrees.
 
@@ -223,15 +227,15 @@ impl Case {
         let c = self.surface.camera();
         let m = mesh_data(self.mesh, self.surface);
         let (material, lights) = match self.surface {
-            Surface::Emission { signed, .. } => (
+            Surface::Emission { float, .. } => (
                 json!({"type": "matte", "kd": [0.0, 0.0, 0.0],
-                       "emission": if signed { "tex_shown" } else { "tex" },
+                       "emission": if float { "tex_shown" } else { "tex" },
                        "emission.power": 0.0, "emission.efficency": 0.0}),
                 json!([]),
             ),
             Surface::Bump => (
                 json!({"type": "matte", "kd": [KD, KD, KD], "bumptex": "tex"}),
-                json!([["sun", {"type": "distant", "direction": LIGHT_DIR,
+                json!([["sun", {"type": "sharpdistant", "direction": LIGHT_DIR,
                                 "color": [1.0, 1.0, 1.0]}]]),
             ),
             Surface::Metal => (
@@ -245,9 +249,21 @@ impl Case {
             .iter()
             .map(|(name, props)| json!([name, props]))
             .collect();
-        if let Surface::Emission { signed: true, .. } = self.surface {
-            textures.push(json!(["tex_shown", {"type": "mix", "amount": "tex",
-                                               "texture1": 0.5, "texture2": 1.0}]));
+        match self.surface {
+            Surface::Emission {
+                float: true,
+                signed: true,
+            } => {
+                textures.push(json!(["tex_half", {"type": "scale", "texture1": "tex",
+                                                  "texture2": 0.5}]));
+                textures.push(json!(["tex_shown", {"type": "add", "texture1": "tex_half",
+                                                   "texture2": 0.5}]));
+            }
+            Surface::Emission { float: true, .. } => {
+                textures.push(json!(["tex_shown", {"type": "mix", "amount": "tex",
+                                                   "texture1": 0.0, "texture2": 1.0}]));
+            }
+            _ => {}
         }
         json!({
             "res": res,
@@ -288,7 +304,8 @@ mod tests {
         let j = c.luxcore_json(32, 8);
         assert_eq!(j["mesh"]["uvs"][2], json!([0.5, 0.5]));
         assert_eq!(j["camera"]["orig"], json!([0.0, 0.0, 2.3_f32]));
-        assert_eq!(j["material"]["emission"], json!("tex"));
+        assert_eq!(j["material"]["emission"], json!("tex_shown"));
+        assert_eq!(j["textures"][1][1]["amount"], json!("tex"));
         assert_eq!(j["res"], json!(32));
     }
 
@@ -298,7 +315,8 @@ mod tests {
         assert!(c.lxs(8).contains("\"color tex1\" [0.5 0.5 0.5] \"color tex2\" [1 1 1]"));
         let j = c.luxcore_json(8, 1);
         assert_eq!(j["material"]["emission"], json!("tex_shown"));
-        assert_eq!(j["textures"][1][1]["texture1"], json!(0.5));
+        assert_eq!(j["textures"][1][1]["texture2"], json!(0.5));
+        assert_eq!(j["textures"][2][1]["texture1"], json!("tex_half"));
     }
 
     #[test]
