@@ -112,7 +112,8 @@ def build_scene(case):
     tris = [tuple(map(int, t)) for t in mesh["tris"]]
     uvs = [tuple(map(float, t)) for t in mesh["uvs"]] if mesh.get("uvs") else None
     cols = [tuple(map(float, c)) for c in mesh["cols"]] if mesh.get("cols") else None
-    alphas = [float(x) for x in mesh["alphas"]] if mesh.get("alphas") else None
+    # pyluxcore 2.11 takes an alpha per vertex as a one-element tuple.
+    alphas = [(float(x),) for x in mesh["alphas"]] if mesh.get("alphas") else None
     scene.DefineMesh("surface", pts, tris, None, uvs, cols, alphas)
     props.Set(pyluxcore.Property("scene.objects.surface.shape", "surface"))
     props.Set(pyluxcore.Property("scene.objects.surface.material", "surface"))

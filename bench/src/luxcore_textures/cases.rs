@@ -154,9 +154,12 @@ fn bricks() -> Vec<Case> {
             let lc = json!({"type": "brick", "brickbond": lc_bond, "brickwidth": 0.4,
                 "brickheight": 0.15, "brickdepth": 0.37, "mortarsize": 0.02, "brickrun": 0.75,
                 "bricktex": [0.7, 0.3, 0.2], "mortartex": [0.8, 0.8, 0.75],
-                "brickmodtex": [1.0, 1.0, 1.0], "mapping.type": "globalmapping3d",
+                "brickmodtex": [1.0, 1.0, 1.0], "brickmodbias": -1.0,
+                "mapping.type": "globalmapping3d",
                 "mapping.transformation": [1, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 1]});
-            case(name, EMIT_C, lxs, vec![("tex", lc)], "")
+            case(name, EMIT_C, lxs, vec![("tex", lc)],
+                "LuxCore given brickmodbias -1: its default 0 blends bricktex into brickmodtex \
+                 by a per-brick noise, which LuxRender does not have")
         })
         .collect()
 }
@@ -182,7 +185,26 @@ fn blenders() -> Vec<Case> {
             json!({"noise_distortion": "blender_original", "noisebasis": "blender_original",
                    "noisesize": 0.25, "distortion": 1.0}), ""),
         blender("blender_magic", "\"integer noisedepth\" [2] \"float turbulence\" [5]",
-            json!({"noisedepth": 2, "turbulence": 5.0}), ""),
+            json!({"noisedepth": 2, "turbulence": 5.0}),
+            "LuxRender's float of an RGB blender texture is Blender's 0.35 r + 0.45 g + 0.2 b; \
+             LuxCore's is the luminance Y"),
+        Case {
+            name: "blender_magic, LuxCore's colour weighted as LuxRender's",
+            note: "LuxCore: dotproduct of its colour with (0.35, 0.45, 0.2)",
+            surface: EMIT_F,
+            mesh: QUAD,
+            lxs: format!(
+                "Texture \"tex\" \"float\" \"blender_magic\" \"integer noisedepth\" [2] \
+                 \"float turbulence\" [5] {}",
+                lxs_global(1.0)
+            ),
+            luxcore: vec![
+                ("magic".into(), with(json!({"type": "blender_magic", "noisedepth": 2,
+                    "turbulence": 5.0}), lc_global(1.0))),
+                ("tex".into(), json!({"type": "dotproduct", "texture1": "magic",
+                    "texture2": [0.35, 0.45, 0.2]})),
+            ],
+        },
         blender("blender_marble",
             &format!("\"string type\" [\"soft\"] {basis} \"string noisebasis2\" [\"sin\"] \
                       \"integer noisedepth\" [2] \"float noisesize\" [0.25] \
@@ -321,12 +343,12 @@ fn materials() -> Vec<Case> {
             "Texture \"h\" \"float\" \"imagemap\" \"string filename\" [\"{HEIGHT}\"] \
              \"float gamma\" [1] \"string mapping\" [\"uv\"] \"float uscale\" [{scale}] \
              \"float vscale\" [{scale}]\n\
-             Texture \"tex\" \"float\" \"scale\" \"texture tex1\" [\"h\"] \"float tex2\" [0.01]"
+             Texture \"tex\" \"float\" \"scale\" \"texture tex1\" [\"h\"] \"float tex2\" [0.1]"
         ),
         luxcore: vec![
             ("h".into(), json!({"type": "imagemap", "file": HEIGHT, "gamma": 1.0,
                 "mapping.type": "uvmapping2d", "mapping.uvscale": [scale, scale]})),
-            ("tex".into(), json!({"type": "scale", "texture1": "h", "texture2": 0.01})),
+            ("tex".into(), json!({"type": "scale", "texture1": "h", "texture2": 0.1})),
         ],
     };
     vec![

@@ -69,6 +69,9 @@ pub struct Agreement {
     pub mean_b: f64,
     /// Mean absolute difference over the compared pixels and channels.
     pub mad: f64,
+    /// Standard deviation of B over the compared pixels and channels: how much pattern there
+    /// is to agree on.
+    pub std_b: f64,
 }
 
 impl Agreement {
@@ -87,7 +90,7 @@ impl Agreement {
 /// Compares `a` with `b` (both `w`×`h`, row by row) with A shifted down by `rows` rows, as
 /// [`row_pairs`] pairs them; pixels without a partner are left out.
 pub fn agreement(a: &[[f32; 3]], b: &[[f32; 3]], w: usize, h: usize, rows: i64) -> Agreement {
-    let (mut sa, mut sb, mut sd, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);
+    let (mut sa, mut sb, mut sd, mut sbb, mut n) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0usize);
     for (ia, ib) in row_pairs(w, h, rows) {
         let (Some(pa), Some(pb)) = (a.get(ia), b.get(ib)) else {
             continue;
@@ -96,15 +99,18 @@ pub fn agreement(a: &[[f32; 3]], b: &[[f32; 3]], w: usize, h: usize, rows: i64) 
             let (x, y) = (f64::from(pa[c]), f64::from(pb[c]));
             sa += x;
             sb += y;
+            sbb += y * y;
             sd += (x - y).abs();
             n += 1;
         }
     }
     let n = n.max(1) as f64;
+    let mean_b = sb / n;
     Agreement {
         mean_a: sa / n,
-        mean_b: sb / n,
+        mean_b,
         mad: sd / n,
+        std_b: (sbb / n - mean_b * mean_b).max(0.0).sqrt(),
     }
 }
 
@@ -150,15 +156,12 @@ fn render_luxcore(a: &Args, script: &Path, json: &Path, exr: &Path) -> anyhow::R
         .with_context(|| format!("running {} {}", a.python, script.display()))?;
     let stdout = String::from_utf8_lossy(&o.stdout);
     if !o.status.success() || !stdout.contains("luxcore_textures spp=") {
+        let stderr = String::from_utf8_lossy(&o.stderr);
         bail!(
-            "{} failed ({}): {}{}",
+            "{} failed ({}): {}",
             script.display(),
             o.status,
-            stdout.lines().last().unwrap_or(""),
-            String::from_utf8_lossy(&o.stderr)
-                .lines()
-                .last()
-                .unwrap_or("")
+            stderr.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("")
         );
     }
     let (w, h, px) = load_image(exr).map_err(anyhow::Error::msg)?;
@@ -192,20 +195,24 @@ struct Row {
 }
 
 fn print_table(rows: &[Row], tolerance: f64) {
-    println!("| case | luxfarm mean | LuxCore mean | MAD/mean | ≤ {:.0} % | note |", tolerance * 100.0);
-    println!("| --- | ---: | ---: | ---: | :---: | --- |");
+    println!(
+        "| case | luxfarm mean | LuxCore mean | LuxCore std/mean | MAD/mean | ≤ {:.0} % | note |",
+        tolerance * 100.0
+    );
+    println!("| --- | ---: | ---: | ---: | ---: | :---: | --- |");
     for r in rows {
         match &r.result {
             Ok(g) => println!(
-                "| {} | {:.4} | {:.4} | {:.2} % | {} | {} |",
+                "| {} | {:.4} | {:.4} | {:.1} % | {:.2} % | {} | {} |",
                 r.name,
                 g.mean_a,
                 g.mean_b,
+                100.0 * g.std_b / g.mean_b.abs().max(1e-12),
                 g.relative() * 100.0,
                 if g.relative() <= tolerance { "pass" } else { "FAIL" },
                 r.note
             ),
-            Err(e) => println!("| {} | – | – | – | error | {} |", r.name, e.replace('|', "/")),
+            Err(e) => println!("| {} | – | – | – | – | error | {} |", r.name, e.replace('|', "/")),
         }
     }
 }
@@ -324,6 +331,9 @@ mod tests {
         assert!((g.mean_b - 3.3 / 6.0).abs() < 1e-6, "{g:?}");
         assert!((g.mean_a - 0.5).abs() < 1e-12, "{g:?}");
         assert!((g.relative() - 1.3 / 3.3).abs() < 1e-6, "{g:?}");
+        // B's values 0.5, 1, 1.5, 0, 0, 0.3: E[B²] = 3.59 / 6.
+        let var = 3.59 / 6.0 - (3.3f64 / 6.0).powi(2);
+        assert!((g.std_b - var.sqrt()).abs() < 1e-6, "{g:?}");
     }
 
     #[test]
