@@ -121,7 +121,11 @@ fn render_ours(
     spp: u32,
     threads: usize,
 ) -> anyhow::Result<(Vec<[f32; 3]>, Vec<String>)> {
-    let desc = parse_str(text, &scene_path.to_string_lossy(), &ParseOptions::default())?;
+    let desc = parse_str(
+        text,
+        &scene_path.to_string_lossy(),
+        &ParseOptions::default(),
+    )?;
     let base = scene_path.parent().unwrap_or(Path::new("."));
     let opts = SessionOptions {
         threads,
@@ -141,7 +145,12 @@ fn render_ours(
 }
 
 /// Renders a case with LuxCore through the script: the image and the script's own mean.
-fn render_luxcore(a: &Args, script: &Path, json: &Path, exr: &Path) -> anyhow::Result<Vec<[f32; 3]>> {
+fn render_luxcore(
+    a: &Args,
+    script: &Path,
+    json: &Path,
+    exr: &Path,
+) -> anyhow::Result<Vec<[f32; 3]>> {
     // Image files are named relative to the case directory, as in the .lxs.
     let dir = json.parent().unwrap_or(Path::new("."));
     let o = Command::new(&a.python)
@@ -161,7 +170,11 @@ fn render_luxcore(a: &Args, script: &Path, json: &Path, exr: &Path) -> anyhow::R
             "{} failed ({}): {}",
             script.display(),
             o.status,
-            stderr.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("")
+            stderr
+                .lines()
+                .rev()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("")
         );
     }
     let (w, h, px) = load_image(exr).map_err(anyhow::Error::msg)?;
@@ -183,7 +196,13 @@ fn write_exr(path: &Path, w: u32, h: u32, rgb: &[[f32; 3]]) -> anyhow::Result<()
         alpha: &[],
         z: None,
     };
-    write_exr(path, &img, luxfarm::imageio::ChannelSet::Rgb, false, ExrCompression::Zip)?;
+    write_exr(
+        path,
+        &img,
+        luxfarm::imageio::ChannelSet::Rgb,
+        false,
+        ExrCompression::Zip,
+    )?;
     Ok(())
 }
 
@@ -209,10 +228,18 @@ fn print_table(rows: &[Row], tolerance: f64) {
                 g.mean_b,
                 100.0 * g.std_b / g.mean_b.abs().max(1e-12),
                 g.relative() * 100.0,
-                if g.relative() <= tolerance { "pass" } else { "FAIL" },
+                if g.relative() <= tolerance {
+                    "pass"
+                } else {
+                    "FAIL"
+                },
                 r.note
             ),
-            Err(e) => println!("| {} | – | – | – | – | error | {} |", r.name, e.replace('|', "/")),
+            Err(e) => println!(
+                "| {} | – | – | – | – | error | {} |",
+                r.name,
+                e.replace('|', "/")
+            ),
         }
     }
 }
@@ -231,7 +258,10 @@ fn file_stem(name: &str) -> String {
 }
 
 fn default_script() -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../scripts/luxcore_textures.py"))
+    PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scripts/luxcore_textures.py"
+    ))
 }
 
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
@@ -244,7 +274,10 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         .output()
         .is_ok_and(|o| o.status.success());
     if !ok {
-        bail!("{} cannot import pyluxcore (pip install pyluxcore numpy)", a.python);
+        bail!(
+            "{} cannot import pyluxcore (pip install pyluxcore numpy)",
+            a.python
+        );
     }
     let tmp = tempfile::tempdir()?;
     let dir = a.out.clone().unwrap_or_else(|| tmp.path().to_path_buf());
@@ -278,14 +311,22 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         )?;
         let result = (|| {
             let (ours, warnings) = render_ours(&text, &lxs_path, a.spp, a.threads)?;
-            write_exr(&dir.join(format!("{stem}-luxfarm.exr")), a.res, a.res, &ours)?;
+            write_exr(
+                &dir.join(format!("{stem}-luxfarm.exr")),
+                a.res,
+                a.res,
+                &ours,
+            )?;
             let exr = dir.join(format!("{stem}-luxcore.exr"));
             let theirs = render_luxcore(&a, &script, &json_path, &exr)?;
             anyhow::Ok((agreement(&ours, &theirs, res, res, a.shift_rows), warnings))
         })();
         let (result, note) = match result {
             Ok((g, w)) if w.is_empty() => (Ok(g), case.note.to_string()),
-            Ok((g, w)) => (Ok(g), format!("{} luxfarm warned: {}", case.note, w.join("; "))),
+            Ok((g, w)) => (
+                Ok(g),
+                format!("{} luxfarm warned: {}", case.note, w.join("; ")),
+            ),
             Err(e) => (Err(format!("{e:#}")), case.note.to_string()),
         };
         eprintln!("{}: {:?}", case.name, result);
@@ -358,8 +399,10 @@ mod tests {
 
     #[test]
     fn file_stems_are_plain() {
-        assert_eq!(file_stem("bump imagemap, uscale 32 on uvs spanning 1/32"),
-            "bump_imagemap_uscale_32_on_uvs_spanning_1_32");
+        assert_eq!(
+            file_stem("bump imagemap, uscale 32 on uvs spanning 1/32"),
+            "bump_imagemap_uscale_32_on_uvs_spanning_1_32"
+        );
         assert_eq!(file_stem("reference: constant"), "reference_constant");
     }
 
@@ -372,7 +415,12 @@ mod tests {
         assert_eq!(names.len(), all.len());
         for c in &all {
             assert!(c.lxs.contains("Texture \"tex\""), "{}", c.name);
-            assert_eq!(c.luxcore.last().map(|t| t.0.as_str()), Some("tex"), "{}", c.name);
+            assert_eq!(
+                c.luxcore.last().map(|t| t.0.as_str()),
+                Some("tex"),
+                "{}",
+                c.name
+            );
         }
     }
 }

@@ -49,7 +49,12 @@ pub const KD: f32 = 0.7;
 /// Direction the distant light travels (from the upper left, in front).
 pub const LIGHT_DIR: [f32; 3] = [0.6, -0.5, -0.8];
 /// Corner colours and alphas of [`Mesh::VertexColours`].
-const CORNER_COLOURS: [[f32; 3]; 4] = [[0.9, 0.1, 0.1], [0.1, 0.8, 0.2], [0.1, 0.2, 0.9], [0.8, 0.8, 0.3]];
+const CORNER_COLOURS: [[f32; 3]; 4] = [
+    [0.9, 0.1, 0.1],
+    [0.1, 0.8, 0.2],
+    [0.1, 0.2, 0.9],
+    [0.8, 0.8, 0.3],
+];
 const CORNER_ALPHAS: [f32; 4] = [0.1, 0.4, 0.7, 1.0];
 
 /// One texture case.
@@ -59,6 +64,9 @@ pub struct Case {
     pub note: &'static str,
     pub surface: Surface,
     pub mesh: Mesh,
+    /// LuxCore's mesh when it differs from luxfarm's (a case comparing luxfarm at one uv scale
+    /// with LuxCore at another that maps to the same texture coordinates).
+    pub luxcore_mesh: Option<Mesh>,
     /// LuxRender 1.x `Texture` statements, the last one named `tex`.
     pub lxs: String,
     /// LuxCore textures in order (name, properties below `scene.textures.NAME.`), the last
@@ -225,7 +233,7 @@ impl Case {
     /// The JSON case for `scripts/luxcore_textures.py`.
     pub fn luxcore_json(&self, res: u32, spp: u32) -> Value {
         let c = self.surface.camera();
-        let m = mesh_data(self.mesh, self.surface);
+        let m = mesh_data(self.luxcore_mesh.unwrap_or(self.mesh), self.surface);
         let (material, lights) = match self.surface {
             Surface::Emission { float, .. } => (
                 json!({"type": "matte", "kd": [0.0, 0.0, 0.0],
@@ -289,6 +297,7 @@ mod tests {
             note: "",
             surface,
             mesh,
+            luxcore_mesh: None,
             lxs: "Texture \"tex\" \"float\" \"fbm\"".into(),
             luxcore: vec![("tex".into(), json!({"type": "fbm"}))],
         }
@@ -296,10 +305,19 @@ mod tests {
 
     #[test]
     fn both_scenes_show_the_same_mesh_and_camera() {
-        let c = case(Surface::Emission { float: true, signed: false }, Mesh::Quad { uv_span: 0.5 });
+        let c = case(
+            Surface::Emission {
+                float: true,
+                signed: false,
+            },
+            Mesh::Quad { uv_span: 0.5 },
+        );
         let text = c.lxs(32);
         assert!(text.contains("\"texture L\" [\"tex_colour\"]"), "{text}");
-        assert!(text.contains("\"float uv\" [0 0 0.5 0 0.5 0.5 0 0.5]"), "{text}");
+        assert!(
+            text.contains("\"float uv\" [0 0 0.5 0 0.5 0.5 0 0.5]"),
+            "{text}"
+        );
         assert!(text.contains("LookAt 0 0 2.3 0 0 0.3 0 1 0"), "{text}");
         let j = c.luxcore_json(32, 8);
         assert_eq!(j["mesh"]["uvs"][2], json!([0.5, 0.5]));
@@ -311,8 +329,16 @@ mod tests {
 
     #[test]
     fn signed_floats_are_shown_from_half_to_one_in_both() {
-        let c = case(Surface::Emission { float: true, signed: true }, Mesh::Quad { uv_span: 1.0 });
-        assert!(c.lxs(8).contains("\"color tex1\" [0.5 0.5 0.5] \"color tex2\" [1 1 1]"));
+        let c = case(
+            Surface::Emission {
+                float: true,
+                signed: true,
+            },
+            Mesh::Quad { uv_span: 1.0 },
+        );
+        assert!(c
+            .lxs(8)
+            .contains("\"color tex1\" [0.5 0.5 0.5] \"color tex2\" [1 1 1]"));
         let j = c.luxcore_json(8, 1);
         assert_eq!(j["material"]["emission"], json!("tex_shown"));
         assert_eq!(j["textures"][1][1]["texture2"], json!(0.5));
@@ -320,8 +346,24 @@ mod tests {
     }
 
     #[test]
+    fn luxcore_may_get_its_own_mesh() {
+        let mut c = case(Surface::Bump, Mesh::Quad { uv_span: 0.25 });
+        c.luxcore_mesh = Some(Mesh::Quad { uv_span: 1.0 });
+        assert!(c
+            .lxs(8)
+            .contains("\"float uv\" [0 0 0.25 0 0.25 0.25 0 0.25]"));
+        assert_eq!(c.luxcore_json(8, 1)["mesh"]["uvs"][2], json!([1.0, 1.0]));
+    }
+
+    #[test]
     fn vertex_colours_reach_both_scenes() {
-        let c = case(Surface::Emission { float: false, signed: false }, Mesh::VertexColours);
+        let c = case(
+            Surface::Emission {
+                float: false,
+                signed: false,
+            },
+            Mesh::VertexColours,
+        );
         assert!(c.lxs(8).contains("\"float A\" [0.1 0.4 0.7 1]"));
         let j = c.luxcore_json(8, 1);
         assert_eq!(j["mesh"]["alphas"].as_array().map(Vec::len), Some(4));
