@@ -13,8 +13,8 @@ use super::images::{COLOUR, HEIGHT, NORMALS};
 use super::scene::{Case, Mesh, Surface};
 use serde_json::{json, Map, Value};
 
-const QUAD: Mesh = Mesh::Quad { uv_span: 1.0 };
-const EMIT_F: Surface = Surface::Emission {
+pub(super) const QUAD: Mesh = Mesh::Quad { uv_span: 1.0 };
+pub(super) const EMIT_F: Surface = Surface::Emission {
     float: true,
     signed: false,
 };
@@ -28,19 +28,19 @@ const EMIT_C: Surface = Surface::Emission {
 };
 
 /// LuxRender's 3D mapping parameters for world coordinates divided by `s`.
-fn lxs_global(s: f32) -> String {
+pub(super) fn lxs_global(s: f32) -> String {
     format!("\"string coordinates\" [\"global\"] \"vector scale\" [{s} {s} {s}]")
 }
 
 /// LuxCore's mapping properties mapping a world point p to p / s.
-fn lc_global(s: f32) -> Value {
+pub(super) fn lc_global(s: f32) -> Value {
     let i = 1.0 / s;
     json!({"mapping.type": "globalmapping3d",
            "mapping.transformation": [i, 0, 0, 0, 0, i, 0, 0, 0, 0, i, 0, 0, 0, 0, 1]})
 }
 
 /// `base` with the properties of `extra` added.
-fn with(base: Value, extra: Value) -> Value {
+pub(super) fn with(base: Value, extra: Value) -> Value {
     let mut m: Map<String, Value> = base.as_object().cloned().unwrap_or_default();
     if let Some(e) = extra.as_object() {
         m.extend(e.iter().map(|(k, v)| (k.clone(), v.clone())));
@@ -70,7 +70,7 @@ fn case(
 }
 
 /// A float texture over global coordinates / `s`, shown as emission.
-fn procedural(
+pub(super) fn procedural(
     name: &'static str,
     surface: Surface,
     class: &str,
@@ -92,7 +92,7 @@ fn procedural(
 }
 
 /// The reference cases and the procedural (3D) textures.
-fn procedurals() -> Vec<Case> {
+pub(super) fn procedurals() -> Vec<Case> {
     vec![
         case(
             "reference: constant emission",
@@ -192,7 +192,7 @@ const BONDS: [(&str, &str, &str); 7] = [
 /// world with y and z exchanged (a symmetric matrix, the same in either storage order), set in
 /// LuxRender as the transform in force at the declaration (`TransformBegin`: an attribute
 /// block would also scope the texture's name).
-fn bricks() -> Vec<Case> {
+pub(super) fn bricks() -> Vec<Case> {
     BONDS
         .iter()
         .map(|&(name, lxs_bond, lc_bond)| {
@@ -215,146 +215,15 @@ fn bricks() -> Vec<Case> {
                 EMIT_C,
                 lxs,
                 vec![("tex", lc)],
-                "LuxCore given brickmodbias -1: its default 0 blends bricktex into brickmodtex \
-                 by a per-brick noise, which LuxRender does not have",
+                "LuxCore given brickmodbias -1 (its default 0 mixes in brickmodtex by a per-brick \
+                 noise LuxRender lacks)",
             )
         })
         .collect()
 }
 
-/// A blender_* texture: LuxRender's parameters and LuxCore's, over world coordinates.
-fn blender(name: &'static str, lxs_params: &str, lc: Value, note: &'static str) -> Case {
-    procedural(name, EMIT_F, name, lxs_params, lc, 1.0, note)
-}
-
-fn blenders() -> Vec<Case> {
-    let basis = "\"string noisebasis\" [\"blender_original\"]";
-    vec![
-        blender(
-            "blender_blend",
-            "\"string type\" [\"lin\"]",
-            json!({"progressiontype": "linear", "direction": "horizontal"}),
-            "",
-        ),
-        blender(
-            "blender_clouds",
-            &format!(
-                "\"string noisetype\" [\"soft_noise\"] {basis} \"float noisesize\" [0.25] \
-                      \"integer noisedepth\" [2]"
-            ),
-            json!({"noisetype": "soft_noise", "noisebasis": "blender_original",
-                   "noisesize": 0.25, "noisedepth": 2}),
-            "",
-        ),
-        blender(
-            "blender_distortednoise",
-            &format!(
-                "\"string type\" [\"blender_original\"] {basis} \"float noisesize\" [0.25] \
-                      \"float distamount\" [1]"
-            ),
-            json!({"noise_distortion": "blender_original", "noisebasis": "blender_original",
-                   "noisesize": 0.25, "distortion": 1.0}),
-            "",
-        ),
-        blender(
-            "blender_magic",
-            "\"integer noisedepth\" [2] \"float turbulence\" [5]",
-            json!({"noisedepth": 2, "turbulence": 5.0}),
-            "LuxRender's float of an RGB blender texture is Blender's 0.35 r + 0.45 g + 0.2 b; \
-             LuxCore's is the luminance Y",
-        ),
-        Case {
-            name: "blender_magic, LuxCore's colour weighted as LuxRender's",
-            note: "LuxCore: dotproduct of its colour with (0.35, 0.45, 0.2)",
-            surface: EMIT_F,
-            mesh: QUAD,
-            luxcore_mesh: None,
-            lxs: format!(
-                "Texture \"tex\" \"float\" \"blender_magic\" \"integer noisedepth\" [2] \
-                 \"float turbulence\" [5] {}",
-                lxs_global(1.0)
-            ),
-            luxcore: vec![
-                (
-                    "magic".into(),
-                    with(
-                        json!({"type": "blender_magic", "noisedepth": 2,
-                    "turbulence": 5.0}),
-                        lc_global(1.0),
-                    ),
-                ),
-                (
-                    "tex".into(),
-                    json!({"type": "dotproduct", "texture1": "magic",
-                    "texture2": [0.35, 0.45, 0.2]}),
-                ),
-            ],
-        },
-        blender(
-            "blender_marble",
-            &format!(
-                "\"string type\" [\"soft\"] {basis} \"string noisebasis2\" [\"sin\"] \
-                      \"integer noisedepth\" [2] \"float noisesize\" [0.25] \
-                      \"string noisetype\" [\"soft_noise\"] \"float turbulence\" [5]"
-            ),
-            json!({"marbletype": "soft", "noisebasis": "blender_original", "noisebasis2": "sin",
-                   "noisedepth": 2, "noisesize": 0.25, "noisetype": "soft_noise",
-                   "turbulence": 5.0}),
-            "",
-        ),
-        blender(
-            "blender_musgrave",
-            &format!(
-                "\"string type\" [\"multifractal\"] {basis} \"float h\" [1] \
-                      \"float lacu\" [2] \"float octs\" [2] \"float noisesize\" [0.25] \
-                      \"float outscale\" [1]"
-            ),
-            json!({"musgravetype": "multifractal", "noisebasis": "blender_original",
-                   "dimension": 1.0, "lacunarity": 2.0, "octaves": 2.0, "noisesize": 0.25,
-                   "intensity": 1.0}),
-            "",
-        ),
-        blender(
-            "blender_noise",
-            "\"integer noisedepth\" [2]",
-            json!({"noisedepth": 2}),
-            "white noise: no two renders share a value per pixel (see the means)",
-        ),
-        blender(
-            "blender_stucci",
-            &format!(
-                "\"string type\" [\"plastic\"] {basis} \"string noisetype\" [\"soft_noise\"] \
-                      \"float noisesize\" [0.25] \"float turbulence\" [5]"
-            ),
-            json!({"stuccitype": "plastic", "noisebasis": "blender_original",
-                   "noisetype": "soft_noise", "noisesize": 0.25, "turbulence": 5.0}),
-            "",
-        ),
-        blender(
-            "blender_voronoi",
-            "\"string distmetric\" [\"actual_distance\"] \"float w1\" [1] \"float w2\" [0] \
-             \"float w3\" [0] \"float w4\" [0] \"float noisesize\" [0.25] \"float outscale\" [1]",
-            json!({"distmetric": "actual_distance", "w1": 1.0, "w2": 0.0, "w3": 0.0, "w4": 0.0,
-                   "noisesize": 0.25, "intensity": 1.0}),
-            "",
-        ),
-        blender(
-            "blender_wood",
-            &format!(
-                "\"string type\" [\"bandnoise\"] {basis} \"string noisebasis2\" [\"sin\"] \
-                      \"string noisetype\" [\"soft_noise\"] \"float noisesize\" [0.25] \
-                      \"float turbulence\" [5]"
-            ),
-            json!({"woodtype": "bandnoise", "noisebasis": "blender_original",
-                   "noisebasis2": "sin", "noisetype": "soft_noise", "noisesize": 0.25,
-                   "turbulence": 5.0}),
-            "",
-        ),
-    ]
-}
-
 /// uv-mapped, vertex-colour and image textures.
-fn surfaces() -> Vec<Case> {
+pub(super) fn surfaces() -> Vec<Case> {
     let uv4 = "\"string mapping\" [\"uv\"] \"float uscale\" [4] \"float vscale\" [4]";
     let lc_uv4 = json!({"mapping.type": "uvmapping2d", "mapping.uvscale": [4.0, 4.0]});
     let coloured = |name, lxs: &str, lc: Value, float| Case {
@@ -508,7 +377,7 @@ const FRESNEL_PRESET_NOTE: &str = "LuxCore fresnelpreset: LuxRender renders the 
     bands (0.76; red 0.93 against about 0.98): two RGB readings of a spectral original";
 
 /// Textures seen through a material: fresnel textures on metal2, bump and normal maps.
-fn materials() -> Vec<Case> {
+pub(super) fn materials() -> Vec<Case> {
     // luxfarm at uv span `span` and uscale `scale`; LuxCore at `lc_span` and `lc_scale`.
     let bump = |name, note, span: f32, scale: f32, lc_span: f32, lc_scale: f32| Case {
         name,
@@ -606,14 +475,4 @@ fn materials() -> Vec<Case> {
             1.0,
         ),
     ]
-}
-
-/// Every case, in the table's order.
-pub fn all() -> Vec<Case> {
-    let mut v = procedurals();
-    v.extend(blenders());
-    v.extend(bricks());
-    v.extend(surfaces());
-    v.extend(materials());
-    v
 }

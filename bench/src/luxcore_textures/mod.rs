@@ -3,7 +3,8 @@
 //! LuxRender's, so where both follow LuxRender the images agree; where they do not, the case's
 //! note says which side LuxRender's sources support.
 //!
-//! For each case of [`cases::all`] ([`scene`] writes both scenes):
+//! For each case of [`all_cases`] ([`cases`] and [`blender_cases`]; [`scene`] writes both
+//! scenes):
 //!
 //! ```text
 //! case --scene::Case::lxs--> LuxRender text --parse + Session (this process)--> film --film_rgb--> A
@@ -17,6 +18,7 @@
 //! mean absolute difference over pixels and channels at most 2 % of LuxCore's mean. The
 //! process exits with failure when any case is over it.
 
+mod blender_cases;
 mod cases;
 mod images;
 mod scene;
@@ -144,7 +146,8 @@ fn render_ours(
     Ok((rgb, warnings))
 }
 
-/// Renders a case with LuxCore through the script: the image and the script's own mean.
+/// Renders a case with LuxCore through the script (run in the case directory, where the
+/// image files are) and reads the EXR it writes.
 fn render_luxcore(
     a: &Args,
     script: &Path,
@@ -244,6 +247,18 @@ fn print_table(rows: &[Row], tolerance: f64) {
     }
 }
 
+/// Every case, in the table's order: the references and 3D procedurals, the blender_*
+/// textures, the brick bonds, the uv-mapped, vertex-colour and image textures, and the
+/// textures seen through a material.
+fn all_cases() -> Vec<scene::Case> {
+    let mut v = cases::procedurals();
+    v.extend(blender_cases::blenders());
+    v.extend(cases::bricks());
+    v.extend(cases::surfaces());
+    v.extend(cases::materials());
+    v
+}
+
 /// A case name as a file name: letters and digits kept, runs of anything else one `_`.
 fn file_stem(name: &str) -> String {
     let mut s = String::new();
@@ -296,7 +311,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     );
     let mut rows = Vec::new();
     let res = a.res as usize;
-    for case in cases::all() {
+    for case in all_cases() {
         if !a.only.is_empty() && !a.only.iter().any(|o| case.name.contains(o.as_str())) {
             continue;
         }
@@ -408,7 +423,7 @@ mod tests {
 
     #[test]
     fn every_case_has_a_unique_name_and_a_tex() {
-        let all = cases::all();
+        let all = all_cases();
         let mut names: Vec<_> = all.iter().map(|c| file_stem(c.name)).collect();
         names.sort_unstable();
         names.dedup();
