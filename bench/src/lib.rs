@@ -14,6 +14,7 @@
 //! - [`sampler`]: sampler values, camera rays and filter splats per second.
 //! - [`unused`]: a scene with a thousand unused textures, materials and objects builds
 //!   what the same scene without them builds, in the same time and memory.
+//! - [`luxcore_textures`]: every texture class shared with LuxCore, per pixel against it.
 //! - [`image_metrics`]: image error metrics, shared with `luxfarm compare-image`;
 //!   [`support`]: helpers the benchmarks share.
 //!
@@ -25,6 +26,7 @@ pub mod cornell;
 pub mod efficiency;
 pub mod flm;
 pub mod image_metrics;
+pub mod luxcore_textures;
 pub mod master;
 pub mod parse;
 pub mod sampler;
@@ -58,6 +60,8 @@ pub enum Command {
     /// Build time and memory of a scene with N unused textures, materials and objects
     /// against the same scene without them (nothing unused is built).
     Unused(unused::Args),
+    /// Issue 15: every texture class shared with LuxCore on a flat surface, per pixel.
+    LuxcoreTextures(luxcore_textures::Args),
 }
 
 /// Runs one benchmark.
@@ -72,5 +76,6 @@ pub fn run(command: Command) -> anyhow::Result<ExitCode> {
         Command::Transport(a) => transport::run(a),
         Command::Sampler(a) => sampler::run(a),
         Command::Unused(a) => unused::run(a),
+        Command::LuxcoreTextures(a) => luxcore_textures::run(a),
     }
 }
