@@ -400,7 +400,7 @@ pub fn origin_to_camera(
         return;
     };
     let pl0 = ctx.origin_density(l);
-    if !(pl0 > 0.0) {
+    if pl0.is_nan() || pl0 <= 0.0 {
         return;
     }
     let Some(hit) = ctx.camera.connect(cam.p(), l.p(), ctx.time) else {
