@@ -8,7 +8,8 @@
 //! - `caustic`: the same box with its ceiling lamp shrunk to a 0.1 × 0.1 square of 25 times
 //!   the radiance (the same power): the glass sphere throws a caustic onto the floor, and every
 //!   diffuse surface sees the lamp through the glass. A path tracer finds those paths only by
-//!   hitting the small lamp after a specular bounce; light tracing finds them directly.
+//!   hitting the small lamp after a specular bounce; light tracing finds them directly;
+//! - `caustic-small`: the same with a 0.04 × 0.04 lamp of 156.25 times the radiance.
 //!
 //! **Depth** is in path segments (`--maxdepth`, default 16, where the Cornell box's light has
 //! fallen below 10⁻⁴ so every integrator converges to one image): luxfarm's path `maxdepth`
@@ -45,7 +46,7 @@ pub struct Args {
     /// The shared material (default: ../shared beside the repository, else /work/shared).
     #[arg(long)]
     pub shared: Option<PathBuf>,
-    /// Scenes to run, comma-separated (cornell, caustic).
+    /// Scenes to run, comma-separated (cornell, caustic, caustic-small).
     #[arg(long, default_value = "caustic,cornell", value_delimiter = ',')]
     pub scenes: Vec<String>,
     /// Image width and height in pixels.
@@ -109,18 +110,26 @@ const CAUSTIC: Variant = Variant::Caustic {
     scale: 25.0,
 };
 
+/// The harder caustic variant: a 0.04 × 0.04 lamp of 156.25 times the radiance.
+const CAUSTIC_SMALL: Variant = Variant::Caustic {
+    half: 0.02,
+    scale: 156.25,
+};
+
 impl Variant {
     fn parse(s: &str) -> anyhow::Result<Variant> {
         match s {
             "cornell" => Ok(Variant::Cornell),
             "caustic" => Ok(CAUSTIC),
-            other => bail!("scene {other:?}: cornell or caustic"),
+            "caustic-small" => Ok(CAUSTIC_SMALL),
+            other => bail!("scene {other:?}: cornell, caustic or caustic-small"),
         }
     }
 
     fn name(self) -> &'static str {
         match self {
             Variant::Cornell => "cornell",
+            Variant::Caustic { half, .. } if half < 0.05 => "caustic-small",
             Variant::Caustic { .. } => "caustic",
         }
     }
