@@ -49,6 +49,13 @@ pub fn parse_res(s: &str) -> anyhow::Result<(u32, u32)> {
     Ok((w, h))
 }
 
+/// The number after `name=` in a `key=value` statistics line (the renderer scripts' output).
+pub fn stat(text: &str, name: &str) -> Option<f64> {
+    text.split_whitespace()
+        .find_map(|w| w.strip_prefix(name)?.strip_prefix('='))
+        .and_then(|v| v.parse::<f64>().ok())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

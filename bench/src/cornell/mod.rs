@@ -20,7 +20,7 @@
 //! LuxCore's reference (`--shift-rows 1` of `compare-image`).
 
 mod external;
-mod ours;
+pub(crate) mod ours;
 
 use crate::image_metrics::{metrics, row_pairs};
 use external::{Renderer, Runner};

@@ -52,30 +52,45 @@ impl Ours {
             &ParseOptions::default(),
         )?;
         let base = self.path.parent().unwrap_or(Path::new("."));
-        let opts = SessionOptions {
-            threads: self.threads,
-            seed,
-            stream: 0,
-        };
-        let mut s = Session::new(&desc, base, opts)?;
-        let start = Instant::now();
-        let cpu0 = cpu_seconds(libc::RUSAGE_SELF);
-        let mut samples = 0u64;
-        while s.film().spp() < f64::from(spp) {
-            let st = s.render_pass();
-            if !st.complete || st.samples == 0 {
-                bail!("render pass did not complete");
-            }
-            samples += st.samples;
-        }
-        let secs = start.elapsed().as_secs_f64();
-        let cpu = cpu_seconds(libc::RUSAGE_SELF) - cpu0;
-        Ok(Run {
-            samples_per_sec: samples as f64 / secs.max(1e-9),
-            samples_per_cpu_sec: samples as f64 / cpu.max(1e-9),
-            seconds: secs,
-            spp: s.film().spp(),
-            rgb: film_rgb(s.film()).iter().map(|c| c.to_array()).collect(),
+        render_until(&desc, base, self.threads, seed, |s, _| {
+            s.film().spp() >= f64::from(spp)
         })
     }
+}
+
+/// Renders `desc` in this process pass by pass on stream `seed` until `done(session,
+/// elapsed seconds)` holds (checked before each pass); scene building is left out of the
+/// timing. Shared by `bench cornell` (a spp target) and `bench efficiency` (a time budget).
+pub fn render_until(
+    desc: &luxfarm::lxs::SceneDescription,
+    base: &Path,
+    threads: usize,
+    seed: u64,
+    mut done: impl FnMut(&Session, f64) -> bool,
+) -> anyhow::Result<Run> {
+    let opts = SessionOptions {
+        threads,
+        seed,
+        stream: 0,
+    };
+    let mut s = Session::new(desc, base, opts)?;
+    let start = Instant::now();
+    let cpu0 = cpu_seconds(libc::RUSAGE_SELF);
+    let mut samples = 0u64;
+    while !done(&s, start.elapsed().as_secs_f64()) {
+        let st = s.render_pass();
+        if !st.complete || st.samples == 0 {
+            bail!("render pass did not complete");
+        }
+        samples += st.samples;
+    }
+    let secs = start.elapsed().as_secs_f64();
+    let cpu = cpu_seconds(libc::RUSAGE_SELF) - cpu0;
+    Ok(Run {
+        samples_per_sec: samples as f64 / secs.max(1e-9),
+        samples_per_cpu_sec: samples as f64 / cpu.max(1e-9),
+        seconds: secs,
+        spp: s.film().spp(),
+        rgb: film_rgb(s.film()).iter().map(|c| c.to_array()).collect(),
+    })
 }

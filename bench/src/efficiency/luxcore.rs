@@ -63,11 +63,7 @@ impl LuxCore {
             .with_context(|| format!("running {} {}", self.python, self.script.display()))?;
         let cpu = cpu_seconds(libc::RUSAGE_CHILDREN) - cpu0;
         let text = String::from_utf8_lossy(&o.stdout);
-        let field = |name: &str| {
-            text.split_whitespace()
-                .find_map(|w| w.strip_prefix(name)?.strip_prefix('='))
-                .and_then(|v| v.parse::<f64>().ok())
-        };
+        let field = |name: &str| crate::support::stat(&text, name);
         // pyluxcore may abort while unloading after a good render: the printed line and the
         // image decide, not the exit status.
         let (Some(rate), Some(spp), Some(elapsed)) =

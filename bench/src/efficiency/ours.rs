@@ -4,13 +4,11 @@
 //! budget is spent. Scene building is left out of the timing.
 
 use super::{Contestant, Variant};
-use crate::cornell::{cpu_seconds, Run};
-use crate::image_metrics::film_rgb;
+use crate::cornell::ours::render_until;
+use crate::cornell::Run;
 use anyhow::{bail, Context};
 use luxfarm::lxs::{parse_str, ParseOptions};
-use luxfarm::render::{Session, SessionOptions};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// The lines of `cornell-mesh.lxs` (as `cornell_scene.py` writes them) this module replaces.
 const FILM: &str = r#"Film "fleximage" "integer xresolution" [256] "integer yresolution" [256]"#;
@@ -112,30 +110,6 @@ impl Ours {
             &ParseOptions::default(),
         )?;
         let base = self.path.parent().unwrap_or(Path::new("."));
-        let opts = SessionOptions {
-            threads: self.threads,
-            seed,
-            stream: 0,
-        };
-        let mut s = Session::new(&desc, base, opts)?;
-        let start = Instant::now();
-        let cpu0 = cpu_seconds(libc::RUSAGE_SELF);
-        let mut samples = 0u64;
-        while start.elapsed().as_secs_f64() < budget {
-            let st = s.render_pass();
-            if !st.complete || st.samples == 0 {
-                bail!("render pass did not complete");
-            }
-            samples += st.samples;
-        }
-        let secs = start.elapsed().as_secs_f64();
-        let cpu = cpu_seconds(libc::RUSAGE_SELF) - cpu0;
-        Ok(Run {
-            samples_per_sec: samples as f64 / secs.max(1e-9),
-            samples_per_cpu_sec: samples as f64 / cpu.max(1e-9),
-            seconds: secs,
-            spp: s.film().spp(),
-            rgb: film_rgb(s.film()).iter().map(|c| c.to_array()).collect(),
-        })
+        render_until(&desc, base, self.threads, seed, |_, t| t >= budget)
     }
 }
