@@ -184,21 +184,59 @@ fn noise_aware_films_are_deterministic_and_agree_with_uniform_sampling() {
     }
 }
 
+/// Metropolis takes `noiseaware` (LuxRender's does): the session builds its map from the
+/// convergence tests and the chains follow it, with no warning, and the image stays that of
+/// uniform sampling (8-pixel block means of the film's luminance, per-screen buffers
+/// normalised as the tonemapper does).
 #[test]
-fn metropolis_refuses_noiseaware_with_a_located_warning() {
+fn metropolis_takes_noiseaware_without_bias() {
+    use luxfarm::tonemap::{film_xyz, TonemapParams};
     let text = scene(true).replace(
         r#"Sampler "random" "integer pixelsamples" [4]"#,
-        r#"Sampler "metropolis""#,
+        r#"Sampler "metropolis" "integer pixelsamples" [4]"#,
     );
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/noiseaware.lxs");
     let desc = parse_text(&text, &path);
-    let s = Session::new(&desc, path.parent().unwrap(), SessionOptions::default()).unwrap();
-    assert!(!s.noise_aware());
-    let w = s
-        .warnings()
-        .iter()
-        .map(|w| w.to_string())
-        .find(|w| w.contains("noiseaware"))
-        .expect("a warning");
-    assert!(w.contains("noiseaware.lxs:6:"), "{w}");
+    let lum = |f: &Film| -> Vec<f64> {
+        let xyz = film_xyz(f, &TonemapParams::default()).xyz;
+        xyz.iter().map(|p| f64::from(p[1])).collect()
+    };
+    let blocks = |v: &[f64]| -> Vec<f64> {
+        let mut out = vec![0.0; ((W / 8) * (H / 8)) as usize];
+        for (i, y) in v.iter().enumerate() {
+            let (px, py) = (i as u32 % W, i as u32 / W);
+            out[((py / 8) * (W / 8) + px / 8) as usize] += y / 64.0;
+        }
+        out
+    };
+    let run = |stream: u64| {
+        let opts = SessionOptions {
+            threads: 2,
+            seed: 5,
+            stream,
+        };
+        let mut s = Session::new(&desc, path.parent().unwrap(), opts).unwrap();
+        assert!(s.noise_aware());
+        assert!(
+            !s.warnings().iter().any(|w| w.to_string().contains("noise")),
+            "{:?}",
+            s.warnings()
+        );
+        for _ in 0..8 {
+            s.render_pass();
+        }
+        assert!(
+            s.sampling_map().is_some(),
+            "no noise-aware map after 8 passes"
+        );
+        blocks(&lum(&s.take_film()))
+    };
+    let (a, a2) = (run(1), run(2));
+    let mut u = session(false, 2);
+    for _ in 0..16 {
+        u.render_pass();
+    }
+    let uniform = blocks(&lum(&u.take_film()));
+    eprintln!("metropolis noise-aware {a:?} / {a2:?}\nuniform {uniform:?}");
+    assert_within_noise(&a, &a2, &uniform, "metropolis noise-aware vs uniform");
 }

@@ -17,6 +17,15 @@
 //! At the end of a pass every chain's pending weight is deposited, so a pass film is a
 //! complete estimate and films of passes, sessions and farm workers add up exactly.
 //!
+//! Under a sampling map (`noiseaware`, or the user's), as in LuxRender, a chain's target is
+//! the luminance times the map's density at the sample's film position, and fresh samples
+//! (large steps, the bootstrap) draw their film position by the map
+//! ([`crate::sampler::map_warp::MapWarp`]); large steps are accepted with the ratio of
+//! luminances, small ones with the ratio of targets, and every deposit is divided by the
+//! density, so the film estimates the same image while the samples gather where the map is
+//! high. A new map restarts the chains from a new bootstrap (LuxRender resets its chains' state
+//! on a new map version too).
+//!
 //! Film positions are drawn over the sample extent (beyond the buffer by the filter's
 //! width, as LuxRender samples, `super::extent`); every contribution, the eye's and the
 //! light paths' splats alike (the camera's importance is normalised over the same extent),
@@ -26,11 +35,15 @@ use super::buffers::LIGHT_BUFFER;
 use super::setup::Renderable;
 use crate::film::Film;
 use crate::integrator::SampleOut;
+use crate::sampler::map::SamplingMap;
+use crate::sampler::map_warp::MapWarp;
 use crate::sampler::metropolis::{Chain, MltParams};
 use crate::sampler::Sampler;
+use crate::sampler::{combine, unit_f32};
 use crate::spectrum::rgb_to_xyz;
 use glam::Vec2;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// Chains per session (fixed, so that the film does not depend on the thread count).
 pub const CHAINS: usize = 16;
@@ -62,12 +75,15 @@ struct Slot {
     values: Vec<f32>,
 }
 
-/// The chains of a session and the large steps' luminance so far.
+/// The chains of a session, the large steps' luminance so far, and the sampling map they
+/// follow (if any).
 #[derive(Clone, Debug)]
 pub struct MltState {
     slots: Vec<Slot>,
     large_sum: f64,
     large_count: f64,
+    map: Option<Arc<SamplingMap>>,
+    warp: Option<Arc<MapWarp>>,
 }
 
 /// What a chain's batch produced.
@@ -96,6 +112,19 @@ pub(super) struct Frame {
     scale: f32,
     /// The small mutations' film range per axis, as a fraction of the span.
     pub range_xy: [f32; 2],
+    /// The sampling map over the span: fresh film positions are drawn by it.
+    warp: Option<Arc<MapWarp>>,
+}
+
+impl Frame {
+    /// The density with which fresh film positions are drawn at the film position of
+    /// `values` (1 without a map).
+    fn q(&self, values: &[f32]) -> f32 {
+        match (&self.warp, values) {
+            (Some(w), [x, y, ..]) => w.density([*x, *y]),
+            _ => 1.0,
+        }
+    }
 }
 
 impl MltState {
@@ -111,7 +140,32 @@ impl MltState {
                 .collect(),
             large_sum: 0.0,
             large_count: 0.0,
+            map: None,
+            warp: None,
         }
+    }
+
+    /// Follows `map` from now on (`None`: uniform). A new map changes the chains' target
+    /// (luminance × map density) and the normaliser: like LuxRender's sampler on a new map
+    /// version, the state starts over, here with a new bootstrap, so every pass's estimate
+    /// stays unbiased.
+    fn follow(&mut self, map: Option<&Arc<SamplingMap>>, frame: &Frame, extent: [i64; 4]) {
+        let same = match (&self.map, map) {
+            (None, None) => true,
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        };
+        if same {
+            return;
+        }
+        self.map = map.cloned();
+        self.warp = map.and_then(|m| {
+            let [x0, y0, fx, fy] = extent;
+            let (w, h) = (frame.span.x as u32, frame.span.y as u32);
+            MapWarp::new(m, w, h, [x0 - fx, y0 - fy]).map(Arc::new)
+        });
+        self.large_sum = 0.0;
+        self.large_count = 0.0;
     }
 
     pub fn stats(&self) -> ChainStats {
@@ -179,12 +233,17 @@ impl MltState {
                 .par_iter_mut()
                 .zip(starts.par_iter())
                 .for_each(|(slot, start)| {
-                    let Some(key) = *start else { return };
+                    let Some(key) = *start else {
+                        slot.chain.restart();
+                        slot.current.clear();
+                        return;
+                    };
                     let mut so = SampleOut::new(scene.world.groups().len());
                     let (mut rec, mut invalid) = (Vec::new(), 0);
                     let (lum, values) =
                         trace_fresh(scene, params, frame, key, &mut so, &mut rec, &mut invalid);
-                    slot.chain.start_at(values, lum, p_large);
+                    let q = frame.q(&values);
+                    slot.chain.start_at(values, lum, q, p_large);
                     slot.current = rec;
                 })
         });
@@ -199,8 +258,9 @@ impl MltState {
     }
 
     /// Runs one pass of `steps` steps into `film` (cleared by the caller, the session's
-    /// layout). Returns the invalid contributions, or `None` when cancelled (the chains
-    /// have then moved on; the partial film is to be discarded).
+    /// layout), following sampling map `map` (`None`: uniform). Returns the invalid
+    /// contributions, or `None` when cancelled (the chains have then moved on; the partial
+    /// film is to be discarded).
     pub fn run_pass(
         &mut self,
         scene: &Renderable,
@@ -208,6 +268,7 @@ impl MltState {
         cancel: &AtomicBool,
         steps: u64,
         film: &mut Film,
+        map: Option<&Arc<SamplingMap>>,
     ) -> Option<u64> {
         use rayon::prelude::*;
         let Some(params) = scene.setup.sampler.mlt().copied() else {
@@ -215,7 +276,16 @@ impl MltState {
         };
         let fp = &scene.setup.film_params;
         let range = params.range_pixels(fp.x_pixel_count as f32, fp.y_pixel_count as f32);
-        let frame = frame(scene, range);
+        let mut frame = frame(scene, range);
+        let e = scene.setup.sample_extent();
+        let extent = [
+            i64::from(e.x0),
+            i64::from(e.y0),
+            frame.film0[0],
+            frame.film0[1],
+        ];
+        self.follow(map, &frame, extent);
+        frame.warp = self.warp.clone();
         let n = self.slots.len() as u64;
         let share = |i: u64| steps / n + u64::from(i < steps % n);
         let mut done = vec![0u64; self.slots.len()];
@@ -288,6 +358,7 @@ pub(super) fn frame(scene: &Renderable, range: f32) -> Frame {
         film0: [i64::from(fp.x_pixel_start), i64::from(fp.y_pixel_start)],
         scale: e.per_screen_scale(),
         range_xy: [(range / span.x).min(1.0), (range / span.y).min(1.0)],
+        warp: None,
     }
 }
 
@@ -329,6 +400,12 @@ pub(super) fn trace(
     invalid: &mut u64,
 ) -> (f32, Vec<f32>) {
     let (setup, world) = (&scene.setup, &scene.world);
+    let mut values = values;
+    if let (Some(w), true) = (&frame.warp, values.is_empty()) {
+        // A fresh sample under a map: its film position drawn by the map.
+        let u = |salt: u64| unit_f32(combine(key, salt));
+        values.extend(w.warp([u(0x6d61_7078), u(0x6d61_7079)]));
+    }
     let mut st = Sampler::start_primary(values, key, frame.origin, frame.span);
     let cs = st.camera_sample();
     let mut lum = 0.0f32;
@@ -385,9 +462,10 @@ fn step(
         out.large_sum += f64::from(lum);
         out.large_count += 1.0;
     }
+    let q = frame.q(&values);
     let d = slot
         .chain
-        .judge(&mut values, lum, mean, p_large, params.max_rejects);
+        .judge(&mut values, lum, q, mean, p_large, params.max_rejects);
     if d.accepted {
         if d.current_weight > 0.0 {
             out.deposits

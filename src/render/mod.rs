@@ -208,7 +208,7 @@ impl Session {
     }
 
     /// Whether this session's sampler draws pixels by sampling maps at all (every sampler but
-    /// metropolis and erpt, whose chains fill per-screen buffers).
+    /// erpt).
     pub fn takes_maps(&self) -> bool {
         self.scene.setup.sampler.takes_maps()
     }
@@ -229,7 +229,7 @@ impl Session {
 
     /// Sets (or with `None` clears) the user sampling map of the next passes: LuxRender's
     /// `luxSetUserSamplingMap`. Refused when its size is not the film buffer's; ignored
-    /// (false) when the sampler takes no maps (metropolis, erpt: the caller warns, see
+    /// (false) when the sampler takes no maps (erpt: the caller warns, see
     /// [`crate::sampler::Sampler::map_refusal`]).
     pub fn set_user_map(&mut self, map: Option<Arc<SamplingMap>>) -> Result<bool, MapError> {
         if let Some(m) = &map {
@@ -525,10 +525,18 @@ impl Session {
         let start = Instant::now();
         let steps = self.traces_per_pass();
         let mut pass_film = self.empty_pass_film();
+        let map = self.map.clone();
         let Some(state) = self.mlt.as_mut() else {
             return PassStats::default();
         };
-        let invalid = state.run_pass(&self.scene, &self.pool, &self.cancel, steps, &mut pass_film);
+        let invalid = state.run_pass(
+            &self.scene,
+            &self.pool,
+            &self.cancel,
+            steps,
+            &mut pass_film,
+            map.as_ref(),
+        );
         self.merge_chain_pass(start, steps, invalid.map(|i| (pass_film, i)))
     }
 

@@ -31,7 +31,8 @@
 //! films behave the same); the blur keeps the density smooth across a filter's support, and
 //! with the box filter of radius 0.5 the estimate is exactly that of uniform sampling.
 //! Per-screen buffers (metropolis) are normalised by the total sample count, where pixel
-//! choice would matter: the sampler refuses the combination (see [`super::Sampler::build`]).
+//! choice would matter: there the map becomes a density over film positions
+//! ([`super::map_warp`]) and every contribution is divided by it (`crate::render::mlt`).
 
 use super::hash::{combine, pixel_key, unit_f32};
 

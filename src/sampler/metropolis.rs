@@ -166,6 +166,8 @@ pub struct Chain {
     step: u64,
     current: Vec<f32>,
     current_lum: f32,
+    /// The sampling map's density at the current sample's film position (1 without a map).
+    current_q: f32,
     /// Weight accumulated by the current sample and not yet deposited.
     weight: f32,
     consec_rejects: u32,
@@ -184,6 +186,7 @@ impl Chain {
             step: 0,
             current: Vec::new(),
             current_lum: 0.0,
+            current_q: 1.0,
             weight: 0.0,
             consec_rejects: 0,
             large: true,
@@ -240,15 +243,13 @@ impl Chain {
         last
     }
 
-    /// Starts the chain at `values` (a start-up sample's values, target `lum`) with nothing
-    /// gathered yet; its first proposal is large with probability `p_large`.
-    pub fn start_at(&mut self, values: Vec<f32>, lum: f32, p_large: f32) {
+    /// Starts the chain at `values` (a start-up sample's values, luminance `lum`, map density
+    /// `q` at its film position) with nothing gathered yet; its first proposal is large with
+    /// probability `p_large`.
+    pub fn start_at(&mut self, values: Vec<f32>, lum: f32, q: f32, p_large: f32) {
         self.current = values;
-        self.current_lum = if lum.is_finite() && lum > 0.0 {
-            lum
-        } else {
-            0.0
-        };
+        self.current_lum = positive_or_zero(lum);
+        self.current_q = positive_or_zero(q);
         self.weight = 0.0;
         // Salt 4: step 0's salts 1 and 2 decide its acceptance and the next step's kind.
         self.large = self.rand(4) < p_large;
@@ -269,26 +270,45 @@ impl Chain {
         small_mutation(&self.current, self.step_key(), range_xy, out);
     }
 
-    /// Accepts or rejects the proposal whose values are `values` and whose target (luminance)
-    /// is `lum`, given the large steps' mean luminance `mean` and the large mutation
-    /// probability `p_large` in force; prepares the next step. On acceptance `values` is
-    /// swapped into the chain (the caller's vector then holds the old current values).
+    /// Restarts the chain with no current sample: its next proposal is a large mutation and
+    /// is accepted (a chain whose start-up samples were all black).
+    pub fn restart(&mut self) {
+        self.current.clear();
+        self.current_lum = 0.0;
+        self.current_q = 1.0;
+        self.weight = 0.0;
+        self.large = true;
+    }
+
+    /// Accepts or rejects the proposal whose values are `values`, whose luminance is `lum` and
+    /// whose film position has map density `q` (1 without a map), given the large steps'
+    /// mean luminance `mean` and the large mutation probability `p_large` in force; prepares
+    /// the next step. On acceptance `values` is swapped into the chain (the caller's vector
+    /// then holds the old current values).
+    ///
+    /// The chain's target is `lum × q`. A small mutation is symmetric: it is accepted with
+    /// the ratio of targets. A large one draws its film position with density `q`: it is
+    /// accepted with the ratio of targets over the ratio of proposal densities, that is of
+    /// luminances. Without a map both are LuxRender's rule.
     pub fn judge(
         &mut self,
         values: &mut Vec<f32>,
         lum: f32,
+        q: f32,
         mean: f64,
         p_large: f32,
         max_rejects: u32,
     ) -> Deposit {
-        let lum = if lum.is_finite() && lum > 0.0 {
-            lum
-        } else {
-            0.0
-        };
+        let lum = positive_or_zero(lum);
+        let q = positive_or_zero(q);
         let inv_mean = if mean > 0.0 { (1.0 / mean) as f32 } else { 1.0 };
-        let acc = if self.current_lum > 0.0 && self.consec_rejects < max_rejects {
-            (lum / self.current_lum).min(1.0)
+        let cur = self.current_lum * self.current_q;
+        let acc = if cur > 0.0 && self.consec_rejects < max_rejects {
+            if self.large {
+                (lum / self.current_lum).min(1.0)
+            } else {
+                (lum * q / cur).min(1.0)
+            }
         } else {
             1.0
         };
@@ -297,9 +317,10 @@ impl Chain {
         self.proposed += 1;
         let take = acc >= 1.0 || self.rand(1) < acc;
         let dep = if take {
-            let cw = self.weight / (self.current_lum * inv_mean + p_large);
+            let cw = self.weight / (self.current_q * (self.current_lum * inv_mean + p_large));
             self.weight = new_weight;
             self.current_lum = lum;
+            self.current_q = q;
             std::mem::swap(&mut self.current, values);
             self.consec_rejects = 0;
             self.accepted += 1;
@@ -312,7 +333,7 @@ impl Chain {
             self.consec_rejects = self.consec_rejects.saturating_add(1);
             Deposit {
                 current_weight: 0.0,
-                proposal_weight: finite_or_zero(new_weight / (lum * inv_mean + p_large)),
+                proposal_weight: finite_or_zero(new_weight / (q * (lum * inv_mean + p_large))),
                 accepted: false,
             }
         };
@@ -325,9 +346,17 @@ impl Chain {
     /// the film at the end of a pass); the chain goes on from zero.
     pub fn flush(&mut self, mean: f64, p_large: f32) -> f32 {
         let inv_mean = if mean > 0.0 { (1.0 / mean) as f32 } else { 1.0 };
-        let w = self.weight / (self.current_lum * inv_mean + p_large);
+        let w = self.weight / (self.current_q * (self.current_lum * inv_mean + p_large));
         self.weight = 0.0;
         finite_or_zero(w)
+    }
+}
+
+fn positive_or_zero(v: f32) -> f32 {
+    if v.is_finite() && v > 0.0 {
+        v
+    } else {
+        0.0
     }
 }
 
@@ -362,12 +391,12 @@ mod tests {
     #[test]
     fn a_started_chain_mutates_its_start_and_deposits_nothing_for_it() {
         let mut c = Chain::new(5, 0, 0);
-        c.start_at(vec![0.25, 0.5, 0.75], 2.0, 0.0);
+        c.start_at(vec![0.25, 0.5, 0.75], 2.0, 1.0, 0.0);
         assert!(!c.is_large());
         let mut v = Vec::new();
         c.propose([0.01, 0.01], &mut v);
         assert_eq!(v.len(), 3);
-        let d = c.judge(&mut v, 2.0, 1.0, 0.0, 512);
+        let d = c.judge(&mut v, 2.0, 1.0, 1.0, 0.0, 512);
         assert!(d.accepted);
         assert_eq!(
             d.current_weight, 0.0,
@@ -418,7 +447,7 @@ mod tests {
                     sum_l += f64::from(fx);
                     n_l += 1.0;
                 }
-                let d = c.judge(&mut v, fx, sum_l / n_l.max(1.0), 0.4, 512);
+                let d = c.judge(&mut v, fx, 1.0, sum_l / n_l.max(1.0), 0.4, 512);
                 total += f64::from(d.current_weight * cur_f) + f64::from(d.proposal_weight * fx);
                 if d.current_weight > 0.0 && cur_x > 0.5 {
                     upper += f64::from(d.current_weight * cur_f);
@@ -443,5 +472,54 @@ mod tests {
             let want = if integral == 1.0 { 0.75 } else { 0.875 / 1.5 };
             assert!((share - want).abs() < 0.03, "{share} vs {want}");
         }
+    }
+
+    /// With a sampling map of density q (1.6 on [0, 0.5), 0.4 above), large steps drawn by q:
+    /// the chain spends its time in proportion to f·q, and the deposits still estimate ∫f
+    /// (f(x) = 1 + x, integral 1.5; the lower half holds 1.0 / 1.35 of ∫f·q).
+    #[test]
+    fn chain_with_a_map_follows_it_and_stays_unbiased() {
+        let q = |x: f32| if x < 0.5 { 1.6f32 } else { 0.4 };
+        // Inverse CDF of q: the lower half takes 0.8 of the mass.
+        let warp = |u: f32| {
+            if u < 0.8 {
+                u / 0.8 * 0.5
+            } else {
+                0.5 + (u - 0.8) / 0.2 * 0.5
+            }
+        };
+        let f = |x: f32| 1.0 + x;
+        let mut c = Chain::new(9, 0, 0);
+        let (mut sum_l, mut n_l) = (0.0f64, 0.0f64);
+        let (mut total, mut lower_time) = (0.0f64, 0u64);
+        let (mut cur_f, mut cur_x) = (0.0f32, 0.0f32);
+        let mut v = Vec::new();
+        let steps = 400_000u64;
+        for _ in 0..steps {
+            c.propose([0.1, 0.1], &mut v);
+            if v.is_empty() {
+                v.push(warp(unit_f32(mix64(c.step_key()))));
+            }
+            let x = v[0];
+            let fx = f(x);
+            if c.is_large() {
+                sum_l += f64::from(fx);
+                n_l += 1.0;
+            }
+            let d = c.judge(&mut v, fx, q(x), sum_l / n_l.max(1.0), 0.4, 512);
+            total += f64::from(d.current_weight * cur_f) + f64::from(d.proposal_weight * fx);
+            if d.accepted {
+                cur_f = fx;
+                cur_x = x;
+            }
+            lower_time += u64::from(cur_x < 0.5);
+        }
+        let est = total / steps as f64;
+        assert!((est - 1.5).abs() < 0.03 * 1.5, "{est} vs 1.5");
+        let share = lower_time as f64 / steps as f64;
+        assert!(
+            (share - 1.0 / 1.35).abs() < 0.03,
+            "time in the lower half {share}"
+        );
     }
 }

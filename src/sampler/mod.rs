@@ -10,10 +10,12 @@
 //!
 //! `"bool noiseaware"` (random, lowdiscrepancy, sobol and the fallbacks to them) makes a pass
 //! give each pixel a number of samples in proportion to a sampling map built from the film's
-//! convergence test ([`map`]; the render session keeps the map). Metropolis accepts the
-//! parameter but refuses it with a located warning (its per-screen buffer would be biased),
-//! erpt ignores it with a warning, as LuxRender's. The user sampling map
-//! (`crate::render::usermap`) applies to the same samplers ([`Sampler::takes_maps`]).
+//! convergence test ([`map`]; the render session keeps the map). With metropolis, as in
+//! LuxRender, the map weighs the chains' target (luminance × map density) and places their
+//! large steps ([`map_warp`]); each contribution is divided by the density, so the image
+//! stays unbiased. Erpt ignores the parameter with a warning, as LuxRender's. The user
+//! sampling map (`crate::render::usermap`) applies to the same samplers
+//! ([`Sampler::takes_maps`]).
 //!
 //! Metropolis and erpt samplers do not visit pixels: the render session runs their chains
 //! ([`metropolis::Chain`], [`erpt::ErptChain`]) and traces each proposal through
@@ -41,11 +43,12 @@ pub mod erpt;
 mod hash;
 mod lowdiscrepancy;
 pub mod map;
+pub mod map_warp;
 pub mod metropolis;
 mod random;
 mod sobol;
 
-pub use hash::{mix64, pixel_key};
+pub use hash::{combine, mix64, pixel_key, unit_f32};
 
 use crate::camera::CameraSample;
 use crate::lxs::{Diagnostic, Entity, Loc};
@@ -130,15 +133,9 @@ impl Sampler {
             "stratified" | "bestcandidate" | "halton" => lowdiscrepancy::build_legacy(&mut s)?,
             "metropolis" => {
                 let (kind, n, mlt) = metropolis::build(&mut s)?;
-                if noise_aware {
-                    s.warn(
-                        "noiseaware is not applied with metropolis: its samples go to a \
-                         per-screen buffer normalised by the total sample count, where drawing \
-                         pixels by a map would bias the image; sampling follows the chains",
-                    );
-                }
                 let mut smp = Sampler::new(kind, n).map_err(|x| BuildError::new(&e.loc, x.message))?;
                 smp.mlt = Some(mlt);
+                smp.noise_aware = noise_aware;
                 return Ok(smp);
             }
             "erpt" => {
@@ -182,16 +179,15 @@ impl Sampler {
         })
     }
 
-    /// Whether pixels are drawn by a sampling map (`noiseaware`; never for metropolis and
-    /// erpt, whose per-screen buffers the map would bias).
+    /// Whether pixels are drawn by a sampling map (`noiseaware`; never for erpt).
     pub fn noise_aware(&self) -> bool {
-        self.noise_aware && !self.per_screen()
+        self.noise_aware && self.takes_maps()
     }
 
     /// Whether the sampler draws pixels by sampling maps at all (noise-aware or the user's):
-    /// every sampler but metropolis and erpt.
+    /// every sampler but erpt.
     pub fn takes_maps(&self) -> bool {
-        !self.per_screen()
+        self.kind != SamplerKind::Erpt
     }
 
     /// Why a user sampling map is not applied with this sampler (`None`: it is).
@@ -201,16 +197,11 @@ impl Sampler {
                 "the erpt sampler does not take sampling maps (nor does LuxRender's); the map \
                  is not applied",
             ),
-            SamplerKind::Metropolis => Some(
-                "the metropolis sampler's samples go to a per-screen buffer normalised by the \
-                 total sample count, where drawing pixels by a map would bias the image; the \
-                 map is not applied",
-            ),
             _ => None,
         }
     }
 
-    /// This sampler with noise-aware sampling on or off (metropolis and erpt stay off).
+    /// This sampler with noise-aware sampling on or off (erpt stays off).
     pub fn with_noise_aware(mut self, on: bool) -> Sampler {
         self.noise_aware = on;
         self

@@ -58,7 +58,7 @@ pub struct Args {
     /// Wall seconds each contestant renders.
     #[arg(long, default_value_t = 30.0)]
     pub budget: f64,
-    /// Rounds of all contestants (alternating); medians are reported.
+    /// Rounds of all contestants (alternating); rates are medians, RMSE the root of the mean squared error over the rounds.
     #[arg(long, default_value_t = 1)]
     pub runs: usize,
     /// luxfarm's contestants as integrator:sampler, comma-separated.
@@ -71,7 +71,7 @@ pub struct Args {
     /// LuxCore's contestants as ENGINE:SAMPLER, comma-separated ("" or none: leave LuxCore out).
     #[arg(
         long,
-        default_value = "PATHCPU:RANDOM,BIDIRCPU:RANDOM,BIDIRCPU:METROPOLIS",
+        default_value = "PATHCPU:RANDOM,PATHCPU:SOBOL,BIDIRCPU:RANDOM,BIDIRCPU:SOBOL,BIDIRCPU:METROPOLIS",
         value_delimiter = ','
     )]
     pub luxcore: Vec<String>,
@@ -190,6 +190,18 @@ struct Summary {
     mean_ratio: f64,
 }
 
+/// The RMSE over several runs: the root of their mean squared error. Errors of caustic
+/// scenes are heavy-tailed (a rare path of huge value), so a median of a few runs would
+/// mostly miss the fireflies every renderer pays for in expectation.
+fn root_mean_square(v: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x * x, n + 1));
+    if n == 0 {
+        f64::NAN
+    } else {
+        (sum / n as f64).sqrt()
+    }
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
@@ -305,8 +317,8 @@ fn summarize(c: &Contestant, runs: &[Run], reference: &Reference, mask: &[bool])
         cpu_rate: median(runs.iter().map(|r| r.samples_per_cpu_sec).collect()),
         spp: median(runs.iter().map(|r| r.spp).collect()),
         seconds: median(runs.iter().map(|r| r.seconds).collect()),
-        rmse: median(ms.iter().map(|m| m.rmse).collect()),
-        raw_rmse: median(ms.iter().map(|m| m.raw_rmse).collect()),
+        rmse: root_mean_square(ms.iter().map(|m| m.rmse)),
+        raw_rmse: root_mean_square(ms.iter().map(|m| m.raw_rmse)),
         mean_ratio: median(ms.iter().map(|m| m.mean_ratio).collect()),
     }
 }
@@ -317,6 +329,13 @@ fn find<'a>(sums: &'a [Summary], r: Renderer, integ: &str, sampler: &str) -> Opt
             && s.who.integrator.eq_ignore_ascii_case(integ)
             && s.who.sampler.eq_ignore_ascii_case(sampler)
     })
+}
+
+/// A renderer's contestant of this integrator with the lowest RMSE (its best sampler).
+fn best<'a>(sums: &'a [Summary], r: Renderer, integ: &str) -> Option<&'a Summary> {
+    sums.iter()
+        .filter(|s| s.who.renderer == r && s.who.integrator.eq_ignore_ascii_case(integ))
+        .min_by(|a, b| a.rmse.total_cmp(&b.rmse))
 }
 
 /// The table of one scene, and the ratios the issue asks for.
@@ -362,6 +381,27 @@ fn report(variant: Variant, sums: &[Summary], budget: f64) -> String {
             (Renderer::LuxCore, "PATHCPU", "RANDOM"),
         ),
     ];
+    for (x, y) in [
+        (
+            best(sums, Renderer::Luxfarm, "bidirectional"),
+            best(sums, Renderer::LuxCore, "BIDIRCPU"),
+        ),
+        (
+            best(sums, Renderer::Luxfarm, "path"),
+            best(sums, Renderer::LuxCore, "PATHCPU"),
+        ),
+    ] {
+        if let (Some(x), Some(y)) = (x, y) {
+            let _ = writeln!(
+                out,
+                "{}: best of each: {} / {}: RMSE at equal time {:.3}",
+                variant.name(),
+                x.who.label(),
+                y.who.label(),
+                x.rmse / y.rmse
+            );
+        }
+    }
     for ((ra, ia, sa), (rb, ib, sb)) in pairs {
         if let (Some(x), Some(y)) = (find(sums, ra, ia, sa), find(sums, rb, ib, sb)) {
             let _ = writeln!(
