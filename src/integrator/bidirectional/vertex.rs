@@ -168,13 +168,23 @@ pub fn to_area(pdf: f32, from: &Vertex, to: &Vertex) -> f32 {
     if to.is_at_infinity() {
         return pdf;
     }
-    let w = to.p() - from.p();
-    let d2 = w.length_squared();
+    let d2 = (to.p() - from.p()).length_squared();
     if d2 == 0.0 {
         return 0.0;
     }
-    let cos = to.normal().map_or(1.0, |n| n.dot(w).abs() / d2.sqrt());
-    pdf * cos / d2
+    pdf * cos_toward(to, from) / d2
+}
+
+/// |cos| between `v`'s normal and the segment toward `other` (1 without a normal: the
+/// camera, point lights, medium points).
+pub fn cos_toward(v: &Vertex, other: &Vertex) -> f32 {
+    let w = other.p() - v.p();
+    let len = w.length();
+    match v.normal() {
+        Some(n) if len > 0.0 => n.dot(w).abs() / len,
+        Some(_) => 0.0,
+        None => 1.0,
+    }
 }
 
 /// A segment between two vertices: its transmittance and the distance-sampling factors of
