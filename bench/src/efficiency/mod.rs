@@ -381,7 +381,7 @@ fn report(variant: Variant, sums: &[Summary], budget: f64) -> String {
             (Renderer::LuxCore, "PATHCPU", "RANDOM"),
         ),
     ];
-    for (x, y) in [
+    let bests = [
         (
             best(sums, Renderer::Luxfarm, "bidirectional"),
             best(sums, Renderer::LuxCore, "BIDIRCPU"),
@@ -390,23 +390,19 @@ fn report(variant: Variant, sums: &[Summary], budget: f64) -> String {
             best(sums, Renderer::Luxfarm, "path"),
             best(sums, Renderer::LuxCore, "PATHCPU"),
         ),
-    ] {
-        if let (Some(x), Some(y)) = (x, y) {
+    ];
+    let named = pairs
+        .iter()
+        .map(|((ra, ia, sa), (rb, ib, sb))| (find(sums, *ra, ia, sa), find(sums, *rb, ib, sb)));
+    let lines = bests
+        .into_iter()
+        .map(|p| ("best of each: ", p))
+        .chain(named.map(|p| ("", p)));
+    for (what, pair) in lines {
+        if let (Some(x), Some(y)) = pair {
             let _ = writeln!(
                 out,
-                "{}: best of each: {} / {}: RMSE at equal time {:.3}",
-                variant.name(),
-                x.who.label(),
-                y.who.label(),
-                x.rmse / y.rmse
-            );
-        }
-    }
-    for ((ra, ia, sa), (rb, ib, sb)) in pairs {
-        if let (Some(x), Some(y)) = (find(sums, ra, ia, sa), find(sums, rb, ib, sb)) {
-            let _ = writeln!(
-                out,
-                "{}: {} / {}: RMSE at equal time {:.3}",
+                "{}: {what}{} / {}: RMSE at equal time {:.3}",
                 variant.name(),
                 x.who.label(),
                 y.who.label(),
