@@ -5,6 +5,9 @@
 //! radius 0.5, so a pixel's weight sum is its sample count) give the left pixels about nine
 //! times the samples of the right ones; the map survives a master restart (a fresh worker of
 //! the restarted master samples by it too); DELETE returns the workers to uniform sampling.
+//! With the metropolis sampler (whose deposits carry no sample counts) a map starving the right
+//! half shows in which pixels a delta's chains still deposit: before it nearly every pixel,
+//! after it only a few of the right half's, and after DELETE nearly every one again.
 
 mod farm_common;
 
@@ -19,13 +22,17 @@ const W: u32 = 32;
 const H: u32 = 16;
 
 fn scene() -> Vec<u8> {
+    scene_with(r#"Sampler "random" "integer pixelsamples" [4]"#)
+}
+
+fn scene_with(sampler: &str) -> Vec<u8> {
     format!(
         r#"LookAt 0 0 5  0 0 0  0 1 0
 Camera "orthographic" "float screenwindow" [-1 1 -0.5 0.5]
 Film "fleximage" "integer xresolution" [{W}] "integer yresolution" [{H}]
   "bool write_png" ["false"] "bool write_exr" ["false"] "bool write_resume_flm" ["false"]
 PixelFilter "box" "float xwidth" [0.5] "float ywidth" [0.5]
-Sampler "random" "integer pixelsamples" [4]
+{sampler}
 SurfaceIntegrator "path" "integer maxdepth" [2]
 WorldBegin
 LightSource "infinite" "color L" [1 1 1]
@@ -273,4 +280,87 @@ fn a_user_map_reaches_the_workers_survives_a_restart_and_clears() {
     assert_eq!(r.status().as_u16(), 200);
     let (st, e) = put(&s, &id, nine_to_one());
     assert_eq!((st, e["error"].as_str()), (409, Some("conflict")), "{e}");
+}
+
+/// The share of right-half pixels (the border columns out) a kept delta deposited anything in.
+fn right_reached(path: &Path) -> Option<f64> {
+    let film = codec::decode(&std::fs::read(path).unwrap()).unwrap();
+    let w: Vec<f64> = film.buffer(0, 0)?.chunks(5).map(|p| p[4]).collect();
+    if w.iter().sum::<f64>() <= 0.0 {
+        return None;
+    }
+    let right: Vec<f64> = w
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| (*i as u32 % W) >= W / 2 + 2)
+        .map(|(_, v)| *v)
+        .collect();
+    Some(right.iter().filter(|v| **v > 0.0).count() as f64 / right.len() as f64)
+}
+
+/// Waits (at most `secs`) for a merged delta in `dir`, not among `old`, whose share of
+/// right-half pixels reached `ok` accepts; the shares seen.
+fn wait_for_reach(
+    dir: &Path,
+    old: &BTreeSet<PathBuf>,
+    secs: u64,
+    ok: impl Fn(f64) -> bool,
+) -> (bool, Vec<f64>) {
+    let end = Instant::now() + Duration::from_secs(secs);
+    let (mut seen, mut checked) = (Vec::new(), BTreeSet::new());
+    while Instant::now() < end {
+        for p in merged(dir).difference(old) {
+            if !checked.insert(p.clone()) {
+                continue;
+            }
+            if let Some(r) = right_reached(p) {
+                seen.push(r);
+                if ok(r) {
+                    return (true, seen);
+                }
+            }
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    (false, seen)
+}
+
+#[test]
+fn metropolis_workers_follow_a_user_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(&dir.path().join("data"), &["--upload-interval", "0.5"]);
+    let metropolis = r#"Sampler "metropolis" "float largemutationprob" [0.4]"#;
+    let (st, job) = post_job(
+        &s,
+        scene_with(metropolis),
+        "?filename=plane.lxs&haltspp=100000&seed=5",
+    );
+    assert_eq!(st, 201, "{job}");
+    let id = job["id"].as_str().unwrap().to_string();
+    let keep = dir.path().join("kept");
+    let _w = worker(&s.url(), 1, &["--keep-deltas", keep.to_str().unwrap()]);
+
+    // Without a map the chains reach (nearly) every pixel.
+    let (ok, seen) = wait_for_reach(&keep, &BTreeSet::new(), 180, |r| r > 0.9);
+    assert!(ok, "share of right pixels reached before the map: {seen:?}");
+
+    // The right half at a thousandth of the left's density.
+    let (st, v) = put(
+        &s,
+        &id,
+        exr(W, H, |x, _| if x < W / 2 { 1.0 } else { 0.001 }),
+    );
+    assert_eq!(st, 200, "{v}");
+    assert_eq!(v["applied"].as_bool(), Some(true), "{v}");
+    let before = merged(&keep);
+    let (ok, seen) = wait_for_reach(&keep, &before, 180, |r| r < 0.25);
+    assert!(ok, "share of right pixels reached after the map: {seen:?}");
+    eprintln!("share of right pixels reached per delta after the map: {seen:?}");
+
+    // Cleared: (nearly) every pixel again.
+    let before = merged(&keep);
+    let (st, _) = call(&s, reqwest::Method::DELETE, &id);
+    assert_eq!(st, 200);
+    let (ok, seen) = wait_for_reach(&keep, &before, 180, |r| r > 0.9);
+    assert!(ok, "share of right pixels reached after DELETE: {seen:?}");
 }

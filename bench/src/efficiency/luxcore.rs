@@ -30,17 +30,17 @@ impl LuxCore {
             .is_ok_and(|o| o.status.success())
     }
 
-    /// Renders with `engine` and `sampler` (LuxCore's names) for `seconds` on seed `seed`,
-    /// writing `out`.
+    /// Renders with contestant `c`'s engine and sampler (LuxCore's names) for `seconds` on
+    /// seed `seed`, writing `out`.
     pub fn render(
         &self,
         variant: Variant,
-        engine: &str,
-        sampler: &str,
+        c: &Contestant,
         seconds: f64,
         seed: u64,
         out: &Path,
     ) -> anyhow::Result<Run> {
+        let (engine, sampler) = (c.integrator.as_str(), c.sampler.as_str());
         let mut cmd = Command::new(&self.python);
         cmd.arg(&self.script)
             .arg("--shared")
@@ -53,6 +53,9 @@ impl LuxCore {
             .args(["--seed", &seed.to_string()])
             .arg("--out")
             .arg(out);
+        if c.adaptive {
+            cmd.arg("--adaptive");
+        }
         if let Variant::Caustic { half, scale } = variant {
             cmd.args(["--lamp-half", &half.to_string()])
                 .args(["--lamp-scale", &scale.to_string()]);
@@ -98,7 +101,10 @@ impl LuxCore {
         seed: u64,
         tmp: &Path,
     ) -> anyhow::Result<Run> {
-        let out = tmp.join(format!("{}-{}-{seed}.exr", c.integrator, c.sampler));
-        self.render(variant, &c.integrator, &c.sampler, budget, seed, &out)
+        let out = tmp.join(format!(
+            "{}-{}-{}-{seed}.exr",
+            c.integrator, c.sampler, c.adaptive
+        ));
+        self.render(variant, c, budget, seed, &out)
     }
 }

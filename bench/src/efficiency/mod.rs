@@ -25,6 +25,11 @@
 //! (the lamp seen directly, where pixel-area sampling noise is the same for every integrator)
 //! are left out, as is the mean ratio's.
 //!
+//! **Sampling** is uniform over the pixels for every contestant unless it says otherwise:
+//! `:noiseaware` (luxfarm's noise-aware sampling) or `:adaptive` (LuxCore's adaptive
+//! sampling, which its PATHCPU RANDOM and SOBOL samplers do by default; the script turns it off
+//! otherwise, so that like is compared with like).
+//!
 //! Pixel conventions: LuxCore's rows sit one row lower than LuxRender's, so luxfarm's images
 //! are compared one row up (as in `bench cornell`).
 
@@ -33,7 +38,7 @@ mod ours;
 mod reference;
 
 use crate::cornell::Run;
-use anyhow::{bail, Context as _};
+use anyhow::bail;
 use luxcore::LuxCore;
 use ours::Ours;
 use reference::Reference;
@@ -58,20 +63,23 @@ pub struct Args {
     /// Wall seconds each contestant renders.
     #[arg(long, default_value_t = 30.0)]
     pub budget: f64,
-    /// Rounds of all contestants (alternating); rates are medians, RMSE the root of the mean squared error over the rounds.
+    /// Rounds of all contestants (alternating); rates are medians, RMSE the root of the mean
+    /// squared error over the rounds (beside it the median round's RMSE).
     #[arg(long, default_value_t = 1)]
     pub runs: usize,
-    /// luxfarm's contestants as integrator:sampler, comma-separated.
+    /// luxfarm's contestants as integrator:sampler[:noiseaware], comma-separated.
     #[arg(
         long,
-        default_value = "path:random,path:sobol,path:metropolis,bidirectional:random,bidirectional:sobol,bidirectional:metropolis,bidirectional:erpt",
+        default_value = "path:random,path:sobol,path:sobol:noiseaware,path:metropolis,bidirectional:random,bidirectional:sobol,bidirectional:metropolis,bidirectional:erpt",
         value_delimiter = ','
     )]
     pub luxfarm: Vec<String>,
-    /// LuxCore's contestants as ENGINE:SAMPLER, comma-separated ("" or none: leave LuxCore out).
+    /// LuxCore's contestants as ENGINE:SAMPLER[:adaptive], comma-separated ("" or none: leave
+    /// LuxCore out). Without `:adaptive` LuxCore's adaptive sampling is off, as luxfarm's
+    /// samplers without `noiseaware`.
     #[arg(
         long,
-        default_value = "PATHCPU:RANDOM,PATHCPU:SOBOL,BIDIRCPU:RANDOM,BIDIRCPU:SOBOL,BIDIRCPU:METROPOLIS",
+        default_value = "PATHCPU:RANDOM,PATHCPU:SOBOL,PATHCPU:SOBOL:adaptive,BIDIRCPU:RANDOM,BIDIRCPU:SOBOL,BIDIRCPU:METROPOLIS",
         value_delimiter = ','
     )]
     pub luxcore: Vec<String>,
@@ -142,31 +150,53 @@ pub enum Renderer {
     LuxCore,
 }
 
-/// One contestant: a renderer with an integrator (engine) and a sampler.
+/// One contestant: a renderer with an integrator (engine) and a sampler, sampling every
+/// pixel alike unless `adaptive`: luxfarm's `noiseaware` sampling (`:noiseaware`), LuxCore's
+/// adaptive sampling (`:adaptive`, its PATHCPU samplers' default).
 #[derive(Clone, Debug)]
 pub struct Contestant {
     pub renderer: Renderer,
     pub integrator: String,
     pub sampler: String,
+    pub adaptive: bool,
 }
 
 impl Contestant {
     fn parse(renderer: Renderer, s: &str) -> anyhow::Result<Contestant> {
-        let (i, smp) = s
-            .split_once(':')
-            .with_context(|| format!("contestant {s:?} is not INTEGRATOR:SAMPLER"))?;
+        let mut parts = s.split(':').map(str::trim);
+        let (Some(i), Some(smp)) = (parts.next(), parts.next()) else {
+            bail!("contestant {s:?} is not INTEGRATOR:SAMPLER[:OPTION]");
+        };
+        let wanted = match renderer {
+            Renderer::Luxfarm => "noiseaware",
+            Renderer::LuxCore => "adaptive",
+        };
+        let adaptive = match parts.next() {
+            None => false,
+            Some(o) if o == wanted => true,
+            Some(o) => bail!("contestant {s:?}: option {o:?} (only {wanted:?} here)"),
+        };
+        if parts.next().is_some() {
+            bail!("contestant {s:?} is not INTEGRATOR:SAMPLER[:OPTION]");
+        }
+        if adaptive && renderer == Renderer::LuxCore && smp.eq_ignore_ascii_case("METROPOLIS") {
+            bail!("contestant {s:?}: LuxCore's METROPOLIS sampler is not adaptive");
+        }
         Ok(Contestant {
             renderer,
-            integrator: i.trim().to_string(),
-            sampler: smp.trim().to_string(),
+            integrator: i.to_string(),
+            sampler: smp.to_string(),
+            adaptive,
         })
     }
 
     fn label(&self) -> String {
-        match self.renderer {
-            Renderer::Luxfarm => format!("luxfarm {}+{}", self.integrator, self.sampler),
-            Renderer::LuxCore => format!("LuxCore {}+{}", self.integrator, self.sampler),
-        }
+        let (who, option) = match self.renderer {
+            Renderer::Luxfarm => ("luxfarm", "+noiseaware"),
+            Renderer::LuxCore => ("LuxCore", "+adaptive"),
+        };
+        let option = if self.adaptive { option } else { "" };
+        format!("{who} {}+{}{option}", self.integrator, self.sampler)
     }
 
     /// Rows this renderer's images sit below LuxCore's (the reference's).
@@ -186,6 +216,8 @@ struct Summary {
     spp: f64,
     seconds: f64,
     rmse: f64,
+    /// The median run's RMSE: the typical render, where `rmse` is the expected one.
+    median_rmse: f64,
     raw_rmse: f64,
     mean_ratio: f64,
 }
@@ -318,6 +350,7 @@ fn summarize(c: &Contestant, runs: &[Run], reference: &Reference, mask: &[bool])
         spp: median(runs.iter().map(|r| r.spp).collect()),
         seconds: median(runs.iter().map(|r| r.seconds).collect()),
         rmse: root_mean_square(ms.iter().map(|m| m.rmse)),
+        median_rmse: median(ms.iter().map(|m| m.rmse).collect()),
         raw_rmse: root_mean_square(ms.iter().map(|m| m.raw_rmse)),
         mean_ratio: median(ms.iter().map(|m| m.mean_ratio).collect()),
     }
@@ -328,6 +361,7 @@ fn find<'a>(sums: &'a [Summary], r: Renderer, integ: &str, sampler: &str) -> Opt
         s.who.renderer == r
             && s.who.integrator.eq_ignore_ascii_case(integ)
             && s.who.sampler.eq_ignore_ascii_case(sampler)
+            && !s.who.adaptive
     })
 }
 
@@ -344,21 +378,22 @@ fn report(variant: Variant, sums: &[Summary], budget: f64) -> String {
     let base = find(sums, Renderer::Luxfarm, "path", "random");
     let _ = writeln!(
         out,
-        "\n{} at {budget} s:\n| renderer | samples/s | samples/CPU-s | spp | s | RMSE | raw RMSE | mean / reference | RMSE / luxfarm path+random |",
+        "\n{} at {budget} s:\n| renderer | samples/s | samples/CPU-s | spp | s | RMSE | median run's RMSE | raw RMSE | mean / reference | RMSE / luxfarm path+random |",
         variant.name()
     );
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|");
     for s in sums {
         let rel = base.map_or("-".into(), |b| format!("{:.3}", s.rmse / b.rmse));
         let _ = writeln!(
             out,
-            "| {} | {:.0} | {:.0} | {:.1} | {:.1} | {:.5} | {:.5} | {:.4} | {rel} |",
+            "| {} | {:.0} | {:.0} | {:.1} | {:.1} | {:.5} | {:.5} | {:.5} | {:.4} | {rel} |",
             s.who.label(),
             s.rate,
             s.cpu_rate,
             s.spp,
             s.seconds,
             s.rmse,
+            s.median_rmse,
             s.raw_rmse,
             s.mean_ratio
         );
@@ -402,13 +437,40 @@ fn report(variant: Variant, sums: &[Summary], budget: f64) -> String {
         if let (Some(x), Some(y)) = pair {
             let _ = writeln!(
                 out,
-                "{}: {what}{} / {}: RMSE at equal time {:.3}",
+                "{}: {what}{} / {}: RMSE at equal time {:.3} (median runs {:.3})",
                 variant.name(),
                 x.who.label(),
                 y.who.label(),
-                x.rmse / y.rmse
+                x.rmse / y.rmse,
+                x.median_rmse / y.median_rmse
             );
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn contestants_take_their_renderers_adaptive_option_only() {
+        let c = Contestant::parse(Renderer::Luxfarm, "path:sobol:noiseaware").unwrap();
+        assert!(c.adaptive);
+        assert_eq!(c.label(), "luxfarm path+sobol+noiseaware");
+        let c = Contestant::parse(Renderer::LuxCore, "PATHCPU:SOBOL").unwrap();
+        assert!(!c.adaptive);
+        assert_eq!(c.label(), "LuxCore PATHCPU+SOBOL");
+        let c = Contestant::parse(Renderer::LuxCore, "PATHCPU:RANDOM:adaptive").unwrap();
+        assert_eq!(c.label(), "LuxCore PATHCPU+RANDOM+adaptive");
+        for (r, bad) in [
+            (Renderer::Luxfarm, "path:random:adaptive"),
+            (Renderer::LuxCore, "PATHCPU:RANDOM:noiseaware"),
+            (Renderer::LuxCore, "BIDIRCPU:METROPOLIS:adaptive"),
+            (Renderer::Luxfarm, "path"),
+            (Renderer::Luxfarm, "path:random:noiseaware:x"),
+        ] {
+            assert!(Contestant::parse(r, bad).is_err(), "{bad}");
+        }
+    }
 }

@@ -78,7 +78,8 @@ impl Ours {
     /// 0..maxdepth−1); bidirectional's `eyedepth` / `lightdepth` count vertices with the
     /// camera and the light, so D + 1 of each allows D segments on either side, as LuxCore's
     /// `path.maxdepth` / `light.maxdepth` D. Russian roulette off on both.
-    fn statements(&self, integrator: &str, sampler: &str) -> anyhow::Result<(String, String)> {
+    fn statements(&self, c: &Contestant) -> anyhow::Result<(String, String)> {
+        let (integrator, sampler) = (c.integrator.as_str(), c.sampler.as_str());
         let d = self.depth;
         let integ = match integrator {
             "path" => format!(
@@ -91,15 +92,20 @@ impl Ours {
             ),
             other => bail!("integrator {other:?}: path or bidirectional"),
         };
+        let noiseaware = if c.adaptive {
+            r#" "bool noiseaware" ["true"]"#
+        } else {
+            ""
+        };
         Ok((
-            format!(r#"Sampler "{sampler}" "integer pixelsamples" [1]"#),
+            format!(r#"Sampler "{sampler}" "integer pixelsamples" [1]{noiseaware}"#),
             integ,
         ))
     }
 
     /// Renders `c` for `budget` wall seconds (the last pass may run past it), on stream `seed`.
     pub fn run(&self, c: &Contestant, budget: f64, seed: u64) -> anyhow::Result<Run> {
-        let (sampler, integ) = self.statements(&c.integrator, &c.sampler)?;
+        let (sampler, integ) = self.statements(c)?;
         let text = self
             .text
             .replace(SAMPLER, &sampler)

@@ -4,7 +4,7 @@
 //! noise: E[(X − R)²] = MSE(X) + Var(R) for independent X and R.
 
 use super::luxcore::LuxCore;
-use super::Variant;
+use super::{Contestant, Renderer, Variant};
 use crate::image_metrics::row_pairs;
 use anyhow::bail;
 use luxfarm::texture::image_io::load_rgb as load_image;
@@ -43,6 +43,12 @@ impl Reference {
         dir: &Path,
         seconds: f64,
     ) -> anyhow::Result<Reference> {
+        let bidir = Contestant {
+            renderer: Renderer::LuxCore,
+            integrator: "BIDIRCPU".into(),
+            sampler: "RANDOM".into(),
+            adaptive: false,
+        };
         let mut halves = Vec::new();
         for (half, seed) in [("a", 11), ("b", 12)] {
             let path = dir.join(format!(
@@ -62,7 +68,7 @@ impl Reference {
                     "rendering {} with LuxCore BIDIRCPU for {seconds} s",
                     path.display()
                 );
-                let r = lc.render(variant, "BIDIRCPU", "RANDOM", seconds, seed, &path)?;
+                let r = lc.render(variant, &bidir, seconds, seed, &path)?;
                 println!("  {} spp", r.spp);
             }
             let (w, h, px) = load_image(&path).map_err(anyhow::Error::msg)?;
