@@ -133,12 +133,13 @@ fn merged(dir: &Path) -> BTreeSet<PathBuf> {
         .collect()
 }
 
-/// Waits (at most `secs`) for a merged delta in `dir`, not among `old`, whose left/right
-/// sample ratio `ok` accepts; the ratios seen.
-fn wait_for_delta(
+/// Waits (at most `secs`) for a merged delta in `dir`, not among `old`, whose `measure`
+/// (none: the delta holds nothing) `ok` accepts; the measures seen.
+fn wait_for(
     dir: &Path,
     old: &BTreeSet<PathBuf>,
     secs: u64,
+    measure: impl Fn(&Path) -> Option<f64>,
     ok: impl Fn(f64) -> bool,
 ) -> (bool, Vec<f64>) {
     let end = Instant::now() + Duration::from_secs(secs);
@@ -149,19 +150,30 @@ fn wait_for_delta(
             if !checked.insert(p.clone()) {
                 continue;
             }
-            let (l, r) = halves(p);
-            if l + r == 0.0 {
-                continue;
-            }
-            let ratio = l / r.max(1.0);
-            seen.push(ratio);
-            if ok(ratio) {
-                return (true, seen);
+            if let Some(m) = measure(p) {
+                seen.push(m);
+                if ok(m) {
+                    return (true, seen);
+                }
             }
         }
         std::thread::sleep(Duration::from_millis(200));
     }
     (false, seen)
+}
+
+/// [`wait_for`] a delta whose left/right sample ratio `ok` accepts.
+fn wait_for_delta(
+    dir: &Path,
+    old: &BTreeSet<PathBuf>,
+    secs: u64,
+    ok: impl Fn(f64) -> bool,
+) -> (bool, Vec<f64>) {
+    let ratio = |p: &Path| {
+        let (l, r) = halves(p);
+        (l + r > 0.0).then(|| l / r.max(1.0))
+    };
+    wait_for(dir, old, secs, ratio, ok)
 }
 
 #[test]
@@ -298,31 +310,14 @@ fn right_reached(path: &Path) -> Option<f64> {
     Some(right.iter().filter(|v| **v > 0.0).count() as f64 / right.len() as f64)
 }
 
-/// Waits (at most `secs`) for a merged delta in `dir`, not among `old`, whose share of
-/// right-half pixels reached `ok` accepts; the shares seen.
+/// [`wait_for`] a delta whose share of right-half pixels reached `ok` accepts.
 fn wait_for_reach(
     dir: &Path,
     old: &BTreeSet<PathBuf>,
     secs: u64,
     ok: impl Fn(f64) -> bool,
 ) -> (bool, Vec<f64>) {
-    let end = Instant::now() + Duration::from_secs(secs);
-    let (mut seen, mut checked) = (Vec::new(), BTreeSet::new());
-    while Instant::now() < end {
-        for p in merged(dir).difference(old) {
-            if !checked.insert(p.clone()) {
-                continue;
-            }
-            if let Some(r) = right_reached(p) {
-                seen.push(r);
-                if ok(r) {
-                    return (true, seen);
-                }
-            }
-        }
-        std::thread::sleep(Duration::from_millis(200));
-    }
-    (false, seen)
+    wait_for(dir, old, secs, right_reached, ok)
 }
 
 #[test]
