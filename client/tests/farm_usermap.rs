@@ -111,8 +111,9 @@ fn call(s: &Server, method: reqwest::Method, id: &str) -> (u16, serde_json::Valu
     (status, r.json().unwrap_or(serde_json::Value::Null))
 }
 
-/// Per-pixel sample counts of a kept delta, and the mean of the left and right halves.
-fn halves(path: &Path) -> (f64, f64) {
+/// The left/right ratio of a kept delta's sample counts (per-pixel weight sums); none when
+/// the delta holds no samples.
+fn left_right_ratio(path: &Path) -> Option<f64> {
     let film = codec::decode(&std::fs::read(path).unwrap()).unwrap();
     let counts: Vec<f64> = film.buffer(0, 0).unwrap().chunks(5).map(|p| p[4]).collect();
     let (mut l, mut r) = (0.0, 0.0);
@@ -123,7 +124,7 @@ fn halves(path: &Path) -> (f64, f64) {
             r += c;
         }
     }
-    (l, r)
+    (l + r > 0.0).then(|| l / r.max(1.0))
 }
 
 fn merged(dir: &Path) -> BTreeSet<PathBuf> {
@@ -160,20 +161,6 @@ fn wait_for(
         std::thread::sleep(Duration::from_millis(200));
     }
     (false, seen)
-}
-
-/// [`wait_for`] a delta whose left/right sample ratio `ok` accepts.
-fn wait_for_delta(
-    dir: &Path,
-    old: &BTreeSet<PathBuf>,
-    secs: u64,
-    ok: impl Fn(f64) -> bool,
-) -> (bool, Vec<f64>) {
-    let ratio = |p: &Path| {
-        let (l, r) = halves(p);
-        (l + r > 0.0).then(|| l / r.max(1.0))
-    };
-    wait_for(dir, old, secs, ratio, ok)
 }
 
 #[test]
@@ -257,7 +244,9 @@ fn a_user_map_reaches_the_workers_survives_a_restart_and_clears() {
     // A worker samples by it.
     let keep_a = dir.path().join("kept-a");
     let mut wa = worker(&s.url(), 1, &["--keep-deltas", keep_a.to_str().unwrap()]);
-    let (ok, seen) = wait_for_delta(&keep_a, &BTreeSet::new(), 180, |r| (r - 9.0).abs() < 1.5);
+    let (ok, seen) = wait_for(&keep_a, &BTreeSet::new(), 180, left_right_ratio, |r| {
+        (r - 9.0).abs() < 1.5
+    });
     assert!(ok, "left/right samples of worker A's deltas: {seen:?}");
     eprintln!("worker A, left/right samples per delta: {seen:?}");
     wa.term();
@@ -274,7 +263,9 @@ fn a_user_map_reaches_the_workers_survives_a_restart_and_clears() {
     assert_eq!(again["version"].as_u64(), Some(version));
     let keep_b = dir.path().join("kept-b");
     let _wb = worker(&s.url(), 1, &["--keep-deltas", keep_b.to_str().unwrap()]);
-    let (ok, seen) = wait_for_delta(&keep_b, &BTreeSet::new(), 180, |r| (r - 9.0).abs() < 1.5);
+    let (ok, seen) = wait_for(&keep_b, &BTreeSet::new(), 180, left_right_ratio, |r| {
+        (r - 9.0).abs() < 1.5
+    });
     assert!(ok, "left/right samples of worker B's deltas: {seen:?}");
 
     // Cleared: uniform again.
@@ -284,7 +275,9 @@ fn a_user_map_reaches_the_workers_survives_a_restart_and_clears() {
     assert!(v["version"].as_u64().unwrap() > version, "{v}");
     let (st, _) = call(&s, reqwest::Method::GET, &id);
     assert_eq!(st, 404);
-    let (ok, seen) = wait_for_delta(&keep_b, &before, 180, |r| (r - 1.0).abs() < 0.1);
+    let (ok, seen) = wait_for(&keep_b, &before, 180, left_right_ratio, |r| {
+        (r - 1.0).abs() < 0.1
+    });
     assert!(ok, "left/right samples after DELETE: {seen:?}");
 
     // An ended job's map can no longer change.
@@ -310,16 +303,6 @@ fn right_reached(path: &Path) -> Option<f64> {
     Some(right.iter().filter(|v| **v > 0.0).count() as f64 / right.len() as f64)
 }
 
-/// [`wait_for`] a delta whose share of right-half pixels reached `ok` accepts.
-fn wait_for_reach(
-    dir: &Path,
-    old: &BTreeSet<PathBuf>,
-    secs: u64,
-    ok: impl Fn(f64) -> bool,
-) -> (bool, Vec<f64>) {
-    wait_for(dir, old, secs, right_reached, ok)
-}
-
 #[test]
 fn metropolis_workers_follow_a_user_map() {
     let dir = tempfile::tempdir().unwrap();
@@ -336,7 +319,7 @@ fn metropolis_workers_follow_a_user_map() {
     let _w = worker(&s.url(), 1, &["--keep-deltas", keep.to_str().unwrap()]);
 
     // Without a map the chains reach (nearly) every pixel.
-    let (ok, seen) = wait_for_reach(&keep, &BTreeSet::new(), 180, |r| r > 0.9);
+    let (ok, seen) = wait_for(&keep, &BTreeSet::new(), 180, right_reached, |r| r > 0.9);
     assert!(ok, "share of right pixels reached before the map: {seen:?}");
 
     // The right half at a thousandth of the left's density.
@@ -348,7 +331,7 @@ fn metropolis_workers_follow_a_user_map() {
     assert_eq!(st, 200, "{v}");
     assert_eq!(v["applied"].as_bool(), Some(true), "{v}");
     let before = merged(&keep);
-    let (ok, seen) = wait_for_reach(&keep, &before, 180, |r| r < 0.25);
+    let (ok, seen) = wait_for(&keep, &before, 180, right_reached, |r| r < 0.25);
     assert!(ok, "share of right pixels reached after the map: {seen:?}");
     eprintln!("share of right pixels reached per delta after the map: {seen:?}");
 
@@ -356,6 +339,6 @@ fn metropolis_workers_follow_a_user_map() {
     let before = merged(&keep);
     let (st, _) = call(&s, reqwest::Method::DELETE, &id);
     assert_eq!(st, 200);
-    let (ok, seen) = wait_for_reach(&keep, &before, 180, |r| r > 0.9);
+    let (ok, seen) = wait_for(&keep, &before, 180, right_reached, |r| r > 0.9);
     assert!(ok, "share of right pixels reached after DELETE: {seen:?}");
 }
