@@ -9,25 +9,18 @@
 //!   --density(position)--> q (1 everywhere for the uniform map)
 //! ```
 //!
-//! A position is drawn by choosing a row in proportion to its total weight, then a pixel of
-//! that row in proportion to its weight, then a point uniformly inside the pixel. Its density
-//! over the unit square is the pixel's weight over the mean weight: what `density` returns,
-//! so an estimator can divide by it.
+//! A position is drawn by [`PiecewiseConstant2D`]: a row in proportion to its total weight,
+//! then a pixel of that row in proportion to its weight, then a point uniformly inside the
+//! pixel. Its density over the unit square is the pixel's weight over the mean weight: what
+//! `density` returns, so an estimator can divide by it.
 
 use super::map::SamplingMap;
+use crate::sampling::piecewise::PiecewiseConstant2D;
 
-/// The densities of the extent's pixels with their cumulative sums.
-#[derive(Clone, Debug, PartialEq)]
+/// The extent's pixel weights as a density over the unit square.
+#[derive(Clone, Debug)]
 pub struct MapWarp {
-    width: usize,
-    height: usize,
-    /// Per extent pixel, row-major: its weight over the mean weight.
-    density: Vec<f32>,
-    /// Cumulative row totals (length height + 1, from 0 to 1).
-    rows: Vec<f64>,
-    /// Per row, cumulative pixel weights within the row (width + 1 each, from 0 to 1; a row
-    /// of zero weight is never chosen).
-    cols: Vec<f32>,
+    dist: PiecewiseConstant2D,
 }
 
 impl MapWarp {
@@ -44,94 +37,26 @@ impl MapWarp {
         for y in 0..h {
             let by = nearest(offset[1] + y as i64, map.height());
             for x in 0..w {
-                let bx = nearest(offset[0] + x as i64, map.width());
-                let d = map.density(bx, by);
-                weight.push(if d.is_finite() && d > 0.0 { d } else { 0.0 });
+                weight.push(map.density(nearest(offset[0] + x as i64, map.width()), by));
             }
         }
-        let total: f64 = weight.iter().map(|&d| f64::from(d)).sum();
-        if total <= 0.0 || !total.is_finite() {
-            return None;
-        }
-        let mean = total / (w * h) as f64;
-        let mut rows = Vec::with_capacity(h + 1);
-        let mut cols = Vec::with_capacity(h * (w + 1));
-        let mut acc = 0.0f64;
-        rows.push(0.0);
-        for row in weight.chunks(w) {
-            let row_total: f64 = row.iter().map(|&d| f64::from(d)).sum();
-            let mut c = 0.0f64;
-            cols.push(0.0);
-            for &d in row {
-                c += f64::from(d);
-                cols.push(if row_total > 0.0 {
-                    (c / row_total) as f32
-                } else {
-                    0.0
-                });
-            }
-            acc += row_total;
-            rows.push(acc / total);
-        }
-        let density = weight
-            .iter()
-            .map(|&d| (f64::from(d) / mean) as f32)
-            .collect();
-        Some(MapWarp {
-            width: w,
-            height: h,
-            density,
-            rows,
-            cols,
-        })
+        let dist = PiecewiseConstant2D::new(&weight, w, h);
+        (dist.integral() > 0.0).then_some(MapWarp { dist })
     }
 
     /// The film position (fractions of the extent, each in [0, 1)) of uniform numbers `u`:
     /// `u[1]` picks the row, `u[0]` the pixel within it and the point within the pixel.
     pub fn warp(&self, u: [f32; 2]) -> [f32; 2] {
-        let (j, fy) = pick(&self.rows, f64::from(u[1].clamp(0.0, 1.0)));
-        let row = &self.cols[j * (self.width + 1)..(j + 1) * (self.width + 1)];
-        let (i, fx) = pick(row, f64::from(u[0].clamp(0.0, 1.0)));
-        let x = ((i as f64 + fx) / self.width as f64) as f32;
-        let y = ((j as f64 + fy) / self.height as f64) as f32;
-        [below_one(x), below_one(y)]
+        self.dist
+            .sample(u[0].clamp(0.0, 1.0), u[1].clamp(0.0, 1.0))
+            .0
     }
 
     /// The density with which [`MapWarp::warp`] draws the film position `f` (fractions of the
     /// extent): its pixel's weight over the mean (0 for a pixel of weight 0).
     pub fn density(&self, f: [f32; 2]) -> f32 {
-        let cell = |v: f32, n: usize| ((v.clamp(0.0, 1.0) * n as f32) as usize).min(n - 1);
-        let (i, j) = (cell(f[0], self.width), cell(f[1], self.height));
-        self.density.get(j * self.width + i).copied().unwrap_or(0.0)
+        self.dist.pdf(f[0].clamp(0.0, 1.0), f[1].clamp(0.0, 1.0))
     }
-}
-
-/// The largest f32 below 1 for values that rounded up to 1.
-fn below_one(v: f32) -> f32 {
-    if v < 1.0 {
-        v.max(0.0)
-    } else {
-        1.0 - f32::EPSILON / 2.0
-    }
-}
-
-/// The interval `i` of cumulative sums `cdf` (non-decreasing, 0 … 1) holding `u`, and where
-/// in it `u` lies (0 … 1). Only `u` at or beyond the last sum can land on an empty
-/// interval; it then moves back to the last non-empty one.
-fn pick<T: Copy + Into<f64>>(cdf: &[T], u: f64) -> (usize, f64) {
-    let at = |i: usize| -> f64 { cdf[i].into() };
-    let n = cdf.len() - 1;
-    let mut i = cdf.partition_point(|&c| c.into() <= u).clamp(1, n) - 1;
-    while i > 0 && at(i + 1) <= at(i) {
-        i -= 1;
-    }
-    let width = at(i + 1) - at(i);
-    let f = if width > 0.0 {
-        (u - at(i)) / width
-    } else {
-        0.5
-    };
-    (i, f.clamp(0.0, 1.0))
 }
 
 #[cfg(test)]

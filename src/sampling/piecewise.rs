@@ -140,6 +140,11 @@ impl PiecewiseConstant2D {
         PiecewiseConstant2D { rows, marginal }
     }
 
+    /// The values' mean over the unit square (0 when every value is zero).
+    pub fn integral(&self) -> f32 {
+        self.marginal.integral()
+    }
+
     /// Samples (u, v) in [0,1)² with its density.
     pub fn sample(&self, u0: f32, u1: f32) -> ([f32; 2], f32) {
         let (v, pdf_v, row) = self.marginal.sample_continuous(u1);
