@@ -1,5 +1,7 @@
 //! The depth (Z) buffer: rendered when the Film asks for `write_exr_ZBuf`, holding the
-//! distance from the camera to the first hit, and written as the EXR's Z channel.
+//! distance from the camera to the first hit, and written as the EXR's Z channel with
+//! LuxRender 1.x's normalisations (Min/Max: nearest 1, farthest 0; "Camera Start/End clip":
+//! the raw depths). PNG and TGA get no Z, as in LuxRender.
 
 mod render_util;
 
@@ -63,6 +65,19 @@ fn exr_gets_a_z_channel_and_normalisation_applies() {
         .iter()
         .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
     assert!(lo.abs() < 1e-6 && (hi - 1.0).abs() < 1e-6, "{lo} {hi}");
+    // LuxRender's direction: the wall's nearest pixels (the centre) are 1, the corners 0.
+    let raw = s.zbuffer().unwrap().raw();
+    let nearest = (0..raw.len())
+        .min_by(|&a, &b| raw[a].total_cmp(&raw[b]))
+        .unwrap();
+    let farthest = (0..raw.len())
+        .max_by(|&a, &b| raw[a].total_cmp(&raw[b]))
+        .unwrap();
+    assert!([7 * 16 + 7, 7 * 16 + 8, 8 * 16 + 7, 8 * 16 + 8].contains(&nearest));
+    assert_eq!((d[nearest], d[farthest]), (1.0, 0.0));
+    let centre = (raw[8 * 16 + 8], d[8 * 16 + 8]);
+    let (near, far) = (raw[nearest], raw[farthest]);
+    assert!((centre.1 - (far - centre.0) / (far - near)).abs() < 1e-5);
     let dir = std::env::temp_dir().join(format!("luxfarm-zbuf-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let base = dir.join("wall");
@@ -83,7 +98,21 @@ fn exr_gets_a_z_channel_and_normalisation_applies() {
 }
 
 #[test]
+fn camera_start_end_clip_writes_the_depths_as_luxrender_does() {
+    let s = session(&scene(
+        r#""bool write_exr" ["true"] "bool write_exr_ZBuf" ["true"]
+           "string write_exr_zbuf_normalizationtype" ["Camera Start/End clip"]"#,
+    ));
+    assert_eq!(s.exr_depths().unwrap(), s.zbuffer().unwrap().raw());
+}
+
+#[test]
 fn no_z_buffer_unless_asked() {
     let s = session(&scene(""));
+    assert!(s.zbuffer().is_none());
+    // PNG and TGA carry no Z channel: asking them for one renders no depth buffer.
+    let s = session(&scene(
+        r#""bool write_png_ZBuf" ["true"] "bool write_tga" ["true"] "bool write_tga_ZBuf" ["true"]"#,
+    ));
     assert!(s.zbuffer().is_none());
 }

@@ -336,6 +336,16 @@ impl FilmParams {
         self.png = image_output(ps, loc, "png", true, "Min/Max", pm)?;
         self.png_16bit = ps.bool_or("write_png_16bit", false);
         self.tga = image_output(ps, loc, "tga", false, "Min/Max", pm)?;
+        for (fmt, out) in [("png", &self.png), ("tga", &self.tga)] {
+            if out.enabled && out.zbuf {
+                let at = loc_of(ps, &format!("write_{fmt}_ZBuf"), loc);
+                tracing::warn!(
+                    "{at}: write_{fmt}_ZBuf: LuxRender writes a Z buffer only into the EXR output \
+                     (write_exr_ZBuf); the {} file gets none",
+                    fmt.to_uppercase()
+                );
+            }
+        }
         if self.tga.channels == Channels::Ya {
             return Err(bad(
                 loc,
@@ -354,11 +364,10 @@ impl FilmParams {
         u64::from(self.x_pixel_count) * u64::from(self.y_pixel_count)
     }
 
-    /// Whether any Z buffer output is asked for.
+    /// Whether an output with a Z channel is asked for: only EXR has one (LuxRender 1.x's
+    /// PNG and TGA writers ignore their `_ZBuf` flags, and so does luxfarm, with a warning).
     pub fn wants_zbuf(&self) -> bool {
-        (self.exr.enabled && self.exr.zbuf)
-            || (self.png.enabled && self.png.zbuf)
-            || (self.tga.enabled && self.tga.zbuf)
+        self.exr.enabled && self.exr.zbuf
     }
 }
 

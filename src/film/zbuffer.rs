@@ -4,7 +4,10 @@
 //! sample's depth with its filter weight. Samples that hit nothing add no depth.
 //!
 //! Renders add depths tile by tile ([`ZBuffer::add`], [`ZBuffer::merge_at`]); outputs take
-//! [`ZBuffer::depths`] normalised as `write_*_zbuf_normalizationtype` asks. Sums are f64.
+//! [`ZBuffer::depths`] normalised as `write_exr_zbuf_normalizationtype` asks. Sums are f64.
+//! Only the EXR output carries a Z channel: LuxRender 1.x's PNG and TGA writers take the
+//! `write_png_ZBuf`/`write_tga_ZBuf` flags and write no depth, so a Film asking for those
+//! alone renders no depth buffer (see `FilmParams::wants_zbuf`).
 
 use super::image_output::ZBufNorm;
 
@@ -90,31 +93,31 @@ impl ZBuffer {
             .collect()
     }
 
-    /// The depths as an output writes them: raw, mapped from [hither, yon] to [0, 1]
-    /// ("Camera Start/End clip"), or from the smallest to the largest depth present
-    /// ("Min/Max"). Pixels without depth stay 0.
-    pub fn depths(&self, norm: ZBufNorm, hither: f32, yon: f32) -> Vec<f32> {
+    /// The depths the EXR output writes, as LuxRender 1.x's fleximage writes them for each
+    /// `write_exr_zbuf_normalizationtype`:
+    /// - "None": the mean depths, 0 where nothing was hit;
+    /// - "Camera Start/End clip": the same (LuxRender names this option and leaves the depths
+    ///   as they are);
+    /// - "Min/Max": (z_max − z) / (z_max − z_min) over the depths present, so the nearest
+    ///   surface is 1 and the farthest 0; a pixel without depth (z = 0) comes out at
+    ///   z_max / (z_max − z_min), above 1, as LuxRender writes it. Where LuxRender divides
+    ///   by zero (no depth at all, or a single depth) every pixel is 0 here.
+    pub fn depths(&self, norm: ZBufNorm) -> Vec<f32> {
         let raw = self.raw();
-        let (lo, hi) = match norm {
-            ZBufNorm::None => return raw,
-            ZBufNorm::CameraStartEnd => (hither, yon),
-            ZBufNorm::MinMax => raw
-                .iter()
-                .filter(|&&d| d > 0.0)
-                .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &d| {
-                    (a.min(d), b.max(d))
-                }),
-        };
-        let span = hi - lo;
-        raw.into_iter()
-            .map(|d| {
-                if d > 0.0 && span > 0.0 && span.is_finite() {
-                    ((d - lo) / span).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                }
-            })
-            .collect()
+        if norm != ZBufNorm::MinMax {
+            return raw;
+        }
+        let (near, far) = raw
+            .iter()
+            .filter(|&&d| d > 0.0)
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &d| {
+                (a.min(d), b.max(d))
+            });
+        let span = far - near;
+        if !(span > 0.0 && span.is_finite()) {
+            return vec![0.0; raw.len()];
+        }
+        raw.into_iter().map(|d| (far - d) / span).collect()
     }
 }
 
@@ -131,9 +134,17 @@ mod tests {
         z.add(5, 0, 1.0, 1.0); // outside
         z.add(1, 0, f32::NAN, 1.0);
         assert_eq!(z.raw(), vec![3.0, 7.0]);
-        assert_eq!(z.depths(ZBufNorm::MinMax, 0.0, 0.0), vec![0.0, 1.0]);
-        let c = z.depths(ZBufNorm::CameraStartEnd, 1.0, 11.0);
-        assert!((c[0] - 0.2).abs() < 1e-6 && (c[1] - 0.6).abs() < 1e-6);
+        assert_eq!(z.depths(ZBufNorm::None), vec![3.0, 7.0]);
+        assert_eq!(z.depths(ZBufNorm::CameraStartEnd), vec![3.0, 7.0]);
+        assert_eq!(z.depths(ZBufNorm::MinMax), vec![1.0, 0.0]);
+        let mut gap = ZBuffer::new(3, 1);
+        gap.add(0, 0, 2.0, 1.0);
+        gap.add(2, 0, 6.0, 1.0);
+        // The empty pixel as LuxRender writes it: z_max / (z_max - z_min).
+        assert_eq!(gap.depths(ZBufNorm::MinMax), vec![1.0, 1.5, 0.0]);
+        let mut one = ZBuffer::new(2, 1);
+        one.add(0, 0, 4.0, 1.0);
+        assert_eq!(one.depths(ZBufNorm::MinMax), vec![0.0, 0.0]);
         let mut big = ZBuffer::new(3, 2);
         big.merge_at(&z, 1, 1);
         assert_eq!(big.raw(), vec![0.0, 0.0, 0.0, 0.0, 3.0, 7.0]);

@@ -304,13 +304,10 @@ impl Session {
         self.depth.as_ref()
     }
 
-    /// The depths the EXR output writes (its normalisation, the camera's clipping planes).
+    /// The depths the EXR output writes (with its normalisation).
     pub fn exr_depths(&self) -> Option<Vec<f32>> {
-        let cam = &self.scene.setup.camera;
         let norm = self.scene.setup.film_params.exr.zbuf_norm;
-        self.depth
-            .as_ref()
-            .map(|z| z.depths(norm, cam.hither, cam.yon))
+        self.depth.as_ref().map(|z| z.depths(norm))
     }
 
     /// Passes rendered so far.
