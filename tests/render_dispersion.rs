@@ -9,7 +9,8 @@
 //! cauchyb/λ² blue light (higher index) is bent more than red, so the pixels that see the strip
 //! in red and those that see it in blue differ. Per image column the film's X (long
 //! wavelengths dominate it) and Z (short wavelengths) give two centroids along x: they differ
-//! by several pixels with dispersion and coincide without.
+//! by several pixels with dispersion and coincide without. A dispersive glass inside a `mix`
+//! material disperses as well.
 
 mod render_util;
 
@@ -22,6 +23,13 @@ use std::path::Path;
 const W: u32 = 96;
 
 fn scene(glass: &str) -> String {
+    scene_with(&format!(
+        r#"MakeNamedMaterial "prism" "string type" ["glass"] {glass}"#
+    ))
+}
+
+/// The scene with `materials` defining the named material "prism".
+fn scene_with(materials: &str) -> String {
     // Prism: A(-1, z=0), B(1, 0), C(0, 1), y in [-2, 2]; outward normals by the right-hand rule.
     format!(
         r#"LookAt -0.5 0 5  -0.5 0 0  0 1 0
@@ -32,7 +40,7 @@ Sampler "random" "integer pixelsamples" [64]
 SurfaceIntegrator "path" "integer maxdepth" [8]
 WorldBegin
 AttributeBegin
-MakeNamedMaterial "prism" "string type" ["glass"] {glass}
+{materials}
 NamedMaterial "prism"
 Shape "trianglemesh" "point P" [-1 -2 0  1 -2 0  0 -2 1   -1 2 0  1 2 0  0 2 1]
   "integer indices" [0 1 2  3 5 4  0 4 1  0 3 4  1 5 2  1 4 5  2 3 0  2 5 3]
@@ -48,8 +56,12 @@ WorldEnd
 }
 
 fn render_scene(glass: &str) -> (Film, bool) {
+    render_text(&scene(glass))
+}
+
+fn render_text(text: &str) -> (Film, bool) {
     let path = Path::new("/tmp/render_dispersion.lxs");
-    let desc = parse_text(&scene(glass), path);
+    let desc = parse_text(text, path);
     let spectral = Renderable::build(&desc, Path::new("/tmp"))
         .expect("scene builds")
         .world
@@ -68,6 +80,27 @@ fn a_dispersive_prism_separates_red_from_blue() {
     assert!(spectral, "cauchyb > 0 switches the scene to spectral paths");
     let (cx, cz, total) = centroids(&film);
     eprintln!("cauchyb 0.05: X centroid {cx:.2} px, Z centroid {cz:.2} px (total {total:.3})");
+    assert!(total > 0.0, "the strip is seen through the prism");
+    assert!((cx - cz).abs() > 4.0, "X at {cx}, Z at {cz}");
+}
+
+/// A dispersive glass inside a `mix` (as exporters write glass blended with another
+/// material) still makes the scene spectral and still splits the light: the hit's dispersion
+/// is that of the component the mix picks.
+#[test]
+fn a_dispersive_glass_inside_a_mix_separates_red_from_blue() {
+    let (film, spectral) = render_text(&scene_with(
+        r#"MakeNamedMaterial "flint" "string type" ["glass"] "float index" [1.5] "float cauchyb" [0.05]
+MakeNamedMaterial "crown" "string type" ["glass"] "float index" [1.5] "float cauchyb" [0.05]
+MakeNamedMaterial "prism" "string type" ["mix"] "string namedmaterial1" ["flint"]
+  "string namedmaterial2" ["crown"] "float amount" [0.5]"#,
+    ));
+    assert!(
+        spectral,
+        "a mix with a dispersive component switches to spectral paths"
+    );
+    let (cx, cz, total) = centroids(&film);
+    eprintln!("mix of cauchyb 0.05 glasses: X centroid {cx:.2} px, Z centroid {cz:.2} px");
     assert!(total > 0.0, "the strip is seen through the prism");
     assert!((cx - cz).abs() > 4.0, "X at {cx}, Z at {cz}");
 }

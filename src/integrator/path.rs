@@ -223,9 +223,10 @@ impl PathIntegrator {
                 break;
             }
             let last = depth + 1 >= self.max_depth;
-            let mut bsdf = material.bsdf(si, s.next_1d());
+            let u_select = s.next_1d();
+            let mut bsdf = material.bsdf(si, u_select);
             if scene.spectral() {
-                if let Some(b) = material.dispersion(si) {
+                if let Some(b) = material.dispersion(si, u_select) {
                     let nm = match lambda {
                         Some(nm) => nm,
                         None => {

@@ -161,25 +161,36 @@ impl Material {
 
     /// How the index depends on the wavelength at the hit, when the material disperses light:
     /// glass and roughglass with `cauchyb` ≠ 0, glass2 with `dispersion` and a volume index
-    /// that depends on the wavelength. [`Dispersion::shift`] gives the index change at a
-    /// wavelength, applied by [`Bsdf::disperse`].
-    pub fn dispersion<'a>(&'a self, si: &'a SurfaceInteraction) -> Option<Dispersion<'a>> {
+    /// that depends on the wavelength; in a mix, the component that [`Self::bsdf`] picks with
+    /// the same `u_select`. [`Dispersion::shift`] gives the index change at a wavelength,
+    /// applied by [`Bsdf::disperse`].
+    pub fn dispersion<'a>(
+        &'a self,
+        si: &'a SurfaceInteraction,
+        u_select: f32,
+    ) -> Option<Dispersion<'a>> {
         let t = match &self.kind {
             MaterialKind::Glass(g) => g.cauchyb.as_ref(),
             MaterialKind::RoughGlass(g) => g.cauchyb.as_ref(),
             MaterialKind::Glass2(g) => return g.spectral_eta(si).map(Dispersion::Volumes),
+            MaterialKind::Mix(m) => {
+                let (child, u) = m.select(si, u_select);
+                return child.dispersion(si, u);
+            }
             _ => None,
         }?;
         let b = t.eval(si);
         (b != 0.0 && b.is_finite()).then_some(Dispersion::Cauchy(b))
     }
 
-    /// Whether the material can disperse light (it then needs spectral paths).
+    /// Whether the material can disperse light (it then needs spectral paths): a dispersing
+    /// glass, or a mix with one among its components.
     pub fn disperses(&self) -> bool {
         match &self.kind {
             MaterialKind::Glass(g) => g.cauchyb.is_some(),
             MaterialKind::RoughGlass(g) => g.cauchyb.is_some(),
             MaterialKind::Glass2(g) => g.disperses,
+            MaterialKind::Mix(m) => m.m1.disperses() || m.m2.disperses(),
             _ => false,
         }
     }

@@ -123,7 +123,7 @@ fn glass2_reads_a_fresnel_texture_and_disperses_with_it() {
         eta_of(&set, plain)
     );
     assert!(!set.get(Some(plain)).disperses());
-    assert!(set.get(Some(plain)).dispersion(&flat_si()).is_none());
+    assert!(set.get(Some(plain)).dispersion(&flat_si(), 0.5).is_none());
     // With dispersion: the lobes keep the mean ratio; at 500 nm the ratio is
     // (1.5 + 0.05 / 0.25) / 1.333.
     let m = set.get(Some(disp));
@@ -131,7 +131,7 @@ fn glass2_reads_a_fresnel_texture_and_disperses_with_it() {
     let base = eta_of(&set, disp);
     assert!((base - 1.6828 / 1.333).abs() < 1e-3, "{base}");
     let si = flat_si();
-    let d500 = m.dispersion(&si).expect("disperses");
+    let d500 = m.dispersion(&si, 0.5).expect("disperses");
     assert!((base + d500.shift(500.0) - 1.7 / 1.333).abs() < 1e-5);
     assert!(
         d500.shift(450.0) > d500.shift(650.0),
