@@ -3,7 +3,7 @@
 //! term). `filename` (or the older `name`) is a preset (`amorphous carbon`, `silver`, `gold`,
 //! `copper`, `aluminium`, the default) or an `.nk` file (relative to the scene directory;
 //! LuxRender tries the file first). Unknown names fall back to aluminium with a warning, as
-//! in LuxRender. The spectral n, k are averaged over red/green/blue bands (see
+//! in LuxRender. The RGB n, k are those that reflect the table's spectral colour (see
 //! [`NkTable::to_rgb`]). `uroughness`/`vroughness` default 0.1; the 0.x `roughness` is
 //! accepted when neither is given.
 

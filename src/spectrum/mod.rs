@@ -9,6 +9,7 @@
 pub mod cie;
 pub mod lamp;
 pub mod nk;
+pub mod nk_rgb;
 pub mod rgb;
 pub mod smits;
 pub mod spd;

@@ -3,7 +3,8 @@
 //! `fresnelname` texture) with their wavelengths in nm, n and k (SOPRA data as shipped with
 //! LuxRender, its digits as published), and the readers of `.nk` files: SOPRA (header `unit
 //! first last count`, then `n k` lines) and luxpop (lines of Ångström, n, k; `;` comments).
-//! [`NkTable::to_rgb`] is the RGB renderer's reading of a table.
+//! [`NkTable::to_rgb`] is the RGB renderer's reading of a table (for a metal, fitted to its
+//! reflectance in [`super::nk_rgb`]).
 //!
 //! This is the one home of these tables: the `metal` material and the fresnel textures read them.
 #![allow(clippy::excessive_precision, clippy::approx_constant)]
@@ -99,6 +100,10 @@ pub const ALUMINIUM_K: [f32; 56] = [
     7.0, 7.15, 7.31, 7.48, 7.65, 7.82, 8.01, 8.21, 8.39, 8.57, 8.62, 8.6, 8.45, 8.31, 8.21, 8.21,
 ];
 
+/// Band-average extinction above which a table is read as a metal (its RGB n, k fitted to
+/// its reflectance) rather than a dielectric.
+pub const ABSORBING_K: f32 = 0.01;
+
 /// Tabulated n and k over wavelength (nm, ascending).
 #[derive(Clone, Debug, PartialEq)]
 pub struct NkTable {
@@ -152,9 +157,22 @@ impl NkTable {
         (self.n[len - 1], self.k[len - 1])
     }
 
-    /// RGB (n, k): averages over the bands 580–700 nm (red), 490–580 nm (green) and
-    /// 400–490 nm (blue), 1 nm steps. An RGB renderer's approximation of the spectral data.
+    /// RGB (n, k), the RGB renderer's reading of the table: for an absorbing table (a metal:
+    /// k above [`ABSORBING_K`] in a band), the (n, k) fitted to its spectral reflectance
+    /// ([`super::nk_rgb::fit`]); otherwise (a dielectric, whose n is an index of refraction)
+    /// the band averages of [`Self::band_averages`].
     pub fn to_rgb(&self) -> ([f32; 3], [f32; 3]) {
+        let avg = self.band_averages();
+        if avg.1.iter().any(|&v| v > ABSORBING_K) {
+            super::nk_rgb::fit(self, avg)
+        } else {
+            avg
+        }
+    }
+
+    /// Averages of n and k over the bands 580–700 nm (red), 490–580 nm (green) and 400–490 nm
+    /// (blue), 1 nm steps.
+    pub fn band_averages(&self) -> ([f32; 3], [f32; 3]) {
         let band = |a: u32, b: u32| {
             let (mut n, mut k) = (0.0, 0.0);
             for nm in a..=b {
@@ -284,7 +302,7 @@ mod tests {
     #[test]
     fn presets_interpolation_and_file_formats() {
         let gold = NkTable::preset("gold").unwrap();
-        let (n, k) = gold.to_rgb();
+        let (n, k) = gold.band_averages();
         // Gold: low n and high k in the red, n above 1 in the blue.
         assert!(n[0] < 0.3 && n[2] > 1.0, "{n:?}");
         assert!(k[0] > k[2], "{k:?}");

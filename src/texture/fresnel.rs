@@ -1,9 +1,10 @@
 //! Fresnel textures: optical constants (LuxRender's `FresnelGeneral`) for metal2 and the
 //! volumes' `fresnel`. The renderer is RGB: a [`Fresnel`] holds the real index `n` and the
 //! extinction `k` per channel (a dielectric has k = 0). Spectral sources (n/k tables, Cauchy's
-//! and Sellmeier's laws) are converted once at build time by averaging over the red
-//! (580–700 nm), green (490–580 nm) and blue (400–490 nm) bands, and kept as
-//! [`FresnelData`] for spectral rendering.
+//! and Sellmeier's laws) are converted once at build time, and kept as [`FresnelData`] for
+//! spectral rendering: an absorbing table to the (n, k) per channel that reflect what the
+//! table reflects ([`crate::spectrum::nk_rgb`]), a dielectric's n by averaging over the red
+//! (580–700 nm), green (490–580 nm) and blue (400–490 nm) bands.
 //!
 //! ```text
 //! FresnelTex --eval(hit)--> Fresnel { n: Rgb, k: Rgb }   (constant, data, fresnelcolor, and
@@ -109,8 +110,16 @@ impl FresnelData {
         }
     }
 
-    /// The RGB reading: band averages of n and k (1 nm steps).
+    /// The RGB reading: a table's as [`NkTable::to_rgb`] reads it (fitted to its reflectance
+    /// for a metal), band averages of n for the laws (1 nm steps).
     pub fn to_rgb(&self) -> Fresnel {
+        if let FresnelData::Table(t) = self {
+            let (n, k) = t.to_rgb();
+            return Fresnel {
+                n: Rgb::from_array(n),
+                k: Rgb::from_array(k),
+            };
+        }
         let mut n = [0.0f32; 3];
         let mut k = [0.0f32; 3];
         for (ch, (a, b)) in BANDS.iter().enumerate() {

@@ -4,6 +4,7 @@
 //! LuxRender's general Fresnel term ([`FresnelGeneral`]: a dielectric, conductor or full
 //! complex interface chosen from n and k, as metal2, shinymetal and the media of glass2 use it).
 
+use crate::spectrum::nk_rgb::conductor_reflectance;
 use crate::spectrum::Rgb;
 
 /// Reflectance of a dielectric interface for light arriving at `cos_i` (> 0) from a medium of
@@ -22,15 +23,7 @@ pub fn dielectric(cos_i: f32, eta_i: f32, eta_t: f32) -> f32 {
 
 /// Reflectance of a conductor of complex index `n + i k` (from air) at `cos_i`.
 pub fn conductor(cos_i: f32, n: Rgb, k: Rgb) -> Rgb {
-    let c = cos_i.abs().min(1.0);
-    let one = |n: f32, k: f32| {
-        let c2 = c * c;
-        let tmp = (n * n + k * k) * c2;
-        let r_par = (tmp - 2.0 * n * c + 1.0) / (tmp + 2.0 * n * c + 1.0);
-        let tmp_f = n * n + k * k;
-        let r_perp = (tmp_f - 2.0 * n * c + c2) / (tmp_f + 2.0 * n * c + c2);
-        0.5 * (r_par + r_perp)
-    };
+    let one = |n, k| conductor_reflectance(cos_i, n, k);
     Rgb::new(one(n.r, k.r), one(n.g, k.g), one(n.b, k.b))
 }
 

@@ -297,9 +297,16 @@ fn fresnel_textures() {
     );
     assert!(matches!(gold.data(), Some(FresnelData::Table(_))));
     // The luxpop file (Ångström): n 1.2 → 1.6 and k 3 → 4 over 400–700 nm; the green band
-    // (490–580 nm) averages n at 535 nm: 1.2 + 0.4·135/300 = 1.38.
-    let file = fresnel_of(&mut set, "file").eval(&si);
-    assert!((file.n.g - 1.38).abs() < 1e-3, "{file:?}");
+    // (490–580 nm) averages n at 535 nm: 1.2 + 0.4·135/300 = 1.38. An absorbing table: the
+    // texture's RGB value is the table's reading fitted to its reflectance.
+    let file_tex = fresnel_of(&mut set, "file");
+    let Some(FresnelData::Table(t)) = file_tex.data() else {
+        panic!("a table");
+    };
+    assert!((t.band_averages().0[1] - 1.38).abs() < 1e-3);
+    let file = file_tex.eval(&si);
+    let (fn_, fk) = t.to_rgb();
+    assert_eq!((file.n.to_array(), file.k.to_array()), (fn_, fk));
     assert_eq!(fresnel_of(&mut set, "lp").eval(&si), file);
     let c = fresnel_of(&mut set, "cauchy");
     assert!(matches!(c.data(), Some(FresnelData::Cauchy { .. })));
