@@ -288,6 +288,12 @@ fn sort(t: NkTable) -> Result<NkTable, String> {
     if t.wl.iter().any(|w| !w.is_finite()) {
         return Err("non-finite wavelength".into());
     }
+    let bad = |(n, k): (&f32, &f32)| !(n.is_finite() && k.is_finite() && *n > 0.0 && *k >= 0.0);
+    if let Some((n, k)) = t.n.iter().zip(&t.k).find(|p| bad(*p)) {
+        return Err(format!(
+            "n {n}, k {k}: the optical constants must be finite, n above 0 and k not negative"
+        ));
+    }
     Ok(NkTable {
         wl: idx.iter().map(|&i| t.wl[i]).collect(),
         n: idx.iter().map(|&i| t.n[i]).collect(),
@@ -315,5 +321,14 @@ mod tests {
         let s = NkTable::parse_sopra("2 0.4 0.5 2\n1.0 2.0\n3.0 4.0\n").unwrap();
         assert_eq!(s.wl.len(), 2);
         assert!(NkTable::parse_sopra("; x\n5000 1.5 0.1\n").is_err());
+        for bad in [
+            "5000 nan 0.1\n",
+            "5000 1.5 inf\n",
+            "5000 0 1\n",
+            "5000 1.5 -0.1\n",
+        ] {
+            let e = NkTable::parse(bad).expect_err(bad);
+            assert!(e.contains("optical constants"), "{bad}: {e}");
+        }
     }
 }
