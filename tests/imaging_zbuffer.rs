@@ -115,4 +115,11 @@ fn no_z_buffer_unless_asked() {
         r#""bool write_png_ZBuf" ["true"] "bool write_tga" ["true"] "bool write_tga_ZBuf" ["true"]"#,
     ));
     assert!(s.zbuffer().is_none());
+    // One located warning each, at the parameter (line 3 of the scene).
+    let said: Vec<String> = s.warnings().iter().map(|w| w.to_string()).collect();
+    for name in ["write_png_ZBuf", "write_tga_ZBuf"] {
+        let hits: Vec<_> = said.iter().filter(|m| m.contains(name)).collect();
+        assert_eq!(hits.len(), 1, "{said:?}");
+        assert!(hits[0].contains(":3:"), "{}", hits[0]);
+    }
 }

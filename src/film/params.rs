@@ -336,16 +336,6 @@ impl FilmParams {
         self.png = image_output(ps, loc, "png", true, "Min/Max", pm)?;
         self.png_16bit = ps.bool_or("write_png_16bit", false);
         self.tga = image_output(ps, loc, "tga", false, "Min/Max", pm)?;
-        for (fmt, out) in [("png", &self.png), ("tga", &self.tga)] {
-            if out.enabled && out.zbuf {
-                let at = loc_of(ps, &format!("write_{fmt}_ZBuf"), loc);
-                tracing::warn!(
-                    "{at}: write_{fmt}_ZBuf: LuxRender writes a Z buffer only into the EXR output \
-                     (write_exr_ZBuf); the {} file gets none",
-                    fmt.to_uppercase()
-                );
-            }
-        }
         if self.tga.channels == Channels::Ya {
             return Err(bad(
                 loc,

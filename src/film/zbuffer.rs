@@ -1,5 +1,5 @@
-//! The depth (Z) buffer a Film keeps when one of its outputs asks for a Z channel
-//! (`write_exr_ZBuf`, ...): per buffer pixel, the filter-weighted mean of the samples' depths
+//! The depth (Z) buffer a Film keeps when its EXR output asks for a Z channel
+//! (`write_exr_ZBuf`): per buffer pixel, the filter-weighted mean of the samples' depths
 //! (the distance from the camera to the first surface hit), as LuxRender's fleximage adds each
 //! sample's depth with its filter weight. Samples that hit nothing add no depth.
 //!
@@ -100,8 +100,9 @@ impl ZBuffer {
     ///   as they are);
     /// - "Min/Max": (z_max − z) / (z_max − z_min) over the depths present, so the nearest
     ///   surface is 1 and the farthest 0; a pixel without depth (z = 0) comes out at
-    ///   z_max / (z_max − z_min), above 1, as LuxRender writes it. Where LuxRender divides
-    ///   by zero (no depth at all, or a single depth) every pixel is 0 here.
+    ///   z_max / (z_max − z_min), above 1, as LuxRender writes it. Without any depth
+    ///   every pixel is 0 (as in LuxRender); with a single depth value, where LuxRender
+    ///   divides by zero (NaN and infinities), every pixel is 0 here.
     pub fn depths(&self, norm: ZBufNorm) -> Vec<f32> {
         let raw = self.raw();
         if norm != ZBufNorm::MinMax {

@@ -127,8 +127,8 @@ fn scene_stem(scene: &Path) -> String {
         .to_string()
 }
 
-/// Writes every output the parameters enable; returns the files written. Z buffer channels
-/// need per-pixel depths, which a `Film` does not carry: see [`write_outputs_with_z`].
+/// Writes every output the parameters enable; returns the files written. The EXR's Z channel
+/// needs per-pixel depths, which a `Film` does not carry: see [`write_outputs_with_z`].
 pub fn write_outputs(
     film: &Film,
     params: &FilmParams,
@@ -137,8 +137,8 @@ pub fn write_outputs(
     write_outputs_with_z(film, params, basename, None)
 }
 
-/// As [`write_outputs`], with an optional Z buffer (depth per buffer pixel) for the
-/// `write_*_ZBuf` channels. A Z channel asked for without depths is left out with a warning.
+/// As [`write_outputs`], with an optional Z buffer (depth per buffer pixel) for the EXR's
+/// `write_exr_ZBuf` channel. A Z channel asked for without depths is left out with a warning.
 pub fn write_outputs_with_z(
     film: &Film,
     params: &FilmParams,

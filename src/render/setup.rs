@@ -138,6 +138,7 @@ impl Renderable {
             camera.autofocus(|r| world.intersect(r).map(|si| si.t));
         }
         warn_ignored(desc, &mut warnings);
+        warn_zbuf_without_channel(desc, &film_params, &mut warnings);
         report_setup_unused(desc, &mut warnings);
         Ok(Renderable {
             world,
@@ -174,6 +175,33 @@ fn warn_bidir_portals(desc: &SceneDescription, warnings: &mut Vec<Diagnostic>) {
         "portals are not used by SurfaceIntegrator \"bidirectional\" (its light paths sample \
          the sky over the whole sphere); \"path\" and \"directlighting\" sample through them",
     );
+}
+
+/// `write_png_ZBuf` and `write_tga_ZBuf` ask for a channel those files do not have (LuxRender
+/// 1.x's PNG and TGA writers ignore the flag): one located warning each.
+fn warn_zbuf_without_channel(
+    desc: &SceneDescription,
+    params: &FilmParams,
+    warnings: &mut Vec<Diagnostic>,
+) {
+    let Some(film) = &desc.film else {
+        return;
+    };
+    for (fmt, out) in [("png", &params.png), ("tga", &params.tga)] {
+        if out.enabled && out.zbuf {
+            let name = format!("write_{fmt}_ZBuf");
+            let loc = crate::texture::param_loc(&film.params, &name, &film.loc);
+            warn(
+                warnings,
+                &loc,
+                format!(
+                    "Film \"{name}\": LuxRender writes a Z buffer only into the EXR output \
+                     (write_exr_ZBuf); the {} file gets none",
+                    fmt.to_uppercase()
+                ),
+            );
+        }
+    }
 }
 
 /// Statements luxfarm parses but does not render (region volumes) or has no use for (its own

@@ -15,7 +15,7 @@ use super::{band, bilerp, fresnelcolor, mix, multimix, scale};
 use super::{param_loc, TextureError, TextureSet};
 use crate::geometry::SurfaceInteraction;
 use crate::lxs::TextureDesc;
-use crate::spectrum::nk::NkTable;
+use crate::spectrum::nk::{band_averages, NkTable, BANDS};
 use crate::spectrum::Rgb;
 use std::sync::Arc;
 
@@ -79,9 +79,6 @@ impl Fresnel {
     }
 }
 
-/// The wavelength bands averaged into each RGB channel (nm, inclusive).
-const BANDS: [(u32, u32); 3] = [(580, 700), (490, 580), (400, 490)];
-
 /// Spectral optical data, kept beside its RGB reading.
 #[derive(Clone, Debug, PartialEq)]
 pub enum FresnelData {
@@ -120,19 +117,7 @@ impl FresnelData {
                 k: Rgb::from_array(k),
             };
         }
-        let mut n = [0.0f32; 3];
-        let mut k = [0.0f32; 3];
-        for (ch, (a, b)) in BANDS.iter().enumerate() {
-            let (mut sn, mut sk) = (0.0f64, 0.0f64);
-            for nm in *a..=*b {
-                let (ni, ki) = self.at(nm as f32);
-                sn += ni as f64;
-                sk += ki as f64;
-            }
-            let count = (b - a + 1) as f64;
-            n[ch] = (sn / count) as f32;
-            k[ch] = (sk / count) as f32;
-        }
+        let (n, k) = band_averages(|nm| self.at(nm));
         Fresnel {
             n: Rgb::from_array(n),
             k: Rgb::from_array(k),

@@ -173,6 +173,49 @@ fn building_only_used_materials_with_defaults_and_fallbacks() {
     assert!(!msgs.iter().any(|m| m.contains("dispersion")), "{msgs:?}");
 }
 
+/// A mix of a dispersive glass and matte disperses exactly where its BSDF is the glass's:
+/// `dispersion` follows the component `bsdf` picks with the same `u_select`, at every amount.
+#[test]
+fn mix_disperses_where_it_picks_the_dispersive_glass() {
+    for amount in [0.0f32, 0.3, 1.0] {
+        let d = scene(vec![
+            mat("white", "matte", vec![], 1),
+            mat("flint", "glass", vec![("cauchyb", f(0.05))], 2),
+            mat(
+                "mix",
+                "mix",
+                vec![
+                    ("namedmaterial1", s("white")),
+                    ("namedmaterial2", s("flint")),
+                    ("amount", f(amount)),
+                ],
+                3,
+            ),
+        ]);
+        let set = MaterialSet::build(&d, &[2], &MaterialCtx::default()).unwrap();
+        let m = set.get(Some(2));
+        assert!(m.disperses(), "amount {amount}");
+        let si = flat_si();
+        let n = 200;
+        let mut glass = 0;
+        for i in 0..n {
+            let u = (i as f32 + 0.5) / n as f32;
+            let is_glass = matches!(m.bsdf(&si, u).lobes, Lobes::Dielectric(_));
+            assert_eq!(
+                m.dispersion(&si, u).is_some(),
+                is_glass,
+                "amount {amount}, u {u}"
+            );
+            glass += usize::from(is_glass);
+        }
+        assert_eq!(
+            glass,
+            (amount * n as f32).round() as usize,
+            "amount {amount}"
+        );
+    }
+}
+
 #[test]
 fn mix_selects_components_with_amount_and_detects_cycles() {
     let d = scene(vec![
