@@ -123,3 +123,17 @@ fn no_z_buffer_unless_asked() {
         assert!(hits[0].contains(":3:"), "{}", hits[0]);
     }
 }
+
+/// A farm worker's session renders no depth (its film deltas carry none): after
+/// `skip_depth` passes still complete and no Z buffer is kept.
+#[test]
+fn a_session_told_to_skip_depth_keeps_none() {
+    let path = Path::new("/tmp/luxfarm-zbuffer-skip.lxs");
+    let text = scene(r#""bool write_exr" ["true"] "bool write_exr_ZBuf" ["true"]"#);
+    let desc = parse_text(&text, path);
+    let mut s = Session::new(&desc, Path::new("/tmp"), SessionOptions::default()).unwrap();
+    assert!(s.zbuffer().is_some());
+    s.skip_depth();
+    assert!(s.render_pass().complete);
+    assert!(s.zbuffer().is_none() && s.exr_depths().is_none());
+}

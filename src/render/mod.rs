@@ -304,6 +304,11 @@ impl Session {
         self.depth.as_ref()
     }
 
+    /// Renders no depth buffer from now on (a farm worker: the deltas it sends carry none).
+    pub fn skip_depth(&mut self) {
+        self.depth = None;
+    }
+
     /// The depths the EXR output writes (with its normalisation).
     pub fn exr_depths(&self) -> Option<Vec<f32>> {
         let norm = self.scene.setup.film_params.exr.zbuf_norm;
@@ -421,6 +426,7 @@ impl Session {
             buffers,
             extent: self.scene.setup.sample_extent(),
             map,
+            depth: self.depth.is_some(),
         }
     }
 

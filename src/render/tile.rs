@@ -94,6 +94,8 @@ pub struct PassCtx<'a> {
     pub buffers: &'a [BufferType],
     pub extent: SampleExtent,
     pub map: Option<&'a SamplingMap>,
+    /// Whether tiles record depths (the session keeps a Z buffer).
+    pub depth: bool,
 }
 
 impl PassCtx<'_> {
@@ -148,8 +150,8 @@ pub fn render_tile(scene: &Renderable, t: &Tile, ctx: &PassCtx) -> TileOut {
     let (fw, fh) = (t.fx1 - t.fx0, t.fy1 - t.fy0);
     let mut film = Film::with_buffers(fw, fh, world.groups().to_vec(), buffers.to_vec())
         .unwrap_or_else(|_| Film::new(fw, fh, world.groups().to_vec()));
-    let mut depth = fp
-        .wants_zbuf()
+    let mut depth = ctx
+        .depth
         .then(|| ZBuffer::new(t.fx1 - t.fx0, t.fy1 - t.fy0));
     // Offset from full-image raster coordinates to this tile film's coordinates.
     let ox = i64::from(fp.x_pixel_start) + i64::from(t.fx0);
