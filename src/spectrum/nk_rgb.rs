@@ -8,9 +8,9 @@
 //! R(λ, θ) is lit by white light and converted to the renderer's RGB (as any reflectance
 //! spectrum is, [`super::xyz::reflectance_xyz`]); each channel then gets the (n, k) that
 //! reflects exactly that channel's value at normal incidence and comes closest at the other
-//! angles (squared errors weighted by the cosine). The (n, k) are parameterised by normal-incidence reflectance r and edge tint g
-//! (Gulbrandsen's mapping, JCGT 3(4), 2014): r is fixed by the normal-incidence target and g
-//! is searched over [0, 1].
+//! angles (squared errors weighted by the cosine). The (n, k) are parameterised by
+//! normal-incidence reflectance r and edge tint g (Gulbrandsen's mapping, JCGT 3(4), 2014):
+//! r is fixed by the normal-incidence target and g is searched over [0, 1].
 //!
 //! ```text
 //! n, k (λ) --R(λ, θ)--> reflectance_xyz --xyz_to_rgb--> targets per channel and angle
@@ -65,15 +65,11 @@ fn error(n: f32, k: f32, want: &[f32; COSINES.len()]) -> f32 {
 /// with the normal-incidence one matched.
 fn fit_channel(want: [f32; COSINES.len()]) -> (f32, f32) {
     let r = want[0].clamp(0.0, 0.999);
-    let at = |g: f32| from_reflectance_and_tint(r, g);
-    let best = (0..=G_STEPS)
-        .map(|i| i as f32 / G_STEPS as f32)
-        .min_by(|&a, &b| {
-            let (ea, eb) = (at(a), at(b));
-            error(ea.0, ea.1, &want).total_cmp(&error(eb.0, eb.1, &want))
-        })
-        .unwrap_or(0.0);
-    at(best)
+    (0..=G_STEPS)
+        .map(|i| from_reflectance_and_tint(r, i as f32 / G_STEPS as f32))
+        .map(|(n, k)| (error(n, k, &want), (n, k)))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map_or((1.0, 0.0), |(_, nk)| nk)
 }
 
 /// RGB (n, k) of absorbing optical constants `at` (n, k per wavelength in nm): per channel the fitted (n, k) (see the module
