@@ -15,6 +15,7 @@
 
 pub mod buffer;
 pub mod compare;
+pub mod crf_presets;
 pub mod effects;
 pub mod error;
 pub mod image_output;

@@ -1,20 +1,26 @@
 //! Camera response functions (the Film's `cameraresponse`): a film or sensor's measured
-//! response curves, read from a CRF file in the DoRF text format as LuxRender 1.x reads it,
-//! and applied to the RGB image after the colour space conversion.
+//! response curves, either one of LuxRender 1.x's built-in presets ([`super::crf_presets`]) or
+//! a CRF file in the DoRF text format as LuxRender 1.x reads it, applied to the RGB image after
+//! the colour space conversion.
+//!
+//! Resolution, as LuxRender 1.x's CameraResponse does it: a preset name first (exact,
+//! case-sensitive), then a file through the scene's files (confined to the bundle on the farm).
+//! A name that is neither is an error naming both failures and the closest preset, except
+//! `"None"` (LuxBlend's "no preset" value; LuxRender too finds neither and applies nothing).
+//! An empty name means no response.
 //!
 //! File format: for each channel a block
 //! `<name>Red` (or `Green`, `Blue`; the name glued to the channel word), a line starting with
 //! `graph`, a line `I = <inputs>` and a line `B = <outputs>` (the numbers may also start on the
 //! line after the `=`). The first complete Red, Green and Blue blocks of the first name are
-//! used; a file with only Red is monochrome (applied to the luminance). As LuxRender does,
-//! the gamma the curves have built in is estimated (a Gauss-Newton fit of B = I^γ over the
-//! luminance of the grey inputs) and taken out (B^(1/γ)), so that the film's `gamma` is not
-//! applied twice. Mapping interpolates linearly and holds the end values outside the inputs.
-//!
-//! Not done: LuxRender's built-in named presets (names that are not files); a name that is no
-//! readable file is an error.
+//! used; a file with only Red is monochrome (applied to the luminance), as are the Agfapan
+//! presets. For presets and files alike, as LuxRender does, the gamma the curves have built in
+//! is estimated (a Gauss-Newton fit of B = I^γ over the luminance of the grey inputs, each
+//! distinct input once) and taken out (B^(1/γ)), so that the film's `gamma` is not applied
+//! twice. Mapping interpolates linearly and holds the end values outside the inputs.
 
-use crate::fileio::SceneFiles;
+use super::crf_presets;
+use crate::fileio::{FileError, SceneFiles};
 
 /// Largest CRF file read (bytes) and points per curve.
 pub const MAX_CRF_FILE: u64 = 4 << 20;
@@ -28,8 +34,7 @@ pub struct CameraResponse {
     pub curves: Vec<(Vec<f32>, Vec<f32>)>,
 }
 
-/// A response curve: inputs and outputs.
-type Curve = (Vec<f32>, Vec<f32>);
+use crf_presets::Curve;
 
 const LUM: [f32; 3] = [0.212_671, 0.715_160, 0.072_169];
 
@@ -69,20 +74,50 @@ impl CameraResponse {
             (Some(g), Some(b)) => vec![r, g, b],
             _ => vec![r],
         };
-        let mut crf = CameraResponse {
-            name: name.unwrap_or_default(),
-            curves,
-        };
+        Ok(CameraResponse::from_curves(name.unwrap_or_default(), curves))
+    }
+
+    /// A response from measured curves (Red, Green, Blue or Red alone), built-in gamma taken out.
+    pub fn from_curves(name: String, curves: Vec<Curve>) -> CameraResponse {
+        let mut crf = CameraResponse { name, curves };
         crf.remove_gamma();
-        Ok(crf)
+        crf
+    }
+
+    /// LuxRender's built-in preset `name` (`Ok(None)` when `name` is no preset).
+    pub fn preset(name: &str) -> Result<Option<CameraResponse>, String> {
+        let curves = crf_presets::curves(name)?;
+        Ok(curves.map(|c| CameraResponse::from_curves(name.to_string(), c)))
+    }
+
+    /// Resolves a `cameraresponse` value as LuxRender 1.x does: a built-in preset by name, else
+    /// a CRF file through the scene's files. `Ok(None)`: no response (`""`, or `"None"` when no
+    /// file has that name).
+    pub fn resolve(files: &SceneFiles, name: &str) -> Result<Option<CameraResponse>, String> {
+        if name.is_empty() {
+            return Ok(None);
+        }
+        if let Some(crf) = CameraResponse::preset(name)? {
+            return Ok(Some(crf));
+        }
+        match CameraResponse::read(files, name) {
+            Ok(crf) => Ok(Some(crf)),
+            Err(Unread::File(e @ FileError::NotFound { .. })) if name == "None" => {
+                tracing::debug!("camera response \"None\": {e}; no response applied");
+                Ok(None)
+            }
+            Err(Unread::File(e)) => Err(unknown(name, &e)),
+            Err(Unread::Parse(e)) => Err(e),
+        }
     }
 
     /// Reads a CRF file through the scene's files (confined to the bundle on the farm).
-    pub fn read(files: &SceneFiles, name: &str) -> Result<CameraResponse, String> {
+    pub fn read(files: &SceneFiles, name: &str) -> Result<CameraResponse, Unread> {
         let text = files
             .read_small_text(name, MAX_CRF_FILE)
-            .map_err(|e| format!("camera response {e} (built-in presets are not supported)"))?;
-        CameraResponse::parse(&text).map_err(|e| format!("camera response \"{name}\": {e}"))
+            .map_err(Unread::File)?;
+        CameraResponse::parse(&text)
+            .map_err(|e| Unread::Parse(format!("camera response \"{name}\": {e}")))
     }
 
     /// Maps a linear RGB colour through the response.
@@ -103,6 +138,7 @@ impl CameraResponse {
             .iter()
             .flat_map(|c| c.0.iter().copied())
             .collect();
+        inputs.sort_by(f32::total_cmp);
         inputs.dedup();
         let outputs: Vec<f32> = inputs
             .iter()
@@ -118,6 +154,33 @@ impl CameraResponse {
             }
         }
     }
+}
+
+/// Why a CRF file gave no response: it could not be read, or its text is no response.
+#[derive(Debug)]
+pub enum Unread {
+    File(FileError),
+    Parse(String),
+}
+
+impl std::fmt::Display for Unread {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Unread::File(e) => write!(f, "camera response {e}"),
+            Unread::Parse(e) => f.write_str(e),
+        }
+    }
+}
+
+/// The error for a name that is neither a preset nor a readable file.
+fn unknown(name: &str, file: &FileError) -> String {
+    let hint = crf_presets::closest(name)
+        .map(|p| format!("; did you mean the preset \"{p}\"?"))
+        .unwrap_or_else(|| "; presets are LuxRender's film names, e.g. \"Advantix_100CD\"".into());
+    format!(
+        "camera response \"{name}\" is neither one of LuxRender's built-in presets nor a \
+         readable file ({file}){hint}"
+    )
 }
 
 /// `<name>Red|Green|Blue` with a non-empty name: the name and the channel index.
