@@ -341,4 +341,95 @@ mod tests {
         assert!(CameraResponse::read(&files, "../x.crf").is_err());
         assert!(CameraResponse::read(&files, "/etc/passwd").is_err());
     }
+
+    /// Inputs 3/1023 and 10/1023 of every preset, and Advantix_100CD's red outputs there, as
+    /// cameraresponsefunctions.h writes them.
+    const I3: f32 = 2.932551e-3;
+    const I4: f32 = 3.910068e-3;
+    const I10: f32 = 9.775171e-3;
+    const ADVANTIX_RED_B3: f32 = 2.818739e-2;
+    const ADVANTIX_RED_B10: f32 = 7.222205e-2;
+
+    #[test]
+    fn preset_maps_its_table_with_the_gamma_taken_out() {
+        let crf = CameraResponse::preset("Advantix_100CD").unwrap().unwrap();
+        assert_eq!(crf.curves.len(), 3);
+        let m3 = crf.map([I3, 0.0, 0.0])[0];
+        let m10 = crf.map([I10, 0.0, 0.0])[0];
+        // at grid inputs the output is the table's B^(1/γ), one γ for all points
+        let inv3 = m3.ln() / ADVANTIX_RED_B3.ln();
+        let inv10 = m10.ln() / ADVANTIX_RED_B10.ln();
+        assert!((inv3 - inv10).abs() < 1e-4, "{inv3} {inv10}");
+        // a film's curve has a built-in gamma near 1/2 (B = 0.072 at I = 0.0098)
+        assert!((1.5..3.0).contains(&inv3), "1/γ = {inv3}");
+        // linear between grid points
+        let m4 = crf.map([I4, 0.0, 0.0])[0];
+        let mid = crf.map([0.5 * (I3 + I4), 0.0, 0.0])[0];
+        assert!((mid - 0.5 * (m3 + m4)).abs() < 1e-6, "{mid} {m3} {m4}");
+        // channels differ: the green curve is not the red one
+        assert_ne!(crf.map([I10; 3])[0], crf.map([I10; 3])[1]);
+    }
+
+    #[test]
+    fn monochrome_preset_maps_luminance() {
+        let crf = CameraResponse::preset("Agfapan_apx_100CD").unwrap().unwrap();
+        assert_eq!(crf.curves.len(), 1);
+        let m = crf.map([0.4, 0.1, 0.2]);
+        assert!(m[0] == m[1] && m[1] == m[2], "{m:?}");
+        let y = 0.4 * LUM[0] + 0.1 * LUM[1] + 0.2 * LUM[2];
+        assert_eq!(m[0], crf.map([y; 3])[0]);
+    }
+
+    #[test]
+    fn every_preset_resolves() {
+        let dir = tempfile::tempdir().unwrap();
+        let files = SceneFiles::confined(dir.path(), dir.path()).unwrap();
+        for name in crf_presets::NAMES {
+            let crf = CameraResponse::resolve(&files, name).unwrap().unwrap();
+            assert_eq!(crf.name, name);
+            let m = crf.map([0.18; 3]);
+            assert!(m.iter().all(|v| v.is_finite() && *v > 0.0 && *v < 1.0), "{name} {m:?}");
+        }
+    }
+
+    #[test]
+    fn presets_come_before_files_as_in_luxrender() {
+        let dir = tempfile::tempdir().unwrap();
+        let linear = "LinRed\ngraph x\nI = 0 1\nB = 0 1\n";
+        std::fs::write(dir.path().join("Gold_200CD"), linear).unwrap();
+        std::fs::write(dir.path().join("None"), linear).unwrap();
+        std::fs::write(dir.path().join("lin.crf"), linear).unwrap();
+        let files = SceneFiles::confined(dir.path(), dir.path()).unwrap();
+        let resolved = |n: &str| CameraResponse::resolve(&files, n).unwrap();
+        // a preset's name is the preset even when a file has that name
+        let gold = resolved("Gold_200CD").unwrap();
+        assert_eq!(gold, CameraResponse::preset("Gold_200CD").unwrap().unwrap());
+        assert_eq!(gold.curves.len(), 3);
+        // other names are files; "None" too when such a file exists
+        assert_eq!(resolved("lin.crf").unwrap().name, "Lin");
+        assert_eq!(resolved("None").unwrap().name, "Lin");
+        assert_eq!(resolved(""), None);
+        // without the file, "None" (LuxBlend's value for no preset) is no response
+        let empty = tempfile::tempdir().unwrap();
+        let nothing = SceneFiles::confined(empty.path(), empty.path()).unwrap();
+        assert_eq!(CameraResponse::resolve(&nothing, "None").unwrap(), None);
+    }
+
+    #[test]
+    fn unknown_names_are_errors_that_suggest_a_preset() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("bad.crf"), "no curves").unwrap();
+        let files = SceneFiles::confined(dir.path(), dir.path()).unwrap();
+        let e = CameraResponse::resolve(&files, "advantix_100cd").unwrap_err();
+        assert!(e.contains("neither") && e.contains("not found"), "{e}");
+        assert!(e.contains("did you mean the preset \"Advantix_100CD\""), "{e}");
+        let e = CameraResponse::resolve(&files, "film.crf").unwrap_err();
+        assert!(e.contains("\"film.crf\"") && e.contains("e.g."), "{e}");
+        // outside the bundle: still neither
+        let e = CameraResponse::resolve(&files, "../Portra_800.crf").unwrap_err();
+        assert!(e.contains("leaves the scene's directory"), "{e}");
+        // a readable file that is no response says so
+        let e = CameraResponse::resolve(&files, "bad.crf").unwrap_err();
+        assert!(e.contains("no valid Red response curve"), "{e}");
+    }
 }
