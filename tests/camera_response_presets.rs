@@ -37,7 +37,10 @@ fn a_preset_named_by_the_film_maps_the_rendered_image() {
     let tm = &built.setup.film_params.tonemap;
     let crf = tm.effects.response.clone().expect("the preset is loaded");
     assert_eq!(crf.name, "Ektachrome_64CD");
-    assert_eq!(*crf, CameraResponse::preset("Ektachrome_64CD").unwrap().unwrap());
+    assert_eq!(
+        *crf,
+        CameraResponse::preset("Ektachrome_64CD").unwrap().unwrap()
+    );
 
     let opts = SessionOptions {
         threads: 2,
@@ -77,6 +80,9 @@ fn none_and_empty_mean_no_response() {
         let desc = parse_text(&scene(name), Path::new(PATH));
         let dir = tempfile::tempdir().unwrap();
         let built = Renderable::build(&desc, dir.path()).expect("scene builds");
-        assert!(built.setup.film_params.tonemap.effects.response.is_none(), "{name:?}");
+        assert!(
+            built.setup.film_params.tonemap.effects.response.is_none(),
+            "{name:?}"
+        );
     }
 }

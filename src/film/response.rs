@@ -74,7 +74,10 @@ impl CameraResponse {
             (Some(g), Some(b)) => vec![r, g, b],
             _ => vec![r],
         };
-        Ok(CameraResponse::from_curves(name.unwrap_or_default(), curves))
+        Ok(CameraResponse::from_curves(
+            name.unwrap_or_default(),
+            curves,
+        ))
     }
 
     /// A response from measured curves (Red, Green, Blue or Red alone), built-in gamma taken out.
@@ -372,7 +375,9 @@ mod tests {
 
     #[test]
     fn monochrome_preset_maps_luminance() {
-        let crf = CameraResponse::preset("Agfapan_apx_100CD").unwrap().unwrap();
+        let crf = CameraResponse::preset("Agfapan_apx_100CD")
+            .unwrap()
+            .unwrap();
         assert_eq!(crf.curves.len(), 1);
         let m = crf.map([0.4, 0.1, 0.2]);
         assert!(m[0] == m[1] && m[1] == m[2], "{m:?}");
@@ -388,7 +393,10 @@ mod tests {
             let crf = CameraResponse::resolve(&files, name).unwrap().unwrap();
             assert_eq!(crf.name, name);
             let m = crf.map([0.18; 3]);
-            assert!(m.iter().all(|v| v.is_finite() && *v > 0.0 && *v < 1.0), "{name} {m:?}");
+            assert!(
+                m.iter().all(|v| v.is_finite() && *v > 0.0 && *v < 1.0),
+                "{name} {m:?}"
+            );
         }
     }
 
@@ -422,7 +430,10 @@ mod tests {
         let files = SceneFiles::confined(dir.path(), dir.path()).unwrap();
         let e = CameraResponse::resolve(&files, "advantix_100cd").unwrap_err();
         assert!(e.contains("neither") && e.contains("not found"), "{e}");
-        assert!(e.contains("did you mean the preset \"Advantix_100CD\""), "{e}");
+        assert!(
+            e.contains("did you mean the preset \"Advantix_100CD\""),
+            "{e}"
+        );
         let e = CameraResponse::resolve(&files, "film.crf").unwrap_err();
         assert!(e.contains("\"film.crf\"") && e.contains("e.g."), "{e}");
         // outside the bundle: still neither
