@@ -301,7 +301,7 @@ pub struct Effects {
     pub vignetting_scale: f32,
     pub aberration_enabled: bool,
     pub aberration_amount: f32,
-    /// `cameraresponse`: a CRF file (empty: none).
+    /// `cameraresponse`: a built-in preset name or a CRF file (empty: none).
     pub camera_response: String,
     /// The loaded response curves (loaded with the scene's files: [`Effects::load_response`]).
     pub response: Option<std::sync::Arc<super::response::CameraResponse>>,
@@ -347,14 +347,11 @@ impl Effects {
         self.vignetting_enabled && self.vignetting_scale != 0.0
     }
 
-    /// Loads the `cameraresponse` file through the scene's files (nothing when none is set).
+    /// Resolves `cameraresponse`: a built-in preset, else a file through the scene's files
+    /// (nothing when none is set; see [`super::response`]).
     pub fn load_response(&mut self, files: &crate::fileio::SceneFiles) -> Result<(), String> {
-        if self.camera_response.is_empty() {
-            self.response = None;
-            return Ok(());
-        }
-        let crf = super::response::CameraResponse::read(files, &self.camera_response)?;
-        self.response = Some(std::sync::Arc::new(crf));
+        let crf = super::response::CameraResponse::resolve(files, &self.camera_response)?;
+        self.response = crf.map(std::sync::Arc::new);
         Ok(())
     }
 

@@ -5,6 +5,8 @@
 //! - [`FilmParams`]: the `Film "fleximage"` statement with LuxRender's defaults ([`params`]);
 //!   its imaging settings ([`imaging`]: tonemapping, colour space, light groups) and its image
 //!   outputs' settings ([`image_output`]) are plain data here.
+//! - [`response`]: the `cameraresponse` curves, CRF files or LuxRender's built-in film
+//!   presets ([`crf_presets`]).
 //! - [`flm`], [`flm_header`]: LuxRender's film file; [`compare`](mod@compare): luxcomp's metrics;
 //!   [`outlier`]: k-nearest outlier rejection of samples.
 //!
@@ -15,6 +17,7 @@
 
 pub mod buffer;
 pub mod compare;
+pub mod crf_presets;
 pub mod effects;
 pub mod error;
 pub mod image_output;
