@@ -85,14 +85,17 @@ fn farm_matches_local(stem: &str, sampler: &str, integrator: &str) {
     assert_eq!(st, 201, "{job}");
     let id = job["id"].as_str().unwrap().to_string();
     let (k1, k2) = (dir.path().join("k1"), dir.path().join("k2"));
-    let _w1 = worker(&s.url(), 1, &["--keep-deltas", k1.to_str().unwrap()]);
-    let _w2 = worker(&s.url(), 1, &["--keep-deltas", k2.to_str().unwrap()]);
+    let mut workers = [
+        worker(&s.url(), 1, &["--keep-deltas", k1.to_str().unwrap()]),
+        worker(&s.url(), 1, &["--keep-deltas", k2.to_str().unwrap()]),
+    ];
     let v = wait_job(&s, &id, 900, |v| {
         v["state"] != "queued" && v["state"] != "rendering"
     });
     assert_eq!(v["state"], "done", "{v}");
     assert!(v["workers"].as_array().unwrap().len() >= 2, "{v}");
     // The merged film is the exact sum of the acknowledged deltas.
+    stop_workers(&mut workers);
     let merged = final_checkpoint(&s, &id);
     let (sum, n) = sum_kept(&[&k1, &k2]);
     assert_eq!(n as u64, v["merged_deltas"].as_u64().unwrap());

@@ -80,11 +80,16 @@ fn the_workers_sampling_follows_the_masters_map_once_it_arrives() {
     assert_eq!(st, 201, "{job}");
     let id = job["id"].as_str().unwrap().to_string();
     let keep = dir.path().join("kept");
-    let _w = worker(&s.url(), 1, &["--keep-deltas", keep.to_str().unwrap()]);
+    let mut workers = [worker(
+        &s.url(),
+        1,
+        &["--keep-deltas", keep.to_str().unwrap()],
+    )];
     let v = wait_job(&s, &id, 600, |v| {
         v["state"] != "queued" && v["state"] != "rendering"
     });
     assert_eq!(v["state"], "done", "{v}");
+    stop_workers(&mut workers);
     let mut kept: Vec<_> = files_under(&keep)
         .into_iter()
         .filter(|p| p.to_string_lossy().ends_with(".merged.lxd"))

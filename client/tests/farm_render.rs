@@ -64,8 +64,10 @@ fn two_workers_render_cornell_to_haltspp() {
     let id = job["id"].as_str().unwrap().to_string();
     let k1 = dir.path().join("k1");
     let k2 = dir.path().join("k2");
-    let _w1 = worker(&s.url(), 1, &["--keep-deltas", k1.to_str().unwrap()]);
-    let _w2 = worker(&s.url(), 1, &["--keep-deltas", k2.to_str().unwrap()]);
+    let mut workers = [
+        worker(&s.url(), 1, &["--keep-deltas", k1.to_str().unwrap()]),
+        worker(&s.url(), 1, &["--keep-deltas", k2.to_str().unwrap()]),
+    ];
     let v = wait_job(&s, &id, 600, |v| {
         v["state"] != "queued" && v["state"] != "rendering"
     });
@@ -79,6 +81,7 @@ fn two_workers_render_cornell_to_haltspp() {
         spp <= 16.0 + 2.0 * 2.0 * rate_spp.max(1.0) + 2.0,
         "spp {spp} overshoots: {v}"
     );
+    stop_workers(&mut workers);
     let merged = final_checkpoint(&s, &id);
     let (sum, n) = sum_kept(&[&k1, &k2]);
     assert_eq!(n as u64, v["merged_deltas"].as_u64().unwrap());
@@ -149,7 +152,11 @@ fn killed_worker_and_restarted_master() {
     let k1 = dir.path().join("k1");
     let k2 = dir.path().join("k2");
     let w1 = worker(&s.url(), 1, &["--keep-deltas", k1.to_str().unwrap()]);
-    let _w2 = worker(&s.url(), 1, &["--keep-deltas", k2.to_str().unwrap()]);
+    let mut w2 = [worker(
+        &s.url(),
+        1,
+        &["--keep-deltas", k2.to_str().unwrap()],
+    )];
     let v = wait_job(&s, &id, 120, |v| v["spp"].as_f64().unwrap_or(0.0) > 20.0);
     assert_eq!(v["state"], "rendering", "{v}");
     drop(w1); // SIGKILL
@@ -179,6 +186,7 @@ fn killed_worker_and_restarted_master() {
     // checkpoint is either re-merged once (its ack was lost) or gone, never doubled
     let merged = final_checkpoint(&s2, &id);
     assert!((merged.total_samples() - v["samples"].as_f64().unwrap()).abs() < 1e-6);
+    stop_workers(&mut w2);
     let (sum, _) = sum_kept(&[&k1, &k2]);
     assert!(
         merged.total_samples() <= sum.total_samples() + 1e-6,

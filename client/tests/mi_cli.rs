@@ -364,7 +364,11 @@ fn submit_renders_on_the_farm() {
 
     let submit = |scene: &Path| submit_scene(&s, scene, &["--haltspp", "4", "--seed", "5"]);
     let ids = [submit(&room), submit(&cornell)];
-    let _w = worker(&s.url(), 2, &["--keep-deltas", keep.to_str().unwrap()]);
+    let mut workers = [worker(
+        &s.url(),
+        2,
+        &["--keep-deltas", keep.to_str().unwrap()],
+    )];
     let mut merged_total = 0;
     let mut samples = 0.0;
     for (id, res) in ids.iter().zip([24.0 * 24.0, 32.0 * 32.0]) {
@@ -381,6 +385,7 @@ fn submit_renders_on_the_farm() {
     }
     // Every delta the worker kept as merged was acknowledged by the master, and the two jobs'
     // films hold exactly their samples.
+    stop_workers(&mut workers);
     let (sum, n) = sum_kept_by_job(&keep);
     assert_eq!(n as u64, merged_total);
     assert_eq!(sum, samples);

@@ -29,6 +29,7 @@ use crate::link::{backoff, Link};
 use crate::map::MapSlot;
 use crate::Config;
 use anyhow::Context;
+use luxfarm::atomic_write::write_bytes_atomic;
 use luxfarm::fileio::SceneFiles;
 use luxfarm::lxs::ParseOptions;
 use luxfarm::render::{Session, SessionOptions};
@@ -493,10 +494,14 @@ async fn upload_loop(
     }
 }
 
-/// Saves an acknowledged delta for audits (`--keep-deltas`).
+/// Saves an acknowledged delta for audits (`--keep-deltas`), atomically: an auditor reading
+/// the folder while the worker runs sees whole deltas only.
 fn keep(dir: &Path, lease: &str, seq: u64, bytes: &[u8], status: &str) {
     let name: PathBuf = dir.join(format!("{lease}-{seq:06}.{status}.lxd"));
-    if let Err(e) = std::fs::create_dir_all(dir).and_then(|_| std::fs::write(&name, bytes)) {
+    let written = std::fs::create_dir_all(dir)
+        .map_err(|e| e.to_string())
+        .and_then(|_| write_bytes_atomic(&name, bytes).map_err(|e| e.to_string()));
+    if let Err(e) = written {
         tracing::warn!(error = %e, "could not keep delta");
     }
 }

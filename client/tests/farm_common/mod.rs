@@ -128,6 +128,21 @@ pub fn worker(url: &str, threads: usize, extra: &[&str]) -> Proc {
     Proc(child)
 }
 
+/// Stops workers with SIGTERM and waits until each has exited successfully. A worker records
+/// an acknowledgement (`--keep-deltas`) a moment after the master sent it, so a test that
+/// compares a finished job with the kept deltas stops its workers first: the last delta of a
+/// job may be acknowledged just as the job ends.
+#[allow(dead_code)]
+pub fn stop_workers(workers: &mut [Proc]) {
+    for w in workers.iter() {
+        w.term();
+    }
+    for w in workers.iter_mut() {
+        let status = w.wait_exit(120).expect("a worker exits after SIGTERM");
+        assert!(status.success(), "{status:?}");
+    }
+}
+
 /// A small scene at `dir/name.lxs` (the shared builder of the CLI tests' scenes): seen from
 /// (0, −3, 1), an area light just under the top of a 2×2 floor and back wall; `film_extra`
 /// ends the Film statement.
