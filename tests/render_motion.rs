@@ -7,7 +7,9 @@
 //! light is sampled where it is at the sample's time). Two identical keys render as no motion;
 //! a moving instance's streak covers exactly the pixels between its end positions, with the
 //! brightness the time average predicts; a rotating instance seen at a fixed shutter time
-//! renders as the object placed there statically (the motion bound misses nothing).
+//! renders as the object placed there statically (the motion bound misses nothing). A point
+//! light in an object instanced with motion moves with it (LuxRender's MotionLight); a light
+//! written directly inside MotionBegin stays at its first key, as in LuxRender.
 //!
 //! Small films (debug builds), compared on block means of Y against the noise between two
 //! streams of the same scene, or pixel by pixel with a stated tolerance.
@@ -271,4 +273,95 @@ WorldEnd
     let alone = film(&scene("", &slide(0.0, d)), 2);
     let (ba, ba2) = (block_means(&a, 4), block_means(&a2, 4));
     assert!(rmse(&ba, &block_means(&alone, 4)) > 3.0 * rmse(&ba, &ba2));
+}
+
+/// A floor and a ball under `world_motion`, lit by a point light defined in an object and
+/// instanced under `light_placement` (LuxRender's way to move a light), seen by a camera under
+/// `camera`; `direct` writes the light directly under `light_placement` instead.
+fn point_light_scene(
+    camera: &str,
+    world_motion: &str,
+    light_placement: &str,
+    direct: bool,
+) -> String {
+    let lamp = r#"LightSource "point" "point from" [0.5 0.3 2.5] "color L" [8 8 8]"#;
+    let light = if direct {
+        format!("AttributeBegin\n{light_placement}\n{lamp}\nAttributeEnd")
+    } else {
+        format!(
+            "ObjectBegin \"lamp\"\n{lamp}\nObjectEnd\n\
+             AttributeBegin\n{light_placement}\nObjectInstance \"lamp\"\nAttributeEnd"
+        )
+    };
+    format!(
+        r#"LookAt 0 -6 4  0 0 0.5  0 0 1
+{camera}
+Camera "perspective" "float fov" [40]
+Film "fleximage" "integer xresolution" [32] "integer yresolution" [24]
+PixelFilter "box" "float xwidth" [0.5] "float ywidth" [0.5]
+Sampler "random" "integer pixelsamples" [16]
+SurfaceIntegrator "path" "integer maxdepth" [2]
+WorldBegin
+{light}
+AttributeBegin
+{world_motion}
+Material "matte" "color Kd" [0.7 0.7 0.7]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point P" [-4 -4 0  4 -4 0  4 4 0  -4 4 0]
+Shape "sphere" "float radius" [0.7]
+AttributeEnd
+WorldEnd
+"#
+    )
+}
+
+#[test]
+fn a_point_light_in_a_moving_instance_moves_with_it() {
+    // Floor, ball, light (instanced with motion) and camera all slide by 1.5 over the
+    // shutter: the image is the still scene's, with the path tracer and with light subpaths
+    // (bidirectional). The light moving alone changes it.
+    let d = 1.5;
+    for integrator in ["path", "bidirectional"] {
+        let with = |s: String| {
+            s.replace(
+                r#"SurfaceIntegrator "path""#,
+                &format!(r#"SurfaceIntegrator "{integrator}""#),
+            )
+        };
+        let still = with(point_light_scene("", "", "", false));
+        let moving = with(point_light_scene(
+            &slide(0.0, -d),
+            &slide(0.0, d),
+            &slide(0.0, d),
+            false,
+        ));
+        let (a, a2) = (film(&still, 0), film(&still, 1));
+        let what = format!("{integrator}: scene and light moving with the camera");
+        films_within_noise(&a, &a2, &film(&moving, 2), &what);
+        let alone = film(&with(point_light_scene("", "", &slide(0.0, d), false)), 2);
+        let (ba, ba2) = (block_means(&a, 4), block_means(&a2, 4));
+        assert!(rmse(&ba, &block_means(&alone, 4)) > 3.0 * rmse(&ba, &ba2));
+    }
+}
+
+#[test]
+fn a_light_written_inside_motion_begin_stays_at_its_first_key() {
+    // LuxRender gives a LightSource its static transform (the first key): only instancing
+    // moves a light.
+    let d = 1.5;
+    let keyed = film(&point_light_scene("", "", &slide(0.0, d), true), 0);
+    let first = film(&point_light_scene("", "", "", true), 0);
+    assert!(normalized_xyz(&first).iter().any(|p| p[1] > 0.0));
+    assert!(rms(&keyed, &first) < 1e-9, "rms {}", rms(&keyed, &first));
+    // A light at infinity in an object instanced with motion keeps the instance's first key
+    // too (with a warning): only lights with a position move.
+    let sun = |placement: &str| {
+        point_light_scene("", "", placement, false).replace(
+            r#"LightSource "point" "point from" [0.5 0.3 2.5]"#,
+            r#"LightSource "distant" "point from" [0.5 0.3 2.5] "point to" [0 0 0]"#,
+        )
+    };
+    let turning = "MotionBegin [0 1]\nRotate 0 0 1 0\nRotate 80 0 1 0\nMotionEnd";
+    let (keyed, first) = (film(&sun(turning), 0), film(&sun(""), 0));
+    assert!(normalized_xyz(&first).iter().any(|p| p[1] > 0.0));
+    assert!(rms(&keyed, &first) < 1e-9, "rms {}", rms(&keyed, &first));
 }

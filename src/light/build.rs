@@ -13,13 +13,15 @@
 use super::gonio::Goniometric;
 use super::{
     sunsky, AreaLight, DistantLight, Emission, EmissionProfile, InfiniteLight, Light, LightColor,
-    LightCommon, PointLight, PrimShape, PrimitiveLight, SpotLight,
+    LightCommon, MovingLight, PointLight, PrimShape, PrimitiveLight, SpotLight,
 };
 use crate::fileio::SceneFiles;
+use crate::geometry::motion::MotionTransform;
 use crate::lxs::{Entity, LightDesc, ParamSet};
 use crate::plugin::BuildError;
 use crate::spectrum::{illuminant_y, Rgb};
 use crate::texture::{image_io, param_loc, TextureSet};
+use glam::Mat4;
 use std::sync::Arc;
 
 /// The `LightSource` plugin names luxfarm builds.
@@ -28,6 +30,9 @@ pub const KINDS: &str =
 
 impl Light {
     /// Builds the light(s) of a `LightSource` statement; `group` is its film light group.
+    /// A light placed by a moving object instance moves with it when it has a position
+    /// ([`MovingLight`]); a light at infinity or an area primitive stays at the instance's
+    /// first key, with a warning.
     pub fn build(
         ld: &LightDesc,
         group: usize,
@@ -35,17 +40,60 @@ impl Light {
         files: &SceneFiles,
     ) -> Result<Vec<Light>, BuildError> {
         let e = &ld.entity;
-        let p = &e.params;
-        let common = LightCommon::from_params(p, group);
         if ld.light_to_world.is_animated() {
             tracing::warn!(
-                "{}: LightSource \"{}\": motion-blurred transform: using its first key (only \
-                 area lights, on their shapes, move)",
+                "{}: LightSource \"{}\": a light inside MotionBegin does not move (as in \
+                 LuxRender): using its first key; a light moves inside an object instanced \
+                 with motion",
                 e.loc,
                 e.kind
             );
         }
-        let l2w = ld.light_to_world.start().as_mat4();
+        let l2w = ld.light_to_world.start();
+        let Some(keys) = ld.instance_motion.as_ref().filter(|m| m.is_animated()) else {
+            let l2w = match &ld.instance_motion {
+                Some(m) => m.start() * l2w,
+                None => l2w,
+            };
+            return Light::build_at(ld, l2w.as_mat4(), group, textures, files);
+        };
+        let Some(motion) = MotionTransform::from_matrices(&keys.keys) else {
+            tracing::warn!(
+                "{}: LightSource \"{}\": its instance's motion keys are singular or not \
+                 finite: using the first key",
+                e.loc,
+                e.kind
+            );
+            return Light::build_at(ld, (keys.start() * l2w).as_mat4(), group, textures, files);
+        };
+        let lights = Light::build_at(ld, l2w.as_mat4(), group, textures, files)?;
+        if !lights.iter().all(MovingLight::can_move) {
+            tracing::warn!(
+                "{}: LightSource \"{}\" in an object instanced with motion: only point, spot, \
+                 goniometric and projection lights move; using the instance's first key",
+                e.loc,
+                e.kind
+            );
+            return Light::build_at(ld, (keys.start() * l2w).as_mat4(), group, textures, files);
+        }
+        Ok(lights
+            .into_iter()
+            .filter_map(|l| MovingLight::new(l, motion.clone()))
+            .map(|m| Light::Moving(Box::new(m)))
+            .collect())
+    }
+
+    /// Builds the light(s) of a `LightSource` statement placed by `l2w`.
+    fn build_at(
+        ld: &LightDesc,
+        l2w: Mat4,
+        group: usize,
+        textures: &mut TextureSet,
+        files: &SceneFiles,
+    ) -> Result<Vec<Light>, BuildError> {
+        let e = &ld.entity;
+        let p = &e.params;
+        let common = LightCommon::from_params(p, group);
         if let Some(built) = sunsky::build(&e.kind, p, l2w, common, &e.loc) {
             return built;
         }

@@ -60,7 +60,7 @@ pub struct LightRay {
 impl Light {
     /// True for lights whose emitting point is fixed (point, spot).
     pub fn is_delta_position(&self) -> bool {
-        matches!(self, Light::Point(_) | Light::Spot(_))
+        matches!(self, Light::Point(_) | Light::Spot(_) | Light::Moving(_))
     }
 
     /// True for lights with a single emitted direction (a sharp distant light).
@@ -83,6 +83,7 @@ impl Light {
             Light::Area(l) => l.sample_le(u_pos, u_dir, u_pick, time, shapes),
             Light::Point(l) => l.sample_le(u_dir, time),
             Light::Spot(l) => l.sample_le(u_dir, time),
+            Light::Moving(l) => l.sample_le(u_pos, u_dir, u_pick, time, shapes, sphere),
             Light::Distant(_)
             | Light::Infinite(_)
             | Light::Sun(_)
@@ -122,7 +123,11 @@ impl Light {
             Light::Sun(l) => l.sample_li(&at, u_dir),
             Light::Sky(l) => l.sample_li(&at, u_dir),
             Light::Sky2(l) => l.sample_li(&at, u_dir),
-            Light::Area(_) | Light::Point(_) | Light::Spot(_) | Light::Primitive(_) => None,
+            Light::Area(_)
+            | Light::Point(_)
+            | Light::Spot(_)
+            | Light::Primitive(_)
+            | Light::Moving(_) => None,
         }?;
         let to_light = ls.wi;
         let (s, t) = coordinate_system(to_light);
@@ -150,6 +155,7 @@ impl Light {
             Light::Area(l) => l.pdf_dir(from.n, w),
             Light::Point(l) => l.pdf_dir(w),
             Light::Spot(l) => l.pdf_dir(w),
+            Light::Moving(l) => l.pdf_dir_from(from, w),
             _ => 0.0,
         }
     }
@@ -173,6 +179,7 @@ impl Light {
             }
             Light::Point(l) => l.intensity_toward(w),
             Light::Spot(l) => l.intensity_toward(w),
+            Light::Moving(l) => l.emitted(from, w),
             _ => Rgb::BLACK,
         }
     }
@@ -182,7 +189,7 @@ impl Light {
     pub fn area_density(&self) -> f32 {
         match self {
             Light::Area(l) if l.area > 0.0 => 1.0 / l.area,
-            Light::Point(_) | Light::Spot(_) => 1.0,
+            Light::Point(_) | Light::Spot(_) | Light::Moving(_) => 1.0,
             _ => 0.0,
         }
     }
@@ -209,6 +216,7 @@ impl Light {
         let k = match self {
             Light::Point(l) => l.falloff_exponent,
             Light::Spot(l) => l.falloff_exponent,
+            Light::Moving(l) => return l.inner().falloff_correction(d2),
             _ => return 1.0,
         };
         if k == 2.0 {

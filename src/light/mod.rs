@@ -37,6 +37,9 @@
 //!   sunsky2 light in the same scope): the light is sampled through those windows
 //!   ([`portal`]) by path and direct lighting; bidirectional ignores them.
 //!
+//! - **moving**: a point, spot, goniometric or projection light defined in an object that is
+//!   instanced with motion moves with the instance at each ray's time ([`moving`]).
+//!
 //! Every light's `nsamples` (1) is the number of shadow rays per direct-lighting estimate;
 //! `lownsamples` replaces it from path depth `lowlevel` on (0: never), as mental ray's
 //! `low_samples` at `low_level`.
@@ -58,6 +61,7 @@ pub mod gonio;
 pub mod ies;
 pub mod infinite;
 pub mod latlong;
+pub mod moving;
 pub mod point;
 pub mod portal;
 pub mod primitive;
@@ -86,6 +90,7 @@ pub use emission::{BoundingSphere, LightRay};
 pub use emitter::EmissionProfile;
 pub use falloff::{distance_falloff, falloff_exponent, mental_ray_exponent, radiance_falloff};
 pub use infinite::InfiniteLight;
+pub use moving::MovingLight;
 pub use point::PointLight;
 pub use portal::Portals;
 pub use primitive::{PrimShape, PrimitiveLight, PRIMITIVE_KINDS};
@@ -245,6 +250,8 @@ pub enum Light {
     Sky(Box<SkyLight>),
     /// The Hosek–Wilkie sky (`sky2`).
     Sky2(Box<Sky2Light>),
+    /// A point-like light carried by a moving object instance ([`moving`]).
+    Moving(Box<MovingLight>),
 }
 
 impl Light {
@@ -259,6 +266,7 @@ impl Light {
             Light::Sun(l) => &l.common,
             Light::Sky(l) => &l.common,
             Light::Sky2(l) => &l.common,
+            Light::Moving(l) => l.common(),
         }
     }
 
@@ -319,6 +327,7 @@ impl Light {
         match self {
             Light::Point(_) | Light::Spot(_) => true,
             Light::Distant(l) => l.is_delta(),
+            Light::Moving(l) => l.inner().is_delta(),
             Light::Infinite(_)
             | Light::Area(_)
             | Light::Primitive(_)
@@ -344,7 +353,11 @@ impl Light {
             Light::Sun(l) => l.world_radius = radius,
             Light::Sky(l) => l.world_radius = radius,
             Light::Sky2(l) => l.world_radius = radius,
-            _ => {}
+            Light::Moving(_)
+            | Light::Point(_)
+            | Light::Spot(_)
+            | Light::Area(_)
+            | Light::Primitive(_) => {}
         }
         let _ = center;
     }
@@ -420,6 +433,7 @@ impl Light {
             Light::Sun(l) => l.sample_li(r, u),
             Light::Sky(l) => l.sample_li(r, u),
             Light::Sky2(l) => l.sample_li(r, u),
+            Light::Moving(l) => l.sample_li(r),
         }?;
         (s.pdf > 0.0 && s.pdf.is_finite() && s.li.is_finite() && !s.li.is_black()).then_some(s)
     }
@@ -443,7 +457,7 @@ impl Light {
         hit: Option<&SurfaceInteraction>,
     ) -> f32 {
         match self {
-            Light::Point(_) | Light::Spot(_) => 0.0,
+            Light::Point(_) | Light::Spot(_) | Light::Moving(_) => 0.0,
             Light::Distant(l) => l.pdf_li(wi),
             Light::Infinite(l) => l.pdf_li(wi),
             Light::Area(l) => hit.map_or(0.0, |h| l.pdf_li(r, h)),
@@ -479,6 +493,7 @@ impl Light {
             Light::Sun(l) => l.power(),
             Light::Sky(l) => l.power(),
             Light::Sky2(l) => l.power(),
+            Light::Moving(l) => l.inner().power(),
         };
         if p.is_finite() {
             p.max(0.0)

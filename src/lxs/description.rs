@@ -104,6 +104,11 @@ pub struct LightDesc {
     pub light_to_world: Xform,
     pub light_group: String,
     pub exterior: Option<String>,
+    /// The motion of the moving object instance that placed this light (LuxRender's
+    /// `MotionLight`): `light_to_world` places the light in the instance, this moves the
+    /// instance at each ray's time. `None` for a light that no moving instance placed.
+    #[serde(default)]
+    pub instance_motion: Option<Xform>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

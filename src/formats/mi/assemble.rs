@@ -306,6 +306,7 @@ fn place_lights(
                 light_to_world: Xform::fixed(l2w),
                 light_group: "default".into(),
                 exterior: None,
+                instance_motion: None,
             }),
             LightOut::Object(inst) => {
                 let at = l.area.as_ref().map_or(&l.loc, |a| &a.1).clone();

@@ -470,7 +470,7 @@ fn light_origin(
     let d = lr.ray.d;
     let (kind, cos) = match light {
         Light::Area(_) => (Kind::LightPoint(index), lr.n.dot(d).abs()),
-        Light::Point(_) | Light::Spot(_) => (Kind::LightPoint(index), 1.0),
+        _ if light.is_delta_position() => (Kind::LightPoint(index), 1.0),
         _ if light.is_delta_direction() => (Kind::LightDir(index), 1.0),
         _ => (Kind::Sky, 1.0),
     };

@@ -167,6 +167,7 @@ impl DescriptionBuilder {
             light_to_world: self.ctm.clone(),
             light_group: self.current_light_group(),
             exterior: self.gs.exterior.clone(),
+            instance_motion: None,
         };
         self.gs.current_light_index = match self.current_object {
             Some(obj) => {
@@ -332,7 +333,7 @@ impl DescriptionBuilder {
         }
         let lights = self.object_lights.get(&object).cloned().unwrap_or_default();
         for mut l in lights {
-            l.light_to_world = xform::mul(&to_world, &l.light_to_world, loc)?;
+            place_light(&mut l, &to_world, loc)?;
             match self.current_object {
                 Some(cur) => self.object_lights.entry(cur).or_default().push(l),
                 None => self.desc.lights.push(l),
@@ -391,4 +392,16 @@ impl DescriptionBuilder {
             Err(self.undefined(loc, "named volume", name, known))
         }
     }
+}
+
+/// Places a light of an instanced object by the instance's transform `to_world`: a static
+/// transform joins the light's own; a moving one becomes (or carries) the light's instance
+/// motion, as LuxRender wraps such a light in a `MotionLight` that moves at each ray's time.
+fn place_light(l: &mut LightDesc, to_world: &Xform, loc: &Loc) -> LxsResult<()> {
+    match &l.instance_motion {
+        Some(m) => l.instance_motion = Some(xform::mul(to_world, m, loc)?),
+        None if to_world.is_animated() => l.instance_motion = Some(to_world.clone()),
+        None => l.light_to_world = xform::mul(to_world, &l.light_to_world, loc)?,
+    }
+    Ok(())
 }
