@@ -137,3 +137,34 @@ fn a_session_told_to_skip_depth_keeps_none() {
     assert!(s.render_pass().complete);
     assert!(s.zbuffer().is_none() && s.exr_depths().is_none());
 }
+
+#[test]
+fn depths_across_an_edge_are_plain_means_of_the_covering_samples() {
+    // LuxRender adds each sample's depth with weight 1 to every pixel of its filter footprint,
+    // so a pixel's depth is a plain mean: across the edge between a near wall (the left half,
+    // planes at distance 3) and the far wall (5), every pixel stays between the two, even
+    // under mitchell's negative lobes, which would push a filter-weighted mean outside.
+    let text = scene(r#""bool write_exr" ["true"] "bool write_exr_ZBuf" ["true"]"#)
+        .replace(
+            r#"PixelFilter "box" "float xwidth" [0.5] "float ywidth" [0.5]"#,
+            r#"PixelFilter "mitchell" "float xwidth" [2] "float ywidth" [2]"#,
+        )
+        .replace(
+            r#"Sampler "random" "integer pixelsamples" [4]"#,
+            r#"Sampler "random" "integer pixelsamples" [64]"#,
+        )
+        .replace(
+            "WorldEnd",
+            "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n    \
+             \"point P\" [-100 3 -100 0 3 -100 0 3 100 -100 3 100]\nWorldEnd",
+        );
+    let s = session(&text);
+    let z = s.zbuffer().expect("a Z buffer is kept").raw();
+    // The wall's depths along the middle row: from 3 (near, left) to about 5.5 (far, right).
+    let row: Vec<f32> = (0..16).map(|x| z[8 * 16 + x]).collect();
+    assert!(row[0] < 3.4 && row[15] > 5.0, "{row:?}");
+    // No depth on the row lies outside [3, 5.6] (the far wall's farthest is 5 / cos 20°).
+    for (x, d) in row.iter().enumerate() {
+        assert!(*d >= 3.0 - 1e-3 && *d <= 5.6, "pixel {x}: {d} ({row:?})");
+    }
+}

@@ -1,7 +1,9 @@
 //! The depth (Z) buffer a Film keeps when its EXR output asks for a Z channel
-//! (`write_exr_ZBuf`): per buffer pixel, the filter-weighted mean of the samples' depths
-//! (the distance from the camera to the first surface hit), as LuxRender's fleximage adds each
-//! sample's depth with its filter weight. Samples that hit nothing add no depth.
+//! (`write_exr_ZBuf`): per buffer pixel, the mean of the depths (the distance from the camera
+//! to the first surface hit) of the samples whose filter footprint covers the pixel. LuxRender
+//! 1.x's film adds each sample's depth with weight 1 to every pixel of the footprint, whatever
+//! the filter's weight there (`Film::AddTileSamples`); so does luxfarm. Samples that hit
+//! nothing add no depth.
 //!
 //! Renders add depths tile by tile ([`ZBuffer::add`], [`ZBuffer::merge_at`]); outputs take
 //! [`ZBuffer::depths`] normalised as `write_exr_zbuf_normalizationtype` asks. Sums are f64.

@@ -168,6 +168,21 @@ impl Filter {
     /// Pixels whose weight is exactly 0 are skipped (they add nothing). Weights may be negative
     /// (mitchell, catmullrom, sinc lobes). A non-finite `p_film` visits nothing.
     pub fn splat(&self, p_film: Vec2, mut f: impl FnMut(i32, i32, f32)) {
+        self.each_cell(p_film, |x, y, w| {
+            if w != 0.0 {
+                f(x, y, w);
+            }
+        });
+    }
+
+    /// Calls `f(x, y)` for every pixel of the filter's footprint around `p_film`, whatever
+    /// its weight (LuxRender adds a sample's depth with weight 1 to each of them).
+    pub fn footprint(&self, p_film: Vec2, mut f: impl FnMut(i32, i32)) {
+        self.each_cell(p_film, |x, y, _| f(x, y));
+    }
+
+    /// Every cell of the weight table placed at `p_film`, zero weights included.
+    fn each_cell(&self, p_film: Vec2, mut f: impl FnMut(i32, i32, f32)) {
         if !p_film.is_finite() {
             return;
         }
@@ -179,9 +194,7 @@ impl Filter {
         let y0 = (d.y - self.radius.y).ceil() as i32;
         for (row, ws) in lut.weights.chunks_exact(lut.width.max(1)).enumerate() {
             for (col, &w) in ws.iter().enumerate() {
-                if w != 0.0 {
-                    f(x0 + col as i32, y0 + row as i32, w);
-                }
+                f(x0 + col as i32, y0 + row as i32, w);
             }
         }
     }

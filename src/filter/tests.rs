@@ -375,3 +375,24 @@ fn film_weights_match_luxrender_reference_statistics() {
         assert!((wt / f64::from(spp) - 1.0).abs() < 0.15, "pixel {i}: {wt}");
     }
 }
+
+#[test]
+fn the_footprint_holds_the_splat_and_stays_within_the_radius() {
+    // The depth buffer's footprint (LuxRender adds depth with weight 1 to every cell): the
+    // pixels splat visits, plus any cell of weight 0, all within the radius.
+    for k in ALL {
+        let f = filter(k, &[]);
+        let r = f.radius() + Vec2::splat(1.0 / 16.0);
+        for p in positions(100) {
+            let mut splat = Vec::new();
+            f.splat(p, |x, y, _| splat.push((x, y)));
+            let mut cells = Vec::new();
+            f.footprint(p, |x, y| {
+                let c = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                assert!((c.x - p.x).abs() <= r.x && (c.y - p.y).abs() <= r.y);
+                cells.push((x, y));
+            });
+            assert!(splat.iter().all(|c| cells.contains(c)), "{k} at {p}");
+        }
+    }
+}

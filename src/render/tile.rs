@@ -182,10 +182,10 @@ pub fn render_tile(scene: &Renderable, t: &Tile, ctx: &PassCtx) -> TileOut {
                 if let Some(z) = depth.as_mut() {
                     if let Some(hit) = world.intersect(&ray) {
                         let d = setup.camera.hit_depth(&ray, hit.t);
-                        setup.filter.splat(cs.p_film, |x, y, fw| {
+                        setup.filter.footprint(cs.p_film, |x, y| {
                             let (lx, ly) = (i64::from(x) - ox, i64::from(y) - oy);
                             if lx >= 0 && ly >= 0 {
-                                z.add(lx as u32, ly as u32, d, fw);
+                                z.add(lx as u32, ly as u32, d, 1.0);
                             }
                         });
                     }
