@@ -260,12 +260,20 @@ fn a_deleted_checkpoint_fails_its_job_alone_and_an_emptied_database_is_refused()
         assert_eq!(st, 201, "{job}");
         let id = job["id"].as_str().unwrap().to_string();
         let _w = worker(&s.url(), 1, &[]);
+        // A checkpoint the store has committed (its generation leads `film_version`): its
+        // file is on disk before the store points at it, so a file alone is not enough.
+        let committed = |v: &serde_json::Value| {
+            v["film_version"]
+                .as_str()
+                .and_then(|f| f.split('-').next())
+                .is_some_and(|g| g != "0")
+        };
+        let v = wait_job(&s, &id, 120, committed);
+        assert!(committed(&v), "no checkpoint committed: {v}");
         let jobdir = data.join("jobs").join(&id);
-        wait_for(120, "a checkpoint", || {
-            files_under(&jobdir)
-                .iter()
-                .any(|p| p.to_string_lossy().contains("checkpoint"))
-        });
+        assert!(files_under(&jobdir)
+            .iter()
+            .any(|p| p.to_string_lossy().contains("checkpoint")));
         id
     };
     // Master and worker are gone (killed); the checkpoint goes too.
