@@ -127,15 +127,32 @@ fn no_z_buffer_unless_asked() {
 /// A farm worker's session renders no depth (its film deltas carry none): after
 /// `skip_depth` passes still complete and no Z buffer is kept.
 #[test]
-fn a_session_told_to_skip_depth_keeps_none() {
-    let path = Path::new("/tmp/luxfarm-zbuffer-skip.lxs");
+fn take_film_takes_the_depth_sums_since_the_last_take() {
+    // A farm worker's delta carries the depths added since its last delta.
+    let path = Path::new("/tmp/luxfarm-zbuffer-take.lxs");
     let text = scene(r#""bool write_exr" ["true"] "bool write_exr_ZBuf" ["true"]"#);
     let desc = parse_text(&text, path);
     let mut s = Session::new(&desc, Path::new("/tmp"), SessionOptions::default()).unwrap();
-    assert!(s.zbuffer().is_some());
-    s.skip_depth();
     assert!(s.render_pass().complete);
-    assert!(s.zbuffer().is_none() && s.exr_depths().is_none());
+    let first = s.take_film();
+    let z = first.depth().expect("the delta carries depth");
+    // 4 samples per pixel, box filter of one pixel: 4 depths per pixel.
+    assert!(
+        z.weights().iter().all(|&w| w == 4.0),
+        "{:?}",
+        &z.weights()[..4]
+    );
+    assert!((z.raw()[8 * 16 + 8] - 5.0).abs() < 0.01);
+    assert!(s.zbuffer().unwrap().weights().iter().all(|&w| w == 0.0));
+    assert!(s.render_pass().complete);
+    let mut both = first.clone();
+    both.merge(&s.take_film()).unwrap();
+    assert!(both.depth().unwrap().weights().iter().all(|&w| w == 8.0));
+    // Without a Z output, no depth travels.
+    let plain = parse_text(&scene(""), path);
+    let mut s = Session::new(&plain, Path::new("/tmp"), SessionOptions::default()).unwrap();
+    assert!(s.render_pass().complete);
+    assert!(s.take_film().depth().is_none());
 }
 
 #[test]

@@ -36,10 +36,15 @@ fn scene(dir: &Path, film: &str) -> PathBuf {
 /// Runs `luxfarm render SCENE --haltspp 2 EXTRA...`, killed if it takes longer than the
 /// bound (a broken farm fails the test instead of hanging it).
 fn render(scene: &Path, extra: &[&str]) {
+    render_seeded(scene, extra, 3)
+}
+
+/// [`render`] with another seed.
+fn render_seeded(scene: &Path, extra: &[&str], seed: u32) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_luxfarm"))
         .arg("render")
         .arg(scene)
-        .args(["--haltspp", "2", "--seed", "3"])
+        .args(["--haltspp", "2", "--seed", &seed.to_string()])
         .args(extra)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
@@ -125,4 +130,64 @@ fn an_explicit_base_name_gets_the_suffix_appended_locally_and_on_a_farm() {
     assert_eq!(outputs(&local), set(&["take.v1.exr"]));
     assert_eq!(outputs(&farm), set(&["take.v1.exr"]));
     assert_eq!(outputs(s.parent().unwrap()), BTreeSet::new());
+}
+
+/// The Z channel of an EXR, row by row.
+fn exr_depths(path: &Path) -> Vec<f32> {
+    let img = exr::prelude::read_all_flat_layers_from_file(path).expect("an EXR");
+    let z = img.layer_data[0]
+        .channel_data
+        .list
+        .iter()
+        .find(|c| c.name.to_string() == "Z")
+        .expect("a Z channel");
+    z.sample_data.values_as_f32().collect()
+}
+
+/// The median relative difference of two depth images over the pixels `a` sees a surface
+/// in, and the pixels where one sees a surface and the other none.
+fn depth_difference(a: &[f32], b: &[f32]) -> (f32, usize) {
+    let mut rel: Vec<f32> = a
+        .iter()
+        .zip(b)
+        .filter(|(x, y)| **x > 0.0 && **y > 0.0)
+        .map(|(x, y)| (y / x - 1.0).abs())
+        .collect();
+    rel.sort_by(f32::total_cmp);
+    let odd = a
+        .iter()
+        .zip(b)
+        .filter(|(x, y)| (**x > 0.0) != (**y > 0.0))
+        .count();
+    (rel[rel.len() / 2], odd)
+}
+
+#[test]
+fn a_farm_render_writes_the_depth_its_workers_merged() {
+    // The workers' deltas carry their depth sums: the farm's EXR has a Z channel that differs
+    // from a local render's no more than two local renders with different seeds differ (at
+    // 2 spp a pixel's depth is the mean of a few samples over its filter footprint).
+    let tmp = tempfile::tempdir().unwrap();
+    let film =
+        r#""bool write_png" ["false"] "bool write_exr" ["true"] "bool write_exr_ZBuf" ["true"]"#;
+    let dirs = ["local", "local2", "farm"].map(|d| tmp.path().join(d));
+    let scenes = dirs.clone().map(|d| scene(&d, film));
+    render(&scenes[0], &[]);
+    render_seeded(&scenes[1], &[], 4);
+    render(&scenes[2], &["--workers", "2", "--threads", "1"]);
+    let [a, a2, b] = dirs.map(|d| exr_depths(&d.join("frame.exr")));
+    assert_eq!(a.len(), 24 * 16);
+    assert_eq!(a.len(), b.len());
+    let hit = a.iter().filter(|&&d| d > 0.0).count();
+    assert!(hit > a.len() / 2, "{hit} pixels see a surface");
+    let (noise, noise_odd) = depth_difference(&a, &a2);
+    let (farm, farm_odd) = depth_difference(&a, &b);
+    assert!(
+        farm <= 2.0 * noise && farm_odd <= 2 * noise_odd + 2,
+        "farm against local: median {farm}, {farm_odd} pixels; two local renders: median \
+         {noise}, {noise_odd} pixels"
+    );
+    // The comparison can fail: depths 10 % short are told apart.
+    let short: Vec<f32> = b.iter().map(|d| d * 0.9).collect();
+    assert!(depth_difference(&a, &short).0 > 2.0 * noise);
 }

@@ -85,15 +85,6 @@ pub fn inspect(root: &Path, scene: &Path, frame: Option<i64>) -> Result<SceneInf
             strip_root(&m, root)
         ))
     })?;
-    if params.wants_zbuf() {
-        // Film deltas carry no depth: the farm's EXR is written without its Z channel.
-        tracing::warn!(
-            "{}: write_exr_ZBuf: depth is not merged across farm workers, so the job's EXR \
-             has no Z channel (`luxfarm render` without --workers writes it)",
-            scene.display()
-        );
-        params.exr.zbuf = false;
-    }
     let basename = output::farm_basename(scene, &params);
     // A job's default name: the Film's filename when the scene gives one, else the scene's
     // own name in the bundle.

@@ -5,7 +5,7 @@
 //! LuxRender keeps these in f32; here they are f64 so that merging thousands of network deltas
 //! loses nothing. The FLM format stores f32 and a double sample count (see `flm`).
 
-use super::FilmError;
+use super::{FilmError, ZBuffer};
 use rayon::prelude::*;
 
 /// Number of f64 values per pixel: X, Y, Z, alpha, weight sum.
@@ -66,7 +66,8 @@ pub fn check_size(width: u32, height: u32) -> Result<(), FilmError> {
     Ok(())
 }
 
-/// The film buffers: f64 sums per light group, buffer and pixel, and f64 sample counts.
+/// The film buffers: f64 sums per light group, buffer and pixel, and f64 sample counts; and
+/// the depth sums when the film carries a Z buffer (a farm delta of a Film that writes Z).
 #[derive(Debug, PartialEq)]
 pub struct Film {
     width: u32,
@@ -77,6 +78,8 @@ pub struct Film {
     data: Vec<Vec<f64>>,
     samples: Vec<f64>,
     rejected: u64,
+    /// Depth sums and weights (`write_exr_ZBuf`), merged with the film; `None` without Z.
+    depth: Option<ZBuffer>,
 }
 
 impl Clone for Film {
@@ -89,6 +92,7 @@ impl Clone for Film {
             data: self.data.clone(),
             samples: self.samples.clone(),
             rejected: self.rejected,
+            depth: self.depth.clone(),
         }
     }
 
@@ -102,6 +106,7 @@ impl Clone for Film {
         self.data.clone_from(&source.data);
         self.samples.clone_from(&source.samples);
         self.rejected = source.rejected;
+        self.depth.clone_from(&source.depth);
     }
 }
 
@@ -148,6 +153,7 @@ impl Film {
             groups,
             buffer_types,
             rejected: 0,
+            depth: None,
         }
     }
 
@@ -306,6 +312,11 @@ impl Film {
             *d += s;
         }
         self.rejected += other.rejected;
+        match (&mut self.depth, &other.depth) {
+            (Some(d), Some(o)) => d.merge_at(o, 0, 0),
+            (None, Some(o)) => self.depth = Some(o.clone()),
+            _ => {}
+        }
         Ok(())
     }
 
@@ -342,6 +353,32 @@ impl Film {
         }
         self.samples.fill(0.0);
         self.rejected = 0;
+        if let Some(z) = &mut self.depth {
+            z.clear();
+        }
+    }
+
+    /// The depth sums the film carries (a farm delta or job film of a Film writing Z).
+    pub fn depth(&self) -> Option<&ZBuffer> {
+        self.depth.as_ref()
+    }
+
+    /// Gives the film depth sums of its size (replacing any), or takes them away; a buffer
+    /// of another size is refused.
+    pub fn set_depth(&mut self, depth: Option<ZBuffer>) -> Result<(), FilmError> {
+        if let Some(z) = &depth {
+            if (z.width(), z.height()) != (self.width, self.height) {
+                return Err(FilmError::Mismatch(format!(
+                    "a {}x{} depth buffer for a {}x{} film",
+                    z.width(),
+                    z.height(),
+                    self.width,
+                    self.height
+                )));
+            }
+        }
+        self.depth = depth;
+        Ok(())
     }
 
     /// The five sums (X, Y, Z, alpha, weight) of a pixel; `None` out of range.

@@ -42,6 +42,50 @@ impl ZBuffer {
         self.height
     }
 
+    /// A buffer from its sums and weights, row by row (a film read back from the wire):
+    /// both of `width × height` values, finite, the weights not negative.
+    pub fn from_sums(
+        width: u32,
+        height: u32,
+        sum: Vec<f64>,
+        weight: Vec<f64>,
+    ) -> Result<ZBuffer, String> {
+        let n = width as usize * height as usize;
+        if sum.len() != n || weight.len() != n {
+            return Err(format!(
+                "a {width}x{height} depth buffer needs {n} sums and weights, got {} and {}",
+                sum.len(),
+                weight.len()
+            ));
+        }
+        if !sum.iter().all(|v| v.is_finite()) || !weight.iter().all(|w| w.is_finite() && *w >= 0.0)
+        {
+            return Err("depth sums must be finite and their weights not negative".into());
+        }
+        Ok(ZBuffer {
+            width,
+            height,
+            sum,
+            weight,
+        })
+    }
+
+    /// The depth sums, row by row.
+    pub fn sums(&self) -> &[f64] {
+        &self.sum
+    }
+
+    /// The weight sums (samples added), row by row.
+    pub fn weights(&self) -> &[f64] {
+        &self.weight
+    }
+
+    /// Sets every sum and weight to zero.
+    pub fn clear(&mut self) {
+        self.sum.fill(0.0);
+        self.weight.fill(0.0);
+    }
+
     /// Adds a depth with a filter weight at (x, y); outside the buffer, non-finite or
     /// non-positive values are ignored.
     pub fn add(&mut self, x: u32, y: u32, depth: f32, weight: f32) {

@@ -128,13 +128,15 @@ fn scene_stem(scene: &Path) -> String {
 }
 
 /// Writes every output the parameters enable; returns the files written. The EXR's Z channel
-/// needs per-pixel depths, which a `Film` does not carry: see [`write_outputs_with_z`].
+/// takes the depth sums the film carries (a farm job's merged deltas), normalised as
+/// `write_exr_zbuf_normalizationtype` asks; see [`write_outputs_with_z`] for given depths.
 pub fn write_outputs(
     film: &Film,
     params: &FilmParams,
     basename: &Path,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    write_outputs_with_z(film, params, basename, None)
+    let z = film.depth().map(|d| d.depths(params.exr.zbuf_norm));
+    write_outputs_with_z(film, params, basename, z.as_deref())
 }
 
 /// As [`write_outputs`], with an optional Z buffer (depth per buffer pixel) for the EXR's

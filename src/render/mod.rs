@@ -298,15 +298,10 @@ impl Session {
         &self.film
     }
 
-    /// The depth buffer, when the Film asks for a Z output (whole session; not taken with
-    /// the film).
+    /// The depth buffer, when the Film asks for a Z output (since the last
+    /// [`Self::take_film`], which takes it with the film).
     pub fn zbuffer(&self) -> Option<&ZBuffer> {
         self.depth.as_ref()
-    }
-
-    /// Renders no depth buffer from now on (a farm worker: the deltas it sends carry none).
-    pub fn skip_depth(&mut self) {
-        self.depth = None;
     }
 
     /// The depths the EXR output writes (with its normalisation).
@@ -331,11 +326,19 @@ impl Session {
         self.traces_per_pass()
     }
 
-    /// The accumulated film since the last take; the session film is cleared.
+    /// The accumulated film since the last take, with the depth sums when the Film asks for
+    /// a Z output (a farm delta carries both); the session's film and depth are cleared.
     pub fn take_film(&mut self) -> Film {
         let mut fresh = self.film.clone();
         fresh.clear();
-        std::mem::replace(&mut self.film, fresh)
+        let mut film = std::mem::replace(&mut self.film, fresh);
+        if let Some(z) = self.depth.as_mut() {
+            let mut empty = z.clone();
+            empty.clear();
+            // The session's depth buffer has the film's size (both from the Film's crop).
+            let _ = film.set_depth(Some(std::mem::replace(z, empty)));
+        }
+        film
     }
 
     /// The film's buffer layout (eye buffer, and the light buffer of bidirectional renders).

@@ -15,6 +15,10 @@
 //!   (box / Mitchell filter), for ~50 ms of encoding and decoding each (`luxfarm bench
 //!   transport`).
 //!
+//! Both may end with a depth section (a Film writing Z: the depth sums and weights of the
+//! `write_exr_ZBuf` channel, zstd-compressed, see `depth_section`); a film without it has no
+//! depth.
+//!
 //! Common header: magic, width u32, height u32, group count u32, per group its name (u32
 //! length + UTF-8), buffer count u32, per buffer its type i32, rejected u64, per group the
 //! sample count f64. `lxd1` then holds per group and buffer `width*height*5` f64 values.
@@ -22,11 +26,13 @@
 pub mod lxd2;
 
 use crate::{Result, WireError};
-use luxfarm::film::{BufferType, Film, PIXEL_VALUES};
+use luxfarm::film::{BufferType, Film, ZBuffer, PIXEL_VALUES};
 
 pub use lxd2::Compressor;
 
 const MAGIC: &[u8; 4] = b"LXD1";
+/// Tag of the optional depth section (Z buffer sums) after a film's values.
+const DEPTH_TAG: &[u8; 4] = b"ZBF1";
 /// Most light groups a delta may carry.
 pub const MAX_GROUPS: usize = 1024;
 const MAX_BUFFERS: usize = 8;
@@ -97,6 +103,57 @@ pub fn encode_to(film: &Film, w: &mut impl std::io::Write) -> std::io::Result<()
                 w.write_all(&bytes)?;
             }
         }
+    }
+    w.write_all(&depth_section(film))
+}
+
+/// The optional depth section after the values (both encodings): [`DEPTH_TAG`], the
+/// compressed length u32, then zstd of the sums and the weights (f64, little endian, row by
+/// row). A film without depth writes nothing.
+fn depth_section(film: &Film) -> Vec<u8> {
+    let Some(z) = film.depth() else {
+        return Vec::new();
+    };
+    let mut raw = Vec::with_capacity(16 * z.sums().len());
+    for v in z.sums().iter().chain(z.weights()) {
+        raw.extend_from_slice(&v.to_le_bytes());
+    }
+    let packed = zstd::bulk::compress(&raw, 1).unwrap_or_default();
+    let mut out = Vec::with_capacity(8 + packed.len());
+    out.extend_from_slice(DEPTH_TAG);
+    out.extend_from_slice(&(packed.len() as u32).to_le_bytes());
+    out.extend_from_slice(&packed);
+    out
+}
+
+/// Reads the optional depth section (see [`depth_section`]) into `film`: exactly the film's
+/// pixel count of sums and weights, finite, weights not negative; no section clears the
+/// film's depth. Nothing may follow.
+fn read_depth(r: &mut Reader, film: &mut Film) -> Result<()> {
+    if r.rest() == 0 {
+        return film.set_depth(None).map_err(|e| bad(&e.to_string()));
+    }
+    if r.take(4)? != DEPTH_TAG {
+        return Err(bad("trailing bytes"));
+    }
+    let len = r.u32()? as usize;
+    let packed = r.take(len)?;
+    let n = film.pixel_count();
+    let want = n * 16;
+    let raw = zstd::bulk::decompress(packed, want).map_err(|_| bad("bad depth section"))?;
+    if raw.len() != want {
+        return Err(bad("depth section of the wrong size"));
+    }
+    let values: Vec<f64> = raw
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+        .collect();
+    let (sums, weights) = values.split_at(n);
+    let z = ZBuffer::from_sums(film.width(), film.height(), sums.to_vec(), weights.to_vec())
+        .map_err(|e| bad(&e))?;
+    film.set_depth(Some(z)).map_err(|e| bad(&e.to_string()))?;
+    if r.rest() != 0 {
+        return Err(bad("trailing bytes"));
     }
     Ok(())
 }
@@ -169,6 +226,7 @@ pub fn decode(bytes: &[u8]) -> Result<Film> {
     let header = read_header(&mut r, raw)?;
     let mut film = header.new_film()?;
     read_values(&mut r, raw, &mut film)?;
+    read_depth(&mut r, &mut film)?;
     Ok(film)
 }
 
@@ -179,6 +237,7 @@ pub fn decode_into(bytes: &[u8], film: &mut Film) -> Result<()> {
     let header = read_header(&mut r, raw)?;
     header.check_fits(film)?;
     read_values(&mut r, raw, film)?;
+    read_depth(&mut r, film)?;
     header.set_counts(film);
     Ok(())
 }
@@ -321,7 +380,8 @@ fn read_header(r: &mut Reader, raw: bool) -> Result<Header> {
     if bytes > MAX_DECODED {
         return Err(bad(&format!("a film of {bytes} bytes is too large")));
     }
-    if raw && r.rest() as u64 != bytes {
+    // (A depth section may follow the values: `read_depth` checks it.)
+    if raw && (r.rest() as u64) < bytes {
         let expected = r.pos as u64 + bytes;
         return Err(bad(&format!(
             "{} bytes, expected {expected}",
@@ -357,6 +417,69 @@ mod tests {
         assert_eq!(f, g);
         assert_eq!(decode_as("lxd1", &encode(&f)).unwrap(), f);
         assert_eq!(decode_as("lxd2", &encode_delta(&f)).unwrap(), f);
+    }
+
+    fn with_depth(mut f: Film) -> Film {
+        let mut z = ZBuffer::new(3, 2);
+        z.add(0, 0, 2.5, 1.0);
+        z.add(0, 0, 3.5, 1.0);
+        z.add(2, 1, 7.25, 1.0);
+        f.set_depth(Some(z)).unwrap();
+        f
+    }
+
+    #[test]
+    fn depth_sums_travel_exactly_in_both_encodings() {
+        let f = with_depth(sample_film());
+        for enc in [encode(&f), encode_delta(&f)] {
+            let g = decode(&enc).unwrap();
+            assert_eq!(g, f);
+            assert_eq!(g.depth().unwrap().raw()[0], 3.0);
+            // Into a used film: depth arrives, and leaves with a delta that has none.
+            let mut used = sample_film();
+            decode_into(&enc, &mut used).unwrap();
+            assert_eq!(used.depth(), f.depth());
+            decode_into(&encode_delta(&sample_film()), &mut used).unwrap();
+            assert!(used.depth().is_none());
+        }
+        // Merging adds the sums and weights.
+        let mut m = f.clone();
+        m.merge(&f).unwrap();
+        assert_eq!(m.depth().unwrap().weights()[0], 4.0);
+        assert_eq!(m.depth().unwrap().raw()[0], 3.0);
+    }
+
+    #[test]
+    fn bad_depth_sections_are_refused() {
+        let f = with_depth(sample_film());
+        let plain = encode_delta(&sample_film());
+        let full = encode_delta(&f);
+        // Truncated, wrong tag, and garbage after the section.
+        assert!(decode(&full[..full.len() - 3]).is_err());
+        let mut tag = full.clone();
+        tag[plain.len()] = b'Q';
+        assert!(decode(&tag).is_err());
+        let mut extra = full.clone();
+        extra.push(0);
+        assert!(decode(&extra).is_err());
+        // A section of the wrong pixel count, and a negative weight.
+        let section = |sums: &[f64], weights: &[f64]| {
+            let raw: Vec<u8> = sums
+                .iter()
+                .chain(weights)
+                .flat_map(|v| v.to_le_bytes())
+                .collect();
+            let packed = zstd::bulk::compress(&raw, 1).unwrap();
+            let mut out = plain.clone();
+            out.extend_from_slice(DEPTH_TAG);
+            out.extend_from_slice(&(packed.len() as u32).to_le_bytes());
+            out.extend_from_slice(&packed);
+            out
+        };
+        assert!(decode(&section(&[1.0; 6], &[1.0; 6])).is_ok());
+        assert!(decode(&section(&[1.0; 7], &[1.0; 7])).is_err());
+        assert!(decode(&section(&[1.0; 6], &[1.0, 1.0, -1.0, 1.0, 1.0, 1.0])).is_err());
+        assert!(decode(&section(&[f64::NAN, 1.0, 1.0, 1.0, 1.0, 1.0], &[1.0; 6])).is_err());
     }
 
     #[test]

@@ -212,8 +212,6 @@ fn render_thread(
     let files = SceneFiles::confined(root, base).map_err(|e| shown(&e))?;
     let mut session = Session::new(&desc, files, opts).map_err(|e| shown(&e))?;
     session.follow_external_maps();
-    // Film deltas carry no depth, so the master's EXR has no Z channel: render none.
-    session.skip_depth();
     // Over the sample extent, as the film counts them (luxfarm::render::extent).
     let pass = session.pass_samples() as f64;
     store_f64(&flags.pass_samples, pass);

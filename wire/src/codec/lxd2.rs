@@ -115,6 +115,7 @@ pub fn encode(film: &Film, comp: Compressor) -> Vec<u8> {
             }
         }
     }
+    out.extend_from_slice(&super::depth_section(film));
     out
 }
 
@@ -168,9 +169,6 @@ pub(super) fn read_values(r: &mut Reader, film: &mut Film) -> Result<()> {
                 .zip(blocks)
                 .try_for_each(|(d, src)| decode_band(tag, src, d))?;
         }
-    }
-    if r.rest() != 0 {
-        return Err(bad("trailing bytes"));
     }
     Ok(())
 }
