@@ -228,7 +228,7 @@ impl Light {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::light::{Emission, LightColor, LightCommon, PointLight};
     use crate::lxs::{ParamSet, ParamValue};
@@ -243,7 +243,8 @@ mod tests {
         }
     }
 
-    struct NoShapes;
+    /// A scene without shapes to sample (tests of lights that need none).
+    pub(crate) struct NoShapes;
     impl ShapeSampler for NoShapes {
         fn sample_shape(
             &self,

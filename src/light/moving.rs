@@ -171,6 +171,7 @@ impl MovingLight {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::light::emission::tests::NoShapes;
     use crate::light::{Emission, LightColor, PointLight, SpotLight};
     use crate::lxs::{ParamSet, ParamValue};
     use glam::{DAffine3, DVec3, Mat4};
@@ -335,18 +336,5 @@ mod tests {
             LightCommon::single(0),
         ));
         assert!(MovingLight::new(d, slide(1.0)).is_none());
-    }
-
-    struct NoShapes;
-    impl ShapeSampler for NoShapes {
-        fn sample_shape(
-            &self,
-            _: u32,
-            _: Vec2,
-            _: f32,
-            _: f32,
-        ) -> Option<(Interaction, Vec2, f32)> {
-            None
-        }
     }
 }
