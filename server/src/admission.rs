@@ -115,14 +115,24 @@ fn check_halts(
     Ok(())
 }
 
-/// Bytes of one film of the scene's layout (f64 sums).
+/// Bytes of one film of the scene's layout (f64 sums), with its depth buffer (a sum and a
+/// weight per pixel) when an output asks for Z.
 pub fn film_bytes(info: &SceneInfo) -> u64 {
     let per_pixel = (PIXEL_VALUES * 8) as u64;
+    let depth = if info.params.wants_zbuf() {
+        info.pixels.saturating_mul(DEPTH_BYTES_PER_PIXEL)
+    } else {
+        0
+    };
     info.pixels
         .saturating_mul(info.groups.len() as u64)
         .saturating_mul(info.buffers.len().max(1) as u64)
         .saturating_mul(per_pixel)
+        .saturating_add(depth)
 }
+
+/// A depth buffer's bytes per pixel: an f64 sum and an f64 weight (`luxfarm::film::ZBuffer`).
+const DEPTH_BYTES_PER_PIXEL: u64 = 16;
 
 /// Decides whether a scene may be queued, and with which halt rules.
 pub fn admit(
@@ -306,6 +316,18 @@ mod tests {
         assert!(m.contains("10737418240 bytes"), "{m}");
         assert!(m.contains("--max-job-memory"), "{m}");
         admit(&cfg(), 2, &info(1920, 1080, 1), &SubmitOptions::default()).unwrap();
+    }
+
+    #[test]
+    fn a_z_output_adds_its_depth_buffer_to_the_film() {
+        let plain = info(100, 50, 2);
+        let mut z = info(100, 50, 2);
+        z.params.exr.enabled = true;
+        z.params.exr.zbuf = true;
+        assert_eq!(film_bytes(&z) - film_bytes(&plain), 100 * 50 * 16);
+        // Z asked of an output that is not written renders no depth.
+        z.params.exr.enabled = false;
+        assert_eq!(film_bytes(&z), film_bytes(&plain));
     }
 
     #[test]

@@ -11,9 +11,11 @@
 //!
 //! **Frames.** A light-space direction d (the light's transform at its statement) is at polar
 //! angle θ from +z and azimuth φ = atan2(y, x). The map is looked up bilinearly at
-//! (φ/2π, θ/π), row 0 at the top (θ = 0). The IES profile's nadir axis (vertical angle 0) is
-//! +z and its horizontal angle 0 is +x, unless `flipz` (default false) turns the profile upside
-//! down, as LuxRender does (its IES rows are indexed by θ/π).
+//! (φ/2π, θ/π), row 0 at the top (θ = 0), the map repeating past its edges in both
+//! directions (LuxRender's default `TEXTURE_REPEAT` wrap, for slides too). The IES profile's
+//! nadir axis (vertical angle 0) is +z and its horizontal angle 0 is +x, unless `flipz`
+//! (default false) turns the profile upside down, as LuxRender does (its IES rows are indexed
+//! by θ/π).
 //!
 //! **Projection.** `projection` projects `mapname` (required) along the light's +z through a
 //! pinhole with field of view `fov` (degrees, default 45) along the image's shorter side: the
@@ -43,7 +45,10 @@ use std::f32::consts::PI;
 const GRID_WIDTH: usize = 256;
 const GRID_HEIGHT: usize = 128;
 
-/// An RGB lat-long image with bilinear lookup.
+/// An RGB image (a lat-long map or a slide) with LuxRender's bilinear lookup: texel centres
+/// at half-integer coordinates, and the image repeating in both directions past its edges
+/// (LuxRender 1.x makes these maps with its default `TEXTURE_REPEAT` wrap, so a lookup
+/// within half a texel of an edge blends in the opposite edge).
 #[derive(Debug)]
 struct LatLongMap {
     width: usize,
@@ -54,29 +59,19 @@ struct LatLongMap {
 impl LatLongMap {
     fn texel(&self, x: usize, y: usize) -> Rgb {
         self.texels
-            .get(y.min(self.height - 1) * self.width + x % self.width)
+            .get((y % self.height) * self.width + x % self.width)
             .copied()
             .unwrap_or(Rgb::BLACK)
     }
 
-    /// Bilinear lookup at (s, t), wrapping around in s (a lat-long map) or not (a slide).
-    fn lookup(&self, s: f32, t: f32, wrap: bool) -> Rgb {
-        let u = s * self.width as f32 - 0.5;
-        let u = if wrap {
-            u.rem_euclid(self.width as f32)
-        } else {
-            u.clamp(0.0, (self.width - 1) as f32)
-        };
-        let v = (t * self.height as f32 - 0.5).clamp(0.0, (self.height - 1) as f32);
+    /// Bilinear lookup at (s, t), row 0 at t = 0.
+    fn lookup(&self, s: f32, t: f32) -> Rgb {
+        let u = (s * self.width as f32 - 0.5).rem_euclid(self.width as f32);
+        let v = (t * self.height as f32 - 0.5).rem_euclid(self.height as f32);
         let (x0, y0) = (u as usize, v as usize);
         let (fu, fv) = (u - x0 as f32, v - y0 as f32);
-        let x1 = if wrap {
-            x0 + 1
-        } else {
-            (x0 + 1).min(self.width - 1)
-        };
-        let top = self.texel(x0, y0) * (1.0 - fu) + self.texel(x1, y0) * fu;
-        let bottom = self.texel(x0, y0 + 1) * (1.0 - fu) + self.texel(x1, y0 + 1) * fu;
+        let top = self.texel(x0, y0) * (1.0 - fu) + self.texel(x0 + 1, y0) * fu;
+        let bottom = self.texel(x0, y0 + 1) * (1.0 - fu) + self.texel(x0 + 1, y0 + 1) * fu;
         top * (1.0 - fv) + bottom * fv
     }
 }
@@ -139,7 +134,7 @@ impl Projector {
         }
         let s = (x - x0) / (x1 - x0);
         let t = (y - y0) / (y1 - y0);
-        self.slide.lookup(s, 1.0 - t, false) / (self.area * d.z * d.z * d.z)
+        self.slide.lookup(s, 1.0 - t) / (self.area * d.z * d.z * d.z)
     }
 }
 
@@ -269,7 +264,7 @@ impl Goniometric {
         let mut f = Rgb::WHITE;
         if let Some(m) = &self.map {
             let (s, t, _) = dir_to_st(d);
-            f *= m.lookup(s, t, true);
+            f *= m.lookup(s, t);
         }
         if let Some(p) = &self.projector {
             f *= p.eval(d);
