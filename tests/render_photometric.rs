@@ -256,3 +256,26 @@ WorldEnd
     );
     transport_common::assert_agree("IES lights: path vs bidirectional", &path, &bidir, 4.0, 0.0);
 }
+
+/// The scene-format document names the colour of point, spot, goniometric and projection
+/// lights `I`; LuxRender 1.x reads `L`. `I` counts when there is no `L`, and `L` wins over it.
+#[test]
+fn a_point_light_takes_its_colour_from_i_when_l_is_absent() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let at = |params: &str| {
+        irradiance_at_origin(
+            &format!(
+                "AttributeBegin\nTranslate 0 0 1\nLightSource \"point\" {params}\nAttributeEnd"
+            ),
+            dir.path(),
+        )
+    };
+    let white = at("");
+    assert_close("I = 3", at("\"color I\" [3 3 3]"), 3.0 * white, 0.01);
+    assert_close(
+        "L beside I",
+        at("\"color L\" [1 1 1] \"color I\" [3 3 3]"),
+        white,
+        0.01,
+    );
+}

@@ -97,7 +97,7 @@ impl Light {
         if let Some(built) = sunsky::build(&e.kind, p, l2w, common, &e.loc) {
             return built;
         }
-        let color = light_color(textures, p)?;
+        let color = light_color(textures, &e.kind, p)?;
         if let Some(shape) = PrimShape::build(&e.kind, p, l2w) {
             let err =
                 |m: String| BuildError::new(&e.loc, format!("LightSource \"{}\": {m}", e.kind));
@@ -170,7 +170,7 @@ impl Light {
             ));
         }
         let p = &entity.params;
-        let color = light_color(textures, p)?;
+        let color = light_color(textures, &entity.kind, p)?;
         let common = LightCommon::from_params(p, group);
         let profile = EmissionProfile::from_params(p)
             .map_err(|m| BuildError::new(&entity.loc, format!("AreaLightSource \"area\": {m}")))?;
@@ -182,9 +182,22 @@ impl Light {
     }
 }
 
-/// The `L` parameter (colour or texture; white by default) with its luminance.
-fn light_color(textures: &mut TextureSet, p: &ParamSet) -> Result<LightColor, BuildError> {
-    let tex = textures.color_param(p, "L", Rgb::WHITE)?;
+/// The `L` parameter (colour or texture; white by default) with its luminance. The LuxRender
+/// scene-format document names the colour of point, spot, goniometric and projection lights
+/// `I` (pbrt's name); LuxRender 1.x reads `L` for every light, so `I` is taken for those four
+/// when a scene gives no `L`.
+fn light_color(
+    textures: &mut TextureSet,
+    kind: &str,
+    p: &ParamSet,
+) -> Result<LightColor, BuildError> {
+    let intensity_named_i = matches!(kind, "point" | "spot" | "goniometric" | "projection");
+    let name = if intensity_named_i && !p.contains("L") && p.contains("I") {
+        "I"
+    } else {
+        "L"
+    };
+    let tex = textures.color_param(p, name, Rgb::WHITE)?;
     Ok(match tex.as_const() {
         Some(c) => LightColor {
             emission: Emission::Const(c),
