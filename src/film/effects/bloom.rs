@@ -1,15 +1,26 @@
-//! Bloom: each pixel is blended with the weighted mean of its neighbours within a radius, as
-//! LuxRender 1.x's imaging pipeline does it.
+//! Bloom: the image blended with a blurred copy of itself, as the last LuxRender 1.x releases
+//! compute it (`ApplyImagingPipeline` in `core/film.cpp`).
 //!
 //! The support is `bloom_radius` times the image's longer side (in pixels, truncated); the
-//! kernel's half width is half of it. A neighbour at squared pixel distance d² < w² weighs
-//! (1 - sqrt(d²)/w)^4; the pixel itself is left out; the neighbours' mean is normalised by the
-//! weights that fell inside the image. The result is `lerp(bloom_weight, pixel, mean)`.
-//! Away from the borders the kernel's weights sum to the same value for every pixel, so the
-//! image's total energy is kept.
+//! kernel's half width w is half of it. A pixel at offset d along a row or column (|d| < w)
+//! weighs exp(-(z0·|d|/w)²/σ²), z0 = 3.8317 (the first zero of J1) and σ² = 1.698022698724
+//! (LuxRender's Gaussian fit of the Airy disc out to z0); the pixel itself weighs 1. The blur
+//! is separable: along rows, then along the columns of that result, each pass dividing by the
+//! weights that fell inside the image. The result is `lerp(bloom_weight, pixel, blurred)`.
+//!
+//! LuxRender's passes keep one working value per column (rows pass) and per row (columns
+//! pass) and never clear it, so each blurred pixel also carries its predecessor's value, once
+//! more divided by the weights: the row above (rows pass) and the column to the left (columns
+//! pass) leak in, in a geometric tail that brightens flat areas by about w'/(w' − 1) per pass,
+//! w' the sum of the weights (≈ 1.06 for w = 28). luxfarm computes the same; LuxCore's bloom
+//! plugin, otherwise the same, clears the value (a difference of about that size).
 
 use super::Pixels;
 use rayon::prelude::*;
+
+/// LuxRender's first zero of J1 and the Gaussian's σ² fitted to the Airy disc.
+const Z0: f32 = 3.8317;
+const SIGMA2: f32 = 1.698_022_7;
 
 /// Half width in pixels of the bloom kernel for an image (0: no bloom).
 pub fn half_width(radius: f32, width: usize, height: usize) -> usize {
@@ -21,6 +32,20 @@ pub fn half_width(radius: f32, width: usize, height: usize) -> usize {
     }
 }
 
+/// The kernel's weights at offsets 0..w (beyond, nothing).
+pub fn weights(hw: usize) -> Vec<f32> {
+    (0..hw)
+        .map(|d| {
+            let dist = Z0 * d as f32 / hw as f32;
+            if d == 0 {
+                1.0
+            } else {
+                (-dist * dist / SIGMA2).exp()
+            }
+        })
+        .collect()
+}
+
 /// Applies bloom in place. Does nothing for a non-positive radius or weight, or a kernel
 /// narrower than one pixel.
 pub fn apply(img: Pixels<'_>, radius: f32, weight: f32) {
@@ -29,131 +54,126 @@ pub fn apply(img: Pixels<'_>, radius: f32, weight: f32) {
     if weight.is_nan() || weight <= 0.0 || hw == 0 || img.data.len() != w * h {
         return;
     }
-    let hw2 = hw * hw;
-    let table: Vec<f32> = (0..hw2)
-        .map(|d2| (1.0 - (d2 as f32).sqrt() / hw as f32).max(0.0).powi(4))
-        .collect();
-    let src: &[[f32; 3]] = img.data;
-    let blurred: Vec<[f32; 3]> = (0..w * h)
+    let table = weights(hw);
+    // Rows pass: column x carries its value down the rows.
+    let rows: Vec<Vec<[f32; 3]>> = (0..w)
         .into_par_iter()
-        .map(|i| neighbour_mean(src, w, h, i % w, i / w, hw, &table))
+        .map(|x| blur_line(h, &table, |y, bx| img.data[y * w + bx], x, w))
         .collect();
-    let weight = weight.min(1.0);
-    for (p, b) in img.data.iter_mut().zip(&blurred) {
+    // Columns pass over the rows pass's result: row y carries its value across the columns.
+    let cols: Vec<Vec<[f32; 3]>> = (0..h)
+        .into_par_iter()
+        .map(|y| blur_line(w, &table, |x, by| rows[x][by], y, h))
+        .collect();
+    for (i, p) in img.data.iter_mut().enumerate() {
+        let b = cols[i / w][i % w];
         *p = std::array::from_fn(|k| (1.0 - weight) * p[k] + weight * b[k]);
     }
 }
 
-/// Weighted mean of the neighbours of (x, y) within the kernel (the pixel itself excluded).
-fn neighbour_mean(
-    src: &[[f32; 3]],
-    w: usize,
-    h: usize,
-    x: usize,
-    y: usize,
-    hw: usize,
+/// One pass for the pixels at position `along` of `steps` successive lines (each `len` long):
+/// `at(step, i)` is the pixel at position i of line `step`. The value carried from one line
+/// to the next is LuxRender's uncleared working value (module documentation).
+fn blur_line(
+    steps: usize,
     table: &[f32],
-) -> [f32; 3] {
-    let (x0, x1) = (x.saturating_sub(hw), (x + hw).min(w - 1));
-    let (y0, y1) = (y.saturating_sub(hw), (y + hw).min(h - 1));
-    let (mut sum, mut sum_wt) = ([0.0f64; 3], 0.0f64);
-    for by in y0..=y1 {
-        for bx in x0..=x1 {
-            if bx == x && by == y {
-                continue;
+    at: impl Fn(usize, usize) -> [f32; 3],
+    along: usize,
+    len: usize,
+) -> Vec<[f32; 3]> {
+    let hw = table.len();
+    let (i0, i1) = (along.saturating_sub(hw), (along + hw).min(len - 1));
+    let mut carry = [0.0f32; 3];
+    (0..steps)
+        .map(|step| {
+            let mut sum_wt = 0.0f32;
+            for i in i0..=i1 {
+                let Some(&wt) = table.get(along.abs_diff(i)) else {
+                    continue;
+                };
+                let p = at(step, i);
+                sum_wt += wt;
+                (0..3).for_each(|k| carry[k] += wt * p[k]);
             }
-            let d2 = x.abs_diff(bx).pow(2) + y.abs_diff(by).pow(2);
-            let Some(&wt) = table.get(d2) else {
-                continue;
-            };
-            let p = src[by * w + bx];
-            sum_wt += f64::from(wt);
-            (0..3).for_each(|k| sum[k] += f64::from(wt) * f64::from(p[k]));
-        }
-    }
-    if sum_wt > 0.0 {
-        sum.map(|c| (c / sum_wt) as f32)
-    } else {
-        src[y * w + x]
-    }
+            carry = carry.map(|c| c / sum_wt);
+            carry
+        })
+        .collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn total(img: &[[f32; 3]]) -> [f64; 3] {
-        img.iter().fold([0.0; 3], |mut s, p| {
-            (0..3).for_each(|k| s[k] += f64::from(p[k]));
-            s
-        })
-    }
-
-    #[test]
-    fn kernel_width_from_radius() {
-        // support = 0.1 * 64 = 6.4 -> 6 pixels -> half width 3
-        assert_eq!(half_width(0.1, 64, 32), 3);
-        assert_eq!(half_width(0.0, 64, 32), 0);
-        assert_eq!(half_width(f32::NAN, 64, 32), 0);
-    }
-
-    #[test]
-    fn interior_energy_is_conserved() {
-        let (w, h) = (41usize, 41usize);
-        let mut img = vec![[0.0f32; 3]; w * h];
-        img[20 * w + 20] = [100.0, 50.0, 25.0];
-        img[18 * w + 23] = [10.0, 10.0, 10.0];
-        let before = total(&img);
-        // support 0.2 * 41 = 8.2 -> 8 -> half width 4: the sources are far from the borders
+    fn bloom(img: &mut [[f32; 3]], w: usize, h: usize, radius: f32, weight: f32) {
         apply(
             Pixels {
                 width: w,
                 height: h,
-                data: &mut img,
+                data: img,
             },
-            0.2,
-            0.25,
+            radius,
+            weight,
         );
-        let after = total(&img);
-        for k in 0..3 {
-            assert!(
-                (before[k] - after[k]).abs() < 1e-3 * before[k],
-                "{before:?} {after:?}"
-            );
-        }
-        // the source keeps 1 - weight of itself; a direct neighbour receives light
-        assert!((img[20 * w + 20][0] - 75.0).abs() < 1e-3);
-        assert!(img[20 * w + 21][0] > 0.0);
-        // beyond the half width nothing arrives
-        assert_eq!(img[20 * w + 30], [0.0; 3]);
     }
 
     #[test]
-    fn neighbour_weights_by_hand() {
-        // 3x1 image, half width 1: table = [1] (only d² = 0 < 1), so no neighbour is inside
-        // the kernel and every pixel keeps its value.
-        let mut img = vec![[1.0f32; 3], [4.0; 3], [0.0; 3]];
-        apply(
-            Pixels {
-                width: 3,
-                height: 1,
-                data: &mut img,
-            },
-            0.7,
-            0.5,
-        );
-        assert_eq!(img, vec![[1.0f32; 3], [4.0; 3], [0.0; 3]]);
-        // 5x1 image, half width 2: d² = 1 weighs (1 - 1/2)^4 = 1/16; pixel 2 sees 1 and 3
-        let mut img = vec![[0.0f32; 3], [2.0; 3], [8.0; 3], [4.0; 3], [0.0; 3]];
-        apply(
-            Pixels {
-                width: 5,
-                height: 1,
-                data: &mut img,
-            },
-            1.0,
-            1.0,
-        );
-        assert!((img[2][0] - 3.0).abs() < 1e-6, "{:?}", img[2]);
+    fn kernel_width_and_weights_by_hand() {
+        // support = 0.1 * 64 = 6.4 -> 6 pixels -> half width 3
+        assert_eq!(half_width(0.1, 64, 32), 3);
+        assert_eq!(half_width(0.0, 64, 32), 0);
+        assert_eq!(half_width(f32::NAN, 64, 32), 0);
+        // w = 2: offset 1 is at z0/2 = 1.91585: exp(-3.67048/1.69802) = 0.115138
+        let t = weights(2);
+        assert_eq!(t.len(), 2);
+        assert_eq!(t[0], 1.0);
+        assert!((t[1] - 0.115_138).abs() < 1e-5, "{t:?}");
+    }
+
+    #[test]
+    fn rows_then_columns_with_the_carried_value() {
+        // 3x2 image, radius 1.4 -> support 4 -> w = 2, weights [1, a] with a = 0.115138.
+        let a = weights(2)[1];
+        let mut img = vec![[0.0f32; 3]; 6];
+        img[1] = [1.0; 3]; // (1, 0)
+        bloom(&mut img, 3, 2, 1.4, 1.0);
+        // Rows pass, row 0: x0 = a/(1+a), x1 = 1/(1+2a), x2 = a/(1+a).
+        let r0 = [a / (1.0 + a), 1.0 / (1.0 + 2.0 * a), a / (1.0 + a)];
+        // Row 1 has no light, but each column carries row 0's value: r1[x] = r0[x] / sumwt.
+        let r1 = [
+            r0[0] / (1.0 + a),
+            r0[1] / (1.0 + 2.0 * a),
+            r0[2] / (1.0 + a),
+        ];
+        // Columns pass: each pixel sums its column (two rows: weights 1 and a) and carries the
+        // value of its left neighbour.
+        let r = [r0, r1];
+        for y in 0..2 {
+            let col = |x: usize| r[y][x] + a * r[1 - y][x];
+            let c0 = col(0) / (1.0 + a);
+            let c1 = (c0 + col(1)) / (1.0 + a);
+            let c2 = (c1 + col(2)) / (1.0 + a);
+            for (x, want) in [c0, c1, c2].into_iter().enumerate() {
+                let got = img[y * 3 + x][0];
+                assert!((got - want).abs() < 1e-6, "({x}, {y}): {got} vs {want}");
+            }
+        }
+    }
+
+    #[test]
+    fn weight_blends_and_no_kernel_changes_nothing() {
+        let src = vec![[1.0f32, 4.0, 0.0], [4.0; 3], [0.0; 3]];
+        // Half width 1: weights [1]: the blur is the pixel plus the carried value.
+        let mut img = src.clone();
+        bloom(&mut img, 3, 1, 0.7, 0.5);
+        assert!(img.iter().all(|p| p.iter().all(|c| c.is_finite())));
+        // Support below two pixels: no kernel, nothing changes.
+        let mut img = src.clone();
+        bloom(&mut img, 3, 1, 0.5, 0.5);
+        assert_eq!(img, src);
+        // Weight 0: nothing changes.
+        let mut img = src.clone();
+        bloom(&mut img, 3, 1, 1.0, 0.0);
+        assert_eq!(img, src);
     }
 }

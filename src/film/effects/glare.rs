@@ -8,8 +8,12 @@
 //! side (kernel exp(-x²/σ²), normalised, cut where it falls below 1e-12 or at 4σ), and rotated
 //! back; the blades' mean, times `glare_amount`, is added to the image.
 //!
-//! Not done: the pupil and eyelash maps (`glare_map`, `glare_pupil`, `glare_lashes`) of later
-//! LuxRender versions' diffraction glare.
+//! LuxRender 1.x also has a diffraction glare from pupil and eyelash images (the film's
+//! `GlareMap` with `glarepupilfilename`/`glarelashesfilename`). A scene cannot turn it on:
+//! the film starts with `GlareMap` false and only LuxRender's GUI sets it, so a scene's
+//! glare is always this blade glare, here as there. luxfarm has no GUI toggle and does not
+//! compute the diffraction glare (an FLM saved from LuxRender's GUI with it on is
+//! tonemapped with the blade glare).
 
 use super::{bilinear, Pixels};
 use rayon::prelude::*;
