@@ -1,0 +1,93 @@
+"""LuxCore's side of the image-effect comparison of tests/imaging_luxcore.rs: bloom, chromatic
+aberration and vignetting on one small scene.
+
+    pip install pyluxcore numpy
+    python3 scripts/luxcore_effects.py
+
+The scene (the same as SCENE in the test): a camera 3 m above the z = 0 plane looking straight
+down (up +y, 90-degree field of view), 128x128 pixels, one-pixel box filter, 64 samples per
+pixel, emitters only: a 0.2 m square of radiance 50 at (-1, 1), a 0.6 m square of 5 at
+(1, -0.5), a 1.5 m square of 1 at (-1.75, -1.75), and behind them a 6 m square of 0.3 filling
+the view. Every figure is a difference image divided by the plain image's mean, so the
+renderers' radiometric scales cancel; Y = 0.2126 R + 0.7152 G + 0.0722 B.
+
+* bloom (radius 0.3, weight 0.5): (bloomed - plain) / mean(plain), in 8-pixel blocks of the
+  48x48 window around the small bright square (LuxCore rows 20..67, luxfarm rows 19..66:
+  LuxCore's film lies one row below the scene's pixel centres, see
+  scripts/luxcore_photometric.py), rows from the top.
+* aberration (amount 0.5): LuxCore returns the mean of the plain and the aberrated image
+  (LuxRender 1.x returns the aberrated image), so 2 (out - plain) / mean(plain), in 16-pixel
+  blocks of LuxCore's rows 1..112.
+* vignetting (scale 0.4): the factor out / plain at chosen pixels (column, row from the top).
+  LuxCore measures a pixel's offset from the centre in [-1, 1] where LuxRender 1.x uses
+  [-0.5, 0.5]: LuxCore's factor at offset r is LuxRender's at 2r.
+"""
+import os
+
+import numpy as np
+import pyluxcore
+
+RES = 128
+QUADS = [  # (x0, y0, x1, y1, z, radiance)
+    (-1.1, 0.9, -0.9, 1.1, 0.0, 50.0),
+    (0.7, -0.8, 1.3, -0.2, 0.0, 5.0),
+    (-2.5, -2.5, -1.0, -1.0, 0.0, 1.0),
+    (-3.0, -3.0, 3.0, 3.0, -0.01, 0.3),
+]
+
+
+def render(stages):
+    scene = pyluxcore.Scene()
+    props = pyluxcore.Properties()
+    lines = ['scene.camera.type = "perspective"', "scene.camera.lookat.orig = 0 0 3",
+             "scene.camera.lookat.target = 0 0 0", "scene.camera.up = 0 1 0",
+             "scene.camera.fieldofview = 90"]
+    for k, q in enumerate(QUADS):
+        lines += ['scene.materials.m%d.type = "matte"' % k, "scene.materials.m%d.kd = 0 0 0" % k,
+                  "scene.materials.m%d.emission = %g %g %g" % (k, q[5], q[5], q[5])]
+    props.SetFromString("\n".join(lines))
+    for k, (x0, y0, x1, y1, z, _) in enumerate(QUADS):
+        scene.DefineMesh("q%d" % k, [(x0, y0, z), (x1, y0, z), (x1, y1, z), (x0, y1, z)],
+                         [(0, 1, 2), (0, 2, 3)], None, None, None, None)
+        props.Set(pyluxcore.Property("scene.objects.q%d.shape" % k, "q%d" % k))
+        props.Set(pyluxcore.Property("scene.objects.q%d.material" % k, "m%d" % k))
+    scene.Parse(props)
+    cfg = ['renderengine.type = "PATHCPU"', 'sampler.type = "SOBOL"',
+           "film.width = %d" % RES, "film.height = %d" % RES, 'film.filter.type = "NONE"',
+           "path.pathdepth.total = 1", "batch.haltspp = 64"]
+    for i, stage in enumerate(stages):
+        cfg += ["film.imagepipelines.0.%d.%s = %s" % (i, k, v) for k, v in stage.items()]
+    props = pyluxcore.Properties()
+    props.SetFromString("\n".join(cfg))
+    session = pyluxcore.RenderSession(pyluxcore.RenderConfig(props, scene))
+    session.Start()
+    while not session.HasDone():
+        session.UpdateStats()
+    session.Stop()
+    buf = np.zeros(RES * RES * 3, dtype=np.float32)
+    session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB_IMAGEPIPELINE, buf)
+    img = buf.reshape(RES, RES, 3)[::-1]
+    return img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
+
+
+def blocks(img, size):
+    h, w = img.shape
+    return img.reshape(h // size, size, w // size, size).mean(axis=(1, 3))
+
+
+def show(name, values):
+    print(name + " " + " ".join("%.4f" % v for v in np.ravel(values)))
+
+
+pyluxcore.Init(lambda s: None)
+linear = {"type": '"TONEMAP_LINEAR"', "scale": 1}
+plain = render([linear])
+mean = plain.mean()
+bloom = render([{"type": '"BLOOM"', "radius": 0.3, "weight": 0.5}, linear])
+show("bloom", blocks(((bloom - plain) / mean)[20:68, 19:67], 8))
+aberration = render([linear, {"type": '"COLOR_ABERRATION"', "amount": 0.5}])
+show("aberration", blocks((2 * (aberration - plain) / mean)[1:113], 16))
+vignetting = render([linear, {"type": '"VIGNETTING"', "scale": 0.4}])
+pixels = [(64, 64), (0, 64), (32, 96), (100, 100), (1, 127)]
+show("vignetting", [vignetting[y, x] / plain[y, x] for x, y in pixels])
+os._exit(0)
