@@ -21,6 +21,10 @@ renderers' radiometric scales cancel; Y = 0.2126 R + 0.7152 G + 0.0722 B.
 * vignetting (scale 0.4): the factor out / plain at chosen pixels (column, row from the top).
   LuxCore measures a pixel's offset from the centre in [-1, 1] where LuxRender 1.x uses
   [-0.5, 0.5]: LuxCore's factor at offset r is LuxRender's at 2r.
+* aberration_formula, vignetting_formula: LuxRender 1.x's aberration and vignetting (the
+  formulas luxfarm implements) applied to LuxCore's own plain image with LuxCore's two changes
+  (the half-and-half mix, the doubled offsets), against LuxCore's output: the largest
+  per-pixel difference over the image's peak.
 """
 import os
 
@@ -66,8 +70,41 @@ def render(stages):
     session.Stop()
     buf = np.zeros(RES * RES * 3, dtype=np.float32)
     session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB_IMAGEPIPELINE, buf)
-    img = buf.reshape(RES, RES, 3)[::-1]
+    return buf.reshape(RES, RES, 3)
+
+
+def top_first_y(img):
+    img = img[::-1]
     return img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
+
+
+def bilinear(img, x, y):
+    h, w, _ = img.shape
+    x1 = np.clip(np.floor(x).astype(int), 0, w - 1)
+    y1 = np.clip(np.floor(y).astype(int), 0, h - 1)
+    x2, y2 = np.clip(x1 + 1, 0, w - 1), np.clip(y1 + 1, 0, h - 1)
+    tx, ty = np.clip(x - x1, 0, 1)[..., None], np.clip(y - y1, 0, 1)[..., None]
+    return ((1 - tx) * (1 - ty) * img[y1, x1] + tx * (1 - ty) * img[y1, x2]
+            + (1 - tx) * ty * img[y2, x1] + tx * ty * img[y2, x2])
+
+
+def luxrender_aberration(img, amount):
+    """LuxRender 1.x's aberrated image, in the image's own rows (LuxCore's: bottom first)."""
+    h, w, _ = img.shape
+    y, x = np.mgrid[0:h, 0:w]
+    dx, dy = x / w - 0.5, y / h - 0.5
+    r = np.sqrt(dx * dx + dy * dy)
+    at = lambda s: bilinear(img, (0.5 + dx * (1 + s * r * amount)) * w,
+                            (0.5 + dy * (1 + s * r * amount)) * h)
+    rb, g = at(1.0), at(-1.0)
+    return np.stack([rb[..., 0], g[..., 1], rb[..., 2]], -1)
+
+
+def luxrender_vignetting(h, w, scale, offset_scale):
+    y, x = np.mgrid[0:h, 0:w]
+    dx, dy = (x / w - 0.5) * offset_scale, (y / h - 0.5) * offset_scale
+    t = 1 - 1.42 * np.sqrt(dx * dx + dy * dy)
+    return ((1 - t) * (1 - scale) + t)[..., None]
 
 
 def blocks(img, size):
@@ -81,13 +118,22 @@ def show(name, values):
 
 pyluxcore.Init(lambda s: None)
 linear = {"type": '"TONEMAP_LINEAR"', "scale": 1}
-plain = render([linear])
+plain_rgb = render([linear])
+plain = top_first_y(plain_rgb)
 mean = plain.mean()
-bloom = render([{"type": '"BLOOM"', "radius": 0.3, "weight": 0.5}, linear])
+bloom = top_first_y(render([{"type": '"BLOOM"', "radius": 0.3, "weight": 0.5}, linear]))
 show("bloom", blocks(((bloom - plain) / mean)[20:68, 19:67], 8))
-aberration = render([linear, {"type": '"COLOR_ABERRATION"', "amount": 0.5}])
+aberration_rgb = render([linear, {"type": '"COLOR_ABERRATION"', "amount": 0.5}])
+aberration = top_first_y(aberration_rgb)
 show("aberration", blocks((2 * (aberration - plain) / mean)[1:113], 16))
-vignetting = render([linear, {"type": '"VIGNETTING"', "scale": 0.4}])
+vignetting_rgb = render([linear, {"type": '"VIGNETTING"', "scale": 0.4}])
+vignetting = top_first_y(vignetting_rgb)
 pixels = [(64, 64), (0, 64), (32, 96), (100, 100), (1, 127)]
 show("vignetting", [vignetting[y, x] / plain[y, x] for x, y in pixels])
+# LuxRender 1.x's formulas (which luxfarm implements) applied to LuxCore's own plain image,
+# with LuxCore's two changes, against LuxCore's output: the largest difference over the peak.
+want = 0.5 * (plain_rgb + luxrender_aberration(plain_rgb, 0.5))
+print("aberration_formula %.5f" % (np.abs(aberration_rgb - want).max() / aberration_rgb.max()))
+want = plain_rgb * luxrender_vignetting(RES, RES, 0.4, 2.0)
+print("vignetting_formula %.5f" % (np.abs(vignetting_rgb - want).max() / vignetting_rgb.max()))
 os._exit(0)
