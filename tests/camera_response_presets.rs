@@ -86,3 +86,54 @@ fn none_and_empty_mean_no_response() {
         );
     }
 }
+
+/// The radiances of `scripts/luxcore_crf.py`'s eight emitters (linear RGB).
+const LEVELS: [[f32; 3]; 8] = [
+    [0.02; 3],
+    [0.1; 3],
+    [0.3; 3],
+    [0.6; 3],
+    [1.0; 3],
+    [0.5, 0.2, 0.05],
+    [0.05, 0.3, 0.6],
+    [2.0; 3],
+];
+
+/// LuxCore's camera response plugin (pyluxcore 2.11) on those radiances after a linear
+/// tonemap of scale 1, as `python3 scripts/luxcore_crf.py NAME...` prints them.
+#[rustfmt::skip]
+const LUXCORE: [(&str, [f32; 24]); 3] = [
+    ("Advantix_100CD", [0.01161, 0.00905, 0.00602, 0.09257, 0.07936, 0.06269, 0.33325, 0.30978,
+        0.27465, 0.64701, 0.62680, 0.59799, 1.00000, 1.00000, 1.00000, 0.54846, 0.19239, 0.02331,
+        0.03875, 0.30978, 0.59799, 1.00000, 1.00000, 1.00000]),
+    ("Agfapan_apx_100CD", [0.00292, 0.00292, 0.00292, 0.08846, 0.08846, 0.08846, 0.37888,
+        0.37888, 0.37888, 0.72663, 0.72663, 0.72663, 1.00000, 1.00000, 1.00000, 0.31296, 0.31296,
+        0.31296, 0.33489, 0.33489, 0.33489, 1.00000, 1.00000, 1.00000]),
+    ("Ektachrome_64CD", [0.00004, 0.00001, 0.00001, 0.02354, 0.01055, 0.00315, 0.47925, 0.37552,
+        0.16739, 0.83844, 0.81371, 0.64201, 1.00000, 1.00000, 1.00000, 0.76510, 0.14805, 0.00018,
+        0.00130, 0.37552, 0.64201, 1.00000, 1.00000, 1.00000]),
+];
+
+/// Colour, monochrome and slide presets map chosen radiances as LuxCore's plugin does (the
+/// same measured curves; LuxCore, like LuxRender 1.x, takes the curves' built-in gamma out).
+#[test]
+fn presets_map_radiances_as_luxcore_does() {
+    for (name, want) in LUXCORE {
+        let crf = CameraResponse::preset(name).unwrap().expect("a preset");
+        for (i, level) in LEVELS.iter().enumerate() {
+            let got = crf.map(*level);
+            for k in 0..3 {
+                let w = want[3 * i + k];
+                eprintln!(
+                    "{name} {level:?}[{k}]: luxfarm {:.5} LuxCore {w:.5}",
+                    got[k]
+                );
+                assert!(
+                    (got[k] - w).abs() <= 1e-3 + 0.01 * w,
+                    "{name} {level:?} channel {k}: {} vs LuxCore {w}",
+                    got[k]
+                );
+            }
+        }
+    }
+}
