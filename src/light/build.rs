@@ -117,15 +117,9 @@ impl Light {
                 Light::Point(PointLight::with_profile(p, l2w, &color, common, profile))
             }
             "projection" => {
-                let profile = Goniometric::projection_from_params(p, files)
+                let slide = Goniometric::projection_from_params(p, files)
                     .map_err(|(name, m)| BuildError::new(&param_loc(p, name, &e.loc), m))?;
-                Light::Point(PointLight::with_profile(
-                    p,
-                    l2w,
-                    &color,
-                    common,
-                    Some(profile),
-                ))
+                Light::Point(PointLight::projection(p, l2w, &color, common, slide))
             }
             "spot" => {
                 let profile = Goniometric::from_params(p, files)

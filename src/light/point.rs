@@ -49,9 +49,32 @@ impl PointLight {
         common: LightCommon,
         profile: Option<Goniometric>,
     ) -> Self {
-        let gain = params.float_or("gain", 1.0);
         let power = params.float_or("power", 0.0);
         let efficacy = params.float_or("efficacy", 0.0);
+        PointLight::build(params, l2w, color, common, profile, (power, efficacy))
+    }
+
+    /// LuxRender's `projection` light: a point light shaped by its slide, with `L` and `gain`
+    /// only (LuxRender 1.x reads no `power` or `efficacy` for it; given, they stay unused).
+    pub fn projection(
+        params: &ParamSet,
+        l2w: Mat4,
+        color: &LightColor,
+        common: LightCommon,
+        slide: Goniometric,
+    ) -> Self {
+        PointLight::build(params, l2w, color, common, Some(slide), (0.0, 0.0))
+    }
+
+    fn build(
+        params: &ParamSet,
+        l2w: Mat4,
+        color: &LightColor,
+        common: LightCommon,
+        profile: Option<Goniometric>,
+        (power, efficacy): (f32, f32),
+    ) -> Self {
+        let gain = params.float_or("gain", 1.0);
         let from = point3(params.point("from").unwrap_or([0.0; 3]));
         let mean = profile.as_ref().map_or(1.0, Goniometric::mean);
         let scale = gain * power_gain(power, efficacy, 4.0 * PI * mean, color.y);

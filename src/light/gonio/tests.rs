@@ -154,16 +154,20 @@ fn projector_by_hand() {
     assert_eq!(p.eval(-Vec3A::Z).g, 0.0);
     assert!(Projector::new(2, 1, vec![Rgb::WHITE; 2], 0.0).is_err());
 
-    // Through a point light: a wall at z = 2 gets the even irradiance slide / (A·d²).
-    let light = PointLight::with_profile(
-        &ParamSet::new(),
+    // Through a projection light: a wall at z = 2 gets the even irradiance slide / (A·d²).
+    // LuxRender's projection light reads no power or efficacy: given, they change nothing.
+    let mut ps = ParamSet::new();
+    ps.add("power", ParamValue::Float(vec![100.0]));
+    ps.add("efficacy", ParamValue::Float(vec![17.0]));
+    let light = PointLight::projection(
+        &ps,
         Mat4::IDENTITY,
         &white(),
         LightCommon::single(0),
-        Some(Goniometric::projection(
-            Projector::new(1, 1, vec![Rgb::splat(4.0)], 60.0).unwrap(),
-        )),
+        Goniometric::projection(Projector::new(1, 1, vec![Rgb::splat(4.0)], 60.0).unwrap()),
     );
+    let unused: Vec<&str> = ps.unused().map(|p| p.name.as_str()).collect();
+    assert_eq!(unused, ["power", "efficacy"]);
     let tan = 30f32.to_radians().tan();
     let a = 4.0 * tan * tan;
     for x in [0.0f32, 0.5, 1.0] {
