@@ -278,6 +278,37 @@ fn same_image_less_noise(name: &str, light: &str, max_ratio: f64) {
     assert!(ratio < max_ratio, "portal noise ratio {ratio:.3}");
 }
 
+const BIDIR: &str = "\"bidirectional\" \"integer eyedepth\" [4] \"integer lightdepth\" [4]";
+
+/// Bidirectional's direct connections sample the sky through the portal (its light subpaths
+/// do not): the closed room renders the same image with and without the portal, with less
+/// noise; and in the room open above, light through the opening no portal covers still
+/// arrives.
+#[test]
+fn bidirectional_samples_through_a_portal_without_bias() {
+    let dir = tempfile::tempdir().unwrap();
+    let (plain, ported) = compare(CLOSED, INFINITE, BIDIR, 4, 8, dir.path());
+    assert_agree(
+        "bidirectional, portal vs none",
+        &blocks(&plain),
+        &blocks(&ported),
+        4.0,
+        0.0,
+    );
+    let (a, b) = (mean_pixel_sd(&plain), mean_pixel_sd(&ported));
+    let ratio = b / a;
+    eprintln!("bidirectional: mean per-pixel sd without portal {a:.5}, with {b:.5}: {ratio:.3}");
+    assert!(ratio < 0.8, "portal noise ratio {ratio:.3}");
+    let (plain, ported) = compare(OPEN_TOP, INFINITE, BIDIR, 4, 8, dir.path());
+    assert_agree(
+        "bidirectional, open top, portal on the window",
+        &blocks(&plain),
+        &blocks(&ported),
+        4.0,
+        0.0,
+    );
+}
+
 /// An opening no portal covers: with paths of one bounce (light samples take the full
 /// weight at the last vertex) in the room open above, the sky seen through the open top
 /// still arrives, so the image is unchanged — with path and

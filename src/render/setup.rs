@@ -154,8 +154,9 @@ impl Renderable {
     }
 }
 
-/// Bidirectional light paths and their connections ignore portals (they sample lights at
-/// infinity over the whole sphere, which stays unbiased): one warning at the first portal.
+/// Bidirectional's light subpaths ignore portals (they leave lights at infinity in directions
+/// over the whole sphere, which stays unbiased); its direct connections sample through them:
+/// one warning at the first portal.
 fn warn_bidir_portals(desc: &SceneDescription, warnings: &mut Vec<Diagnostic>) {
     let loc = desc
         .shapes
@@ -172,8 +173,9 @@ fn warn_bidir_portals(desc: &SceneDescription, warnings: &mut Vec<Diagnostic>) {
     warn(
         warnings,
         &loc,
-        "portals are not used by SurfaceIntegrator \"bidirectional\" (its light paths sample \
-         the sky over the whole sphere); \"path\" and \"directlighting\" sample through them",
+        "portals are used only by the direct light connections of SurfaceIntegrator \
+         \"bidirectional\"; its light subpaths leave the sky in directions over the whole \
+         sphere",
     );
 }
 

@@ -98,7 +98,7 @@ pub fn weight(
     dens.pdir0 = if k == 2 {
         dens.pl[0]
     } else {
-        ctx.direct_density(x0)
+        ctx.direct_density(x0, x(1))
     };
     dens.light_delta = !ctx.hittable(x0);
     dens.area_origin = area_of(ctx, x0).is_some();
@@ -320,7 +320,7 @@ pub fn direct(
         if q <= 0.0 {
             continue;
         }
-        let Some(ls) = light.sample_li_ignoring_portals(&v.si.it, u, u_shape, ctx.world) else {
+        let Some(ls) = light.sample_li(&v.si.it, u, u_shape, ctx.world) else {
             continue;
         };
         let f = v.f_eye(ls.wi);

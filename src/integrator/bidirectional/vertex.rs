@@ -364,31 +364,47 @@ impl Ctx<'_> {
     }
 
     /// Σ over the lights at infinity that rays meet of `count(i) ×` their direction density
-    /// toward `dir`.
-    fn sky_density(&self, dir: Vec3A, count: impl Fn(usize) -> f32) -> f32 {
+    /// toward `dir`: from `from` as direct lighting draws it (through a light's portals as
+    /// well, [`Light::pdf_li`]), or without a point as light subpaths draw it.
+    fn sky_density(&self, dir: Vec3A, from: Option<&Vertex>, count: impl Fn(usize) -> f32) -> f32 {
         let lights = self.world.lights();
-        let at = Interaction::default();
-        self.world
+        let lights_at_infinity = self
+            .world
             .infinite_lights()
             .iter()
-            .filter_map(|&i| Some((i, lights.get(i)?)))
-            .map(|(i, l)| count(i) * l.pdf_li_ignoring_portals(&at, dir, None))
-            .sum()
+            .filter_map(|&i| Some((i, lights.get(i)?)));
+        match from {
+            Some(f) => lights_at_infinity
+                .map(|(i, l)| count(i) * l.pdf_li(&f.si.it, dir, None))
+                .sum(),
+            None => {
+                let at = Interaction::default();
+                lights_at_infinity
+                    .map(|(i, l)| count(i) * l.pdf_li_ignoring_portals(&at, dir, None))
+                    .sum()
+            }
+        }
     }
 
     /// Density of light vertex `v` as the origin of a light subpath (position × choice).
     pub fn origin_density(&self, v: &Vertex) -> f32 {
-        self.light_density(v, |i| self.path_draws(i))
+        self.light_density(v, None, |i| self.path_draws(i))
     }
 
-    /// Density of light vertex `v` as sampled by direct lighting from a surface.
-    pub fn direct_density(&self, v: &Vertex) -> f32 {
-        self.light_density(v, |i| self.direct_draws(i))
+    /// Density of light vertex `v` as sampled by direct lighting from the surface or medium
+    /// vertex `from` (portals make a direction's density depend on where it is drawn from).
+    pub fn direct_density(&self, v: &Vertex, from: Option<&Vertex>) -> f32 {
+        self.light_density(v, from, |i| self.direct_draws(i))
     }
 
-    fn light_density(&self, v: &Vertex, count: impl Fn(usize) -> f32) -> f32 {
+    fn light_density(
+        &self,
+        v: &Vertex,
+        from: Option<&Vertex>,
+        count: impl Fn(usize) -> f32,
+    ) -> f32 {
         match v.kind {
-            Kind::Sky => self.sky_density(v.dir, count),
+            Kind::Sky => self.sky_density(v.dir, from, count),
             Kind::LightDir(i) => count(i as usize),
             Kind::LightPoint(i) | Kind::Surface { emitter: Some(i) } => {
                 count(i as usize) * self.light(i).map_or(0.0, Light::area_density)
