@@ -49,8 +49,8 @@ impl Rng {
 }
 
 /// Every acknowledged delta the workers kept, once per (lease, sequence): the file name is
-/// `LEASE-SEQ.STATUS.lxd`, and a delta acknowledged twice (the master lost it, or the worker
-/// lost the answer) was merged once.
+/// `LEASE-SEQ.STATUS.lxd` (status `sent` until acknowledged: not counted), and a delta
+/// acknowledged twice (the master lost it, or the worker lost the answer) was merged once.
 fn acknowledged(dirs: &[&Path]) -> BTreeMap<String, Film> {
     let mut out = BTreeMap::new();
     for d in dirs {
@@ -59,7 +59,7 @@ fn acknowledged(dirs: &[&Path]) -> BTreeMap<String, Film> {
             let Some(key) = name.split('.').next() else {
                 continue;
             };
-            if !name.ends_with(".lxd") {
+            if !name.ends_with(".lxd") || name.ends_with(".sent.lxd") {
                 continue;
             }
             let f = codec::decode(&std::fs::read(&p).unwrap()).unwrap();
@@ -73,7 +73,10 @@ fn acknowledged(dirs: &[&Path]) -> BTreeMap<String, Film> {
 fn keys(dir: &Path) -> BTreeSet<String> {
     files_under(dir)
         .iter()
-        .filter(|p| p.extension().is_some_and(|e| e == "lxd"))
+        .filter(|p| {
+            let name = p.to_string_lossy();
+            name.ends_with(".lxd") && !name.ends_with(".sent.lxd")
+        })
         .filter_map(|p| {
             Some(
                 p.file_name()?
@@ -84,14 +87,6 @@ fn keys(dir: &Path) -> BTreeSet<String> {
             )
         })
         .collect()
-}
-
-fn final_checkpoint(s: &Server, id: &str) -> Film {
-    let p = files_under(&s.data.join("jobs").join(id))
-        .into_iter()
-        .find(|p| p.extension().is_some_and(|e| e == "lxd"))
-        .expect("a checkpoint");
-    codec::decode(&std::fs::read(p).unwrap()).unwrap()
 }
 
 const ARGS: [&str; 6] = [

@@ -16,7 +16,7 @@
 
 use crate::db::{Db, JobRow, JobState, WorkerRow};
 use crate::error::{Result, ServerError};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Name of the file holding the farm's id.
 const FARM_ID: &str = "farm-id";
@@ -151,6 +151,28 @@ pub fn checkpoint_rel(job: &str, generation: i64) -> String {
     format!("jobs/{job}/checkpoint-{generation}.lxd")
 }
 
+/// The checkpoint files in a job's directory `dir` of any generation but `keep`: the one
+/// before the last commit, and any a master killed between writing or committing a
+/// checkpoint and removing its predecessor left behind.
+pub fn other_checkpoints(dir: &Path, keep: i64) -> Vec<PathBuf> {
+    let keep = format!("checkpoint-{keep}.lxd");
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    entries
+        .filter_map(|e| e.ok())
+        .map(|e| e.path())
+        .filter(|p| {
+            p.file_name().and_then(|n| n.to_str()).is_some_and(|n| {
+                n != keep
+                    && n.strip_prefix("checkpoint-")
+                        .and_then(|r| r.strip_suffix(".lxd"))
+                        .is_some_and(|g| g.parse::<i64>().is_ok())
+            })
+        })
+        .collect()
+}
+
 /// A worker to resume, with the lease it holds as (job id, lease id).
 pub type ResumedWorker = (WorkerRow, Option<(String, String)>);
 
@@ -163,4 +185,31 @@ pub fn resume_workers(db: &Db) -> Result<Vec<ResumedWorker>> {
         }
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn other_checkpoints_are_every_generation_but_the_kept_one() {
+        let dir = tempfile::tempdir().unwrap();
+        for name in [
+            "checkpoint-2.lxd",
+            "checkpoint-5.lxd",
+            "checkpoint-6.lxd",
+            "checkpoint-6.lxd.tmp",
+            "checkpoint-x.lxd",
+            "history.json",
+        ] {
+            std::fs::write(dir.path().join(name), b"").unwrap();
+        }
+        let mut names: Vec<String> = other_checkpoints(dir.path(), 5)
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(names, ["checkpoint-2.lxd", "checkpoint-6.lxd"]);
+        assert!(other_checkpoints(&dir.path().join("missing"), 1).is_empty());
+    }
 }

@@ -225,8 +225,7 @@ fn write_checkpoint(farm: &Farm, rt: &JobRt) -> Result<u64> {
     if let Err(e) = crate::trade::save(&history, &dir.join(crate::trade::SAVED_FILE)) {
         tracing::warn!(job = %rt.id, error = %e, "the error history could not be saved");
     }
-    let old = farm.cfg.data_dir.join(checkpoint_rel(&rt.id, row.ckpt_gen));
-    if row.ckpt_gen > 0 && old.exists() {
+    for old in crate::datadir::other_checkpoints(&dir, generation) {
         let _ = std::fs::remove_file(old);
     }
     tracing::debug!(job = %rt.id, generation, "checkpoint written");

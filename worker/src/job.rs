@@ -395,6 +395,9 @@ async fn upload_loop(
         if !render_done {
             match tokio::time::timeout(Duration::from_millis(50), rx.recv()).await {
                 Ok(Some(d)) => {
+                    if let Some(dir) = &cfg.keep_deltas {
+                        keep(dir, lease, next_seq, &d.bytes, SENT);
+                    }
                     q.pending.push_back((next_seq, d));
                     next_seq += 1;
                     requested = false;
@@ -492,15 +495,25 @@ async fn upload_loop(
     }
 }
 
-/// Saves an acknowledged delta for audits (`--keep-deltas`), atomically: an auditor reading
-/// the folder while the worker runs sees whole deltas only.
+/// The status a kept delta has until the master acknowledges it.
+const SENT: &str = "sent";
+
+/// Saves a delta for audits (`--keep-deltas`) as `LEASE-SEQ.STATUS.lxd`, atomically (an
+/// auditor reading the folder while the worker runs sees whole deltas only): with status
+/// [`SENT`] when it is queued for upload, then with the master's acknowledgement status, which
+/// replaces the sent copy. A worker killed between an acknowledgement and its record leaves
+/// the sent copy: the folder always holds every delta the master may have merged.
 fn keep(dir: &Path, lease: &str, seq: u64, bytes: &[u8], status: &str) {
-    let name: PathBuf = dir.join(format!("{lease}-{seq:06}.{status}.lxd"));
+    let name = |status: &str| -> PathBuf { dir.join(format!("{lease}-{seq:06}.{status}.lxd")) };
     let written = std::fs::create_dir_all(dir)
         .map_err(|e| e.to_string())
-        .and_then(|_| write_bytes_atomic(&name, bytes).map_err(|e| e.to_string()));
-    if let Err(e) = written {
-        tracing::warn!(error = %e, "could not keep delta");
+        .and_then(|_| write_bytes_atomic(&name(status), bytes).map_err(|e| e.to_string()));
+    match written {
+        Err(e) => tracing::warn!(error = %e, "could not keep delta"),
+        Ok(()) if status != SENT => {
+            let _ = std::fs::remove_file(name(SENT));
+        }
+        Ok(()) => {}
     }
 }
 

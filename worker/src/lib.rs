@@ -45,7 +45,9 @@ pub struct Config {
     /// Where scene bundles are cached (default: a directory under the system temp dir).
     #[arg(long)]
     pub cache_dir: Option<PathBuf>,
-    /// Keep a copy of every acknowledged delta (lxd1 encoding) in this directory (for audits).
+    /// Keep a copy of every delta (lxd1 encoding) in this directory (for audits):
+    /// LEASE-SEQ.sent.lxd when queued for upload, replaced by LEASE-SEQ.STATUS.lxd with the
+    /// master's acknowledgement status.
     #[arg(long)]
     pub keep_deltas: Option<PathBuf>,
     /// Exit after this many leases (0: run forever).

@@ -276,6 +276,21 @@ pub fn sum_kept(dirs: &[&Path]) -> (luxfarm::film::Film, usize) {
     (sum.expect("some deltas"), n)
 }
 
+/// The deltas kept as sent whose acknowledgement no worker recorded (`--keep-deltas` keeps
+/// `LEASE-SEQ.sent.lxd` until `LEASE-SEQ.STATUS.lxd` replaces it).
+pub fn sent_only(dirs: &[&Path]) -> Vec<luxfarm::film::Film> {
+    let mut out = Vec::new();
+    for d in dirs {
+        for p in files_under(d) {
+            let name = p.file_name().unwrap().to_string_lossy().to_string();
+            if name.ends_with(".sent.lxd") {
+                out.push(luxfarm_wire::codec::decode(&std::fs::read(&p).unwrap()).unwrap());
+            }
+        }
+    }
+    out
+}
+
 /// The films hold the same sums: sample counts exactly, pixel sums up to the rounding of f64
 /// additions done in another order (the master adds deltas in arrival order).
 pub fn assert_same_sums(a: &luxfarm::film::Film, b: &luxfarm::film::Film) {
@@ -298,12 +313,34 @@ pub fn assert_same_sums(a: &luxfarm::film::Film, b: &luxfarm::film::Film) {
     }
 }
 
+/// The job's committed checkpoint once it holds every sample the master reports merged: the
+/// store's generation leads the job's `film_version`, and files of other generations may
+/// remain beside it (a master killed between committing a checkpoint and removing the one
+/// before keeps the older file). Waits up to a minute for that checkpoint to be written.
 pub fn final_checkpoint(s: &Server, id: &str) -> luxfarm::film::Film {
-    let p = files_under(&s.data.join("jobs").join(id))
-        .into_iter()
-        .find(|p| p.extension().is_some_and(|e| e == "lxd"))
-        .expect("a checkpoint");
-    luxfarm_wire::codec::decode(&std::fs::read(p).unwrap()).unwrap()
+    let end = Instant::now() + Duration::from_secs(60);
+    loop {
+        let v = get_json(&s.api(&format!("/jobs/{id}")));
+        let generation = v["film_version"]
+            .as_str()
+            .and_then(|f| f.split('-').next())
+            .and_then(|g| g.parse::<u64>().ok())
+            .unwrap_or(0);
+        let path = s
+            .data
+            .join("jobs")
+            .join(id)
+            .join(format!("checkpoint-{generation}.lxd"));
+        let film = std::fs::read(&path)
+            .ok()
+            .and_then(|b| luxfarm_wire::codec::decode(&b).ok());
+        let late = Instant::now() > end;
+        match film {
+            Some(f) if late || Some(f.total_samples()) == v["samples"].as_f64() => return f,
+            None if late => panic!("no committed checkpoint {}: {v}", path.display()),
+            _ => std::thread::sleep(Duration::from_millis(200)),
+        }
+    }
 }
 
 /// Runs a command to completion; panics with its standard error when it fails.
