@@ -16,7 +16,7 @@
 //! light sends that way) and [`Light::area_density`] (the position density of an area light's
 //! points). Directions of lights at infinity are answered by `pdf_li`/`le`.
 
-use super::{Light, ShapeSampler};
+use super::{portal, Light, ShapeSampler};
 use crate::geometry::frame::coordinate_system;
 use crate::geometry::{Interaction, Ray, Shading, SurfaceInteraction};
 use crate::sampling::concentric_disc;
@@ -68,7 +68,7 @@ impl Light {
         matches!(self, Light::Distant(l) if l.is_delta())
     }
 
-    /// Samples a ray leaving the light: `u_pos` (and `u_pick` for meshes) the origin,
+    /// Samples a ray leaving the light: `u_pos` (and `u_pick` for meshes and portals) the origin,
     /// `u_dir` the direction.
     pub fn sample_le(
         &self,
@@ -88,7 +88,7 @@ impl Light {
             | Light::Infinite(_)
             | Light::Sun(_)
             | Light::Sky(_)
-            | Light::Sky2(_) => self.sample_le_infinite(u_pos, u_dir, time, sphere),
+            | Light::Sky2(_) => self.sample_le_infinite(u_pos, u_dir, u_pick, time, sphere),
             // Not emitted by light subpaths: bidirectional refuses scenes with them
             // (`Light::physical`).
             Light::Primitive(_) => None,
@@ -104,11 +104,13 @@ impl Light {
     }
 
     /// A light at infinity: the direction toward the light as its direct-lighting sampling
-    /// picks it, then a point on the disc facing it.
+    /// picks it, then a point on the disc facing it, or for a light with portals (`u_pick`
+    /// choosing) mostly a line through a point on its portals.
     fn sample_le_infinite(
         &self,
         u_pos: Vec2,
         u_dir: Vec2,
+        u_pick: f32,
         time: f32,
         sphere: BoundingSphere,
     ) -> Option<LightRay> {
@@ -130,9 +132,19 @@ impl Light {
             | Light::Moving(_) => None,
         }?;
         let to_light = ls.wi;
-        let (s, t) = coordinate_system(to_light);
-        let d = concentric_disc(u_pos) * sphere.radius;
-        let origin = sphere.center + to_light * sphere.radius + s * d.x + t * d.y;
+        let plane = sphere.center + to_light * sphere.radius;
+        let origin = match self.portals() {
+            // Through a portal point, from the plane the disc lies in.
+            Some(portals) if u_pick < portal::PORTAL_SHARE => {
+                let y = portals.sample_point(u_pos, u_pick / portal::PORTAL_SHARE)?;
+                y + to_light * to_light.dot(plane - y)
+            }
+            _ => {
+                let (s, t) = coordinate_system(to_light);
+                let d = concentric_disc(u_pos) * sphere.radius;
+                plane + s * d.x + t * d.y
+            }
+        };
         Some(LightRay {
             ray: Ray {
                 o: origin,
@@ -142,10 +154,28 @@ impl Light {
             },
             n: -to_light,
             le: ls.li,
-            pdf_pos: sphere.disc_pdf(),
+            pdf_pos: self.line_density(origin, to_light, sphere),
             pdf_dir: ls.pdf,
             uv: Vec2::ZERO,
         })
+    }
+
+    /// Density, per unit area across the line, with which [`Self::sample_le`] draws the line
+    /// through `p` toward the light at infinity in unit direction `to_light`: uniform on the
+    /// disc facing it that covers the scene, or for a light with portals the mixture of a
+    /// point on its portals ([`portal::PORTAL_SHARE`]) and the disc.
+    pub fn line_density(&self, p: Vec3A, to_light: Vec3A, sphere: BoundingSphere) -> f32 {
+        let off = p - sphere.center;
+        let across = off - to_light * off.dot(to_light);
+        let disc = if across.length_squared() <= sphere.radius * sphere.radius {
+            sphere.disc_pdf()
+        } else {
+            0.0
+        };
+        match self.portals() {
+            Some(portals) => portal::mixture_pdf(portals.line_density(p, -to_light), disc),
+            None => disc,
+        }
     }
 
     /// Solid-angle density with which [`Self::sample_le`] leaves the finite light's point

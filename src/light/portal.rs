@@ -4,7 +4,10 @@
 //! Data flow: the scene build ([`crate::scene`]) turns the portal shapes tied to a
 //! LightSource into world-space triangles and hands them to [`Portals::new`]; the light keeps
 //! them, and [`super::Light::sample_li`] / [`super::Light::pdf_li`] then draw directions
-//! through them instead of over the whole sphere.
+//! through them instead of over the whole sphere, and [`super::Light::sample_le`] /
+//! [`super::Light::line_density`] the lines light subpaths leave along (through a point drawn
+//! on the portals, [`Portals::line_density`], instead of anywhere on the disc facing the
+//! light).
 //!
 //! Sampling: a triangle is picked in proportion to its area and a point drawn uniformly on it,
 //! so a point of the portals has area density 1/A (A the portals' total area). The direction
@@ -91,14 +94,20 @@ impl Portals {
         self.area
     }
 
-    /// A unit direction from `p` toward a point drawn uniformly by area on the portals, with
-    /// its solid-angle density (see the module docs); `u_pick` chooses the triangle.
-    pub fn sample(&self, p: Vec3A, u: Vec2, u_pick: f32) -> Option<(Vec3A, f32)> {
+    /// A point drawn uniformly by area on the portals (area density 1/A); `u_pick` chooses
+    /// the triangle.
+    pub fn sample_point(&self, u: Vec2, u_pick: f32) -> Option<Vec3A> {
         let i = self.pick.pick(u_pick);
         let [a, b, c] = *self.tris.get(i)?;
         let su = u.x.max(0.0).sqrt();
         let (b0, b1) = (1.0 - su, u.y * su);
-        let q = a * b0 + b * b1 + c * (1.0 - b0 - b1);
+        Some(a * b0 + b * b1 + c * (1.0 - b0 - b1))
+    }
+
+    /// A unit direction from `p` toward a point drawn uniformly by area on the portals, with
+    /// its solid-angle density (see the module docs); `u_pick` chooses the triangle.
+    pub fn sample(&self, p: Vec3A, u: Vec2, u_pick: f32) -> Option<(Vec3A, f32)> {
+        let q = self.sample_point(u, u_pick)?;
         let wi = (q - p).normalize_or_zero();
         if wi == Vec3A::ZERO {
             return None;
@@ -123,6 +132,32 @@ impl Portals {
         let pdf = sum / self.area;
         if pdf.is_finite() {
             pdf
+        } else {
+            0.0
+        }
+    }
+
+    /// Density of the line through `p` along the unit direction `d`, per unit area of a plane
+    /// perpendicular to `d`, when lines along `d` are drawn through a point picked uniformly
+    /// on the portals: Σ 1/(A·|cos θ|) over every portal point on the whole line (a portal
+    /// point's area maps to |cos θ| times that area across the line).
+    pub fn line_density(&self, p: Vec3A, d: Vec3A) -> f32 {
+        // Start behind every portal so that the whole line is ahead.
+        let back = (p - (self.lo + self.hi) * 0.5).length() + (self.hi - self.lo).length() + 1.0;
+        let start = p - d * back;
+        if !self.ray_meets_box(start, d) {
+            return 0.0;
+        }
+        let sum: f32 = self
+            .tris
+            .iter()
+            .filter_map(|t| hit_triangle(start, d, t))
+            .filter(|&(_, cos)| cos > 1e-7)
+            .map(|(_, cos)| 1.0 / cos)
+            .sum();
+        let density = sum / self.area;
+        if density.is_finite() {
+            density
         } else {
             0.0
         }
@@ -188,6 +223,24 @@ fn hit_triangle(p: Vec3A, d: Vec3A, t: &[Vec3A; 3]) -> Option<(f32, f32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn line_density_counts_every_portal_on_the_line() {
+        // Two unit squares at z = 0 and z = 2: a vertical line through both crosses two
+        // portal points, each of area density 1/2, at cos 1.
+        let p = Portals::new([square(0.0), square(2.0)].concat()).unwrap();
+        let down = Vec3A::new(0.0, 0.0, -1.0);
+        assert!((p.line_density(Vec3A::new(0.3, 0.6, 1.0), down) - 1.0).abs() < 1e-5);
+        // From below both, and from above: the whole line counts.
+        assert!((p.line_density(Vec3A::new(0.3, 0.6, -5.0), down) - 1.0).abs() < 1e-5);
+        assert!((p.line_density(Vec3A::new(0.3, 0.6, 7.0), -down) - 1.0).abs() < 1e-5);
+        // A slanted line at 60° from the normal: 1/(A cos) per crossing.
+        let d = Vec3A::new(3f32.sqrt() / 2.0, 0.0, -0.5);
+        let got = p.line_density(Vec3A::new(0.2, 0.6, 0.0), d);
+        assert!((got - 1.0 / (2.0 * 0.5)).abs() < 1e-4, "{got}");
+        // Beside the portals: nothing.
+        assert_eq!(p.line_density(Vec3A::new(3.0, 0.6, 1.0), down), 0.0);
+    }
 
     /// A unit square [0,1]² in the plane z = `z`, two triangles.
     fn square(z: f32) -> Vec<[Vec3A; 3]> {

@@ -129,9 +129,6 @@ impl Renderable {
                 integrator = Integrator::build(Some(&path), &mut warnings)?;
             }
         }
-        if integrator.splats() && world.lights().iter().any(|l| l.portals().is_some()) {
-            warn_bidir_portals(desc, &mut warnings);
-        }
         integrator.set_volume(volume);
         integrator.prepare(&world);
         if camera.needs_autofocus() {
@@ -152,31 +149,6 @@ impl Renderable {
             warnings,
         })
     }
-}
-
-/// Bidirectional's light subpaths ignore portals (they leave lights at infinity in directions
-/// over the whole sphere, which stays unbiased); its direct connections sample through them:
-/// one warning at the first portal.
-fn warn_bidir_portals(desc: &SceneDescription, warnings: &mut Vec<Diagnostic>) {
-    let loc = desc
-        .shapes
-        .iter()
-        .find(|s| s.portal)
-        .map(|s| s.entity.loc.clone())
-        .or_else(|| {
-            desc.instances
-                .iter()
-                .find(|i| i.portal)
-                .map(|i| i.loc.clone())
-        })
-        .unwrap_or_default();
-    warn(
-        warnings,
-        &loc,
-        "portals are used only by the direct light connections of SurfaceIntegrator \
-         \"bidirectional\"; its light subpaths leave the sky in directions over the whole \
-         sphere",
-    );
 }
 
 /// `write_png_ZBuf` and `write_tga_ZBuf` ask for a channel those files do not have (LuxRender

@@ -347,7 +347,11 @@ impl Ctx<'_> {
     /// direction at infinity) emitting toward `next`.
     pub fn emit_pdf(&self, light: &Vertex, next: &Vertex) -> f32 {
         match light.kind {
-            Kind::Sky | Kind::LightDir(_) => {
+            Kind::Sky => {
+                let cos = next.normal().map_or(1.0, |n| n.dot(light.dir).abs());
+                self.sky_line_density(next.p(), light.dir) * cos
+            }
+            Kind::LightDir(_) => {
                 let disc = self.world.bounding_sphere().disc_pdf();
                 let cos = next.normal().map_or(1.0, |n| n.dot(light.dir).abs());
                 disc * cos
@@ -383,6 +387,31 @@ impl Ctx<'_> {
                     .map(|(i, l)| count(i) * l.pdf_li_ignoring_portals(&at, dir, None))
                     .sum()
             }
+        }
+    }
+
+    /// Density, per unit area across it, of the line through `p` toward the lights at infinity
+    /// in direction `dir` as light subpaths draw it: each light's own line density (the disc
+    /// facing it, or its portals mixed with the disc, [`Light::line_density`]) weighed by how
+    /// often it emits that direction; only its product with the direction density
+    /// ([`Self::origin_density`]) enters the weights, and that product is the sum over lights.
+    pub fn sky_line_density(&self, p: Vec3A, dir: Vec3A) -> f32 {
+        let lights = self.world.lights();
+        let sphere = self.world.bounding_sphere();
+        let at = Interaction::default();
+        let (mut num, mut den) = (0.0f32, 0.0f32);
+        for &i in self.world.infinite_lights() {
+            let Some(l) = lights.get(i) else {
+                continue;
+            };
+            let w = self.path_draws(i) * l.pdf_li_ignoring_portals(&at, dir, None);
+            num += w * l.line_density(p, dir, sphere);
+            den += w;
+        }
+        if den > 0.0 {
+            num / den
+        } else {
+            sphere.disc_pdf()
         }
     }
 

@@ -486,10 +486,11 @@ fn light_origin(
     };
     v.pdf_fwd = ctx.origin_density(&v);
     let beta = lr.le * (cos / (draws * lr.pdf_pos * lr.pdf_dir));
-    let pdf_next = if v.is_at_infinity() {
-        lr.pdf_pos
-    } else {
-        lr.pdf_dir
+    let pdf_next = match kind {
+        // As the weights see it: the line's density over every light at infinity.
+        Kind::Sky => ctx.sky_line_density(lr.ray.o, -d),
+        _ if v.is_at_infinity() => lr.pdf_pos,
+        _ => lr.pdf_dir,
     };
     Some((v, lr.ray, beta, pdf_next))
 }
