@@ -2,24 +2,15 @@
 //! tonemapping stage (what `luxfarm render`, `flm tonemap`, the master's outputs and previews
 //! all call), written to an FLM and applied again identically after reading it back.
 
+mod render_util;
+
 use luxfarm::film::{flm, Film, FilmParams};
-use luxfarm::lxs::{Entity, Loc, ParamSet, ParamValue};
+use luxfarm::lxs::ParamValue;
 use luxfarm::tonemap;
+use render_util::linear_film_params;
 
 fn film_params(extra: &[(&str, ParamValue)]) -> FilmParams {
-    let mut ps = ParamSet::new();
-    ps.add("xresolution", ParamValue::Integer(vec![32]));
-    ps.add("yresolution", ParamValue::Integer(vec![24]));
-    ps.add("tonemapkernel", ParamValue::String(vec!["linear".into()]));
-    for (n, v) in extra {
-        ps.add(n, v.clone());
-    }
-    FilmParams::from_entity(Some(&Entity {
-        kind: "fleximage".into(),
-        params: ps,
-        loc: Loc::default(),
-    }))
-    .unwrap()
+    linear_film_params(32, 24, extra)
 }
 
 /// A dim uniform film with one bright pixel.

@@ -10,7 +10,7 @@
 mod render_util;
 
 use luxfarm::film::{Film, FilmParams};
-use luxfarm::lxs::{Entity, Loc, ParamSet, ParamValue};
+use luxfarm::lxs::ParamValue;
 use luxfarm::render::SessionOptions;
 use luxfarm::tonemap;
 use render_util::*;
@@ -56,19 +56,7 @@ const LUXCORE_BLOOM: [f64; 36] = [
 ];
 
 fn film_params(extra: &[(&str, ParamValue)]) -> FilmParams {
-    let mut ps = ParamSet::new();
-    ps.add("xresolution", ParamValue::Integer(vec![128]));
-    ps.add("yresolution", ParamValue::Integer(vec![128]));
-    ps.add("tonemapkernel", ParamValue::String(vec!["linear".into()]));
-    for (n, v) in extra {
-        ps.add(n, v.clone());
-    }
-    FilmParams::from_entity(Some(&Entity {
-        kind: "fleximage".into(),
-        params: ps,
-        loc: Loc::default(),
-    }))
-    .unwrap()
+    linear_film_params(128, 128, extra)
 }
 
 /// Y of the film's linear tonemapped image with `params`' effects, row by row.

@@ -3,8 +3,10 @@
 
 #![allow(dead_code)]
 
-use luxfarm::film::Film;
-use luxfarm::lxs::{parse_file, parse_str, ParseOptions, SceneDescription};
+use luxfarm::film::{Film, FilmParams};
+use luxfarm::lxs::{
+    parse_file, parse_str, Entity, Loc, ParamSet, ParamValue, ParseOptions, SceneDescription,
+};
 use luxfarm::render::{Session, SessionOptions};
 use std::path::{Path, PathBuf};
 
@@ -127,4 +129,22 @@ pub fn centroids(f: &Film) -> (f64, f64, f64) {
         wz += p[2];
     }
     (sx / wx.max(1e-12), sz / wz.max(1e-12), wx + wz)
+}
+
+/// The parameters of a `fleximage` Film of `width` × `height` with the linear tonemapping
+/// kernel and the `extra` parameters (image effects and the like).
+pub fn linear_film_params(width: i32, height: i32, extra: &[(&str, ParamValue)]) -> FilmParams {
+    let mut ps = ParamSet::new();
+    ps.add("xresolution", ParamValue::Integer(vec![width]));
+    ps.add("yresolution", ParamValue::Integer(vec![height]));
+    ps.add("tonemapkernel", ParamValue::String(vec!["linear".into()]));
+    for (n, v) in extra {
+        ps.add(n, v.clone());
+    }
+    FilmParams::from_entity(Some(&Entity {
+        kind: "fleximage".into(),
+        params: ps,
+        loc: Loc::default(),
+    }))
+    .unwrap()
 }
