@@ -1,6 +1,6 @@
 //! The Markov-chain samplers on the farm (issue 14): two workers render the Cornell box at
 //! 64×64 with metropolis + bidirectional, or erpt + path, each worker on its own stream (its
-//! own chains; erpt its own seeds and warm-up). The master's film is the exact sum of the
+//! own chains; erpt its own seeds, with the job's quantum). The master's film is the exact sum of the
 //! deltas it acknowledged, and its image is the image of a local render within noise:
 //! compared with a local render, it differs no more than a second local render of another
 //! seed does (RMSE and mean ratio, through `luxfarm compare-image` on the EXR outputs, which

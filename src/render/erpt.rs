@@ -3,8 +3,8 @@
 //! and deposit code of [`super::mlt`].
 //!
 //! ```text
-//! warm-up (initsamples uniform samples, once per session) --mean energy / chainlength--> ed
-//! seed i (uniform sample, key (seed, stream, i)) --trace--> energy e --chain_plan--> n, q
+//! warm-up (initsamples uniform samples, once per session; keyed by the seed alone) --mean energy / chainlength--> ed
+//! seed i (uniform sample, key (seed, stream, i); stratified by `basesampler`) --trace--> energy e --chain_plan--> n, q
 //!   chain j of seed i: chainlength × { small_mutation --trace--> judge } --deposits--> pass film
 //! ```
 //!
@@ -19,15 +19,20 @@
 //! fixed groups of [`CHAIN_GROUP`] in parallel, [`STEP_BATCH`] steps at a time, and every
 //! batch's deposits are added in chain order, so the film depends only on (seed, stream,
 //! pass), never on threads. The quantum comes from warm-up samples of their own keys and is
-//! fixed for the session, so it does not depend on the samples it weighs. Every chain ends
+//! fixed for the session, so it does not depend on the samples it weighs. Those keys depend
+//! on the seed but not the stream, so all sessions of a scene and seed share the quantum: a
+//! farm worker estimates it once per job and hands it to the job's later leases
+//! ([`ErptState::set_quantum`]), whose films are the same as with a warm-up of their own. Every chain ends
 //! within its pass: a pass film is a complete estimate, and films of passes, sessions and
 //! farm workers (each on its own stream) add up exactly.
 
-use super::mlt::{deposit, frame, trace, ChainStats, Contribution, Frame};
+use super::mlt::{deposit, frame, trace, trace_stream, ChainStats, Contribution, Frame};
 use super::setup::Renderable;
 use crate::film::Film;
 use crate::integrator::SampleOut;
-use crate::sampler::erpt::{chain_key, chain_plan, seed_key, seed_xi, warm_up_key, ErptChain};
+use crate::sampler::erpt::{
+    chain_key, chain_plan, seed_key, seed_point, seed_xi, warm_up_key, BaseSampler, ErptChain,
+};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Seeds traced together (their chains then run group by group).
@@ -55,6 +60,8 @@ pub fn samples_per_seed(chain_length: u32) -> u64 {
 /// A traced seed.
 struct Seed {
     key: u64,
+    /// The ξ of its chain count.
+    xi: f32,
     lum: f32,
     values: Vec<f32>,
     rec: Vec<Contribution>,
@@ -107,6 +114,15 @@ impl ErptState {
         self.ed
     }
 
+    /// Takes the quantum another session of the same scene and seed estimated (any stream:
+    /// the warm-up does not depend on it), so this one skips its warm-up. A quantum that is
+    /// not positive and finite is ignored.
+    pub fn set_quantum(&mut self, ed: f64) {
+        if ed > 0.0 && ed.is_finite() {
+            self.ed = Some(ed);
+        }
+    }
+
     /// Estimates the quantum from the warm-up samples; `None` when cancelled.
     fn warm_up(
         &self,
@@ -135,7 +151,7 @@ impl ErptState {
                         let end = ((u + 1) * WARM_UP_UNIT).min(count);
                         for i in u * WARM_UP_UNIT..end {
                             rec.clear();
-                            let key = warm_up_key(self.seed, self.stream, i);
+                            let key = warm_up_key(self.seed, i);
                             let v = Vec::new();
                             let lum =
                                 trace(scene, false, frame, v, key, &mut so, &mut rec, &mut invalid);
@@ -191,12 +207,13 @@ impl ErptState {
         let mut first = 0;
         while first < seeds {
             let last = (first + SEED_BATCH).min(seeds);
-            let traced = self.trace_seeds(scene, pool, &frame, first..last, &mut invalid);
+            let traced =
+                self.trace_seeds(scene, pool, &frame, params.base, first..last, &mut invalid);
             let plans: Vec<(usize, u32, f64)> = traced
                 .iter()
                 .enumerate()
                 .flat_map(|(i, s)| {
-                    let (n, q) = chain_plan(f64::from(s.lum), ed, m, seed_xi(s.key));
+                    let (n, q) = chain_plan(f64::from(s.lum), ed, m, s.xi);
                     (0..n).map(move |j| (i, j, q * scale))
                 })
                 .collect();
@@ -230,6 +247,7 @@ impl ErptState {
         scene: &Renderable,
         pool: &rayon::ThreadPool,
         frame: &Frame,
+        base: BaseSampler,
         range: std::ops::Range<u64>,
         invalid: &mut u64,
     ) -> Vec<Seed> {
@@ -238,21 +256,22 @@ impl ErptState {
             range
                 .into_par_iter()
                 .map(|i| {
-                    let key = seed_key(self.seed, self.stream, self.next_seed + i);
+                    let index = self.next_seed + i;
+                    let key = seed_key(self.seed, self.stream, index);
+                    let mut st = frame.stream(Vec::new(), key);
+                    let mut xi = seed_xi(key);
+                    if base == BaseSampler::Stratified {
+                        let p = seed_point(self.seed, self.stream, index);
+                        st = st.with_stratified_fresh(p);
+                        xi = p.chain_xi();
+                    }
                     let mut so = SampleOut::new(scene.world.groups().len());
                     let (mut rec, mut bad) = (Vec::new(), 0);
-                    let (lum, values) = trace(
-                        scene,
-                        false,
-                        frame,
-                        Vec::new(),
-                        key,
-                        &mut so,
-                        &mut rec,
-                        &mut bad,
-                    );
+                    let (lum, values) =
+                        trace_stream(scene, false, frame, st, &mut so, &mut rec, &mut bad);
                     let seed = Seed {
                         key,
+                        xi,
                         lum,
                         values,
                         rec,

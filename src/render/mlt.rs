@@ -38,8 +38,8 @@ use crate::integrator::SampleOut;
 use crate::sampler::map::SamplingMap;
 use crate::sampler::map_warp::MapWarp;
 use crate::sampler::metropolis::{Chain, MltParams};
-use crate::sampler::Sampler;
 use crate::sampler::{combine, unit_f32};
+use crate::sampler::{SampleStream, Sampler};
 use crate::spectrum::rgb_to_xyz;
 use glam::Vec2;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -117,6 +117,11 @@ pub(super) struct Frame {
 }
 
 impl Frame {
+    /// A primary stream over `values` on this frame, drawing missing dimensions from `key`.
+    pub(super) fn stream(&self, values: Vec<f32>, key: u64) -> SampleStream {
+        Sampler::start_primary(values, key, self.origin, self.span)
+    }
+
     /// The density with which fresh film positions are drawn at the film position of
     /// `values` (1 without a map).
     fn q(&self, values: &[f32]) -> f32 {
@@ -399,14 +404,27 @@ pub(super) fn trace(
     rec: &mut Vec<Contribution>,
     invalid: &mut u64,
 ) -> (f32, Vec<f32>) {
-    let (setup, world) = (&scene.setup, &scene.world);
     let mut values = values;
     if let (Some(w), true) = (&frame.warp, values.is_empty()) {
         // A fresh sample under a map: its film position drawn by the map.
         let u = |salt: u64| unit_f32(combine(key, salt));
         values.extend(w.warp([u(0x6d61_7078), u(0x6d61_7079)]));
     }
-    let mut st = Sampler::start_primary(values, key, frame.origin, frame.span);
+    let st = frame.stream(values, key);
+    trace_stream(scene, use_variance, frame, st, so, rec, invalid)
+}
+
+/// [`trace`] of the primary stream `st` (from [`Sampler::start_primary`]).
+pub(super) fn trace_stream(
+    scene: &Renderable,
+    use_variance: bool,
+    frame: &Frame,
+    mut st: SampleStream,
+    so: &mut SampleOut,
+    rec: &mut Vec<Contribution>,
+    invalid: &mut u64,
+) -> (f32, Vec<f32>) {
+    let (setup, world) = (&scene.setup, &scene.world);
     let cs = st.camera_sample();
     let mut lum = 0.0f32;
     if let Some((ray, w)) = setup.camera.generate_ray(&cs).filter(|(_, w)| *w > 0.0) {

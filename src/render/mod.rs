@@ -508,6 +508,15 @@ impl Session {
         self.erpt.as_ref().and_then(erpt::ErptState::quantum)
     }
 
+    /// Gives the erpt sampler the quantum an earlier session of this scene and seed
+    /// estimated ([`Session::erpt_quantum`], any stream), so it skips its warm-up; the films
+    /// are the same either way. Nothing for other samplers or a quantum not positive.
+    pub fn set_erpt_quantum(&mut self, ed: f64) {
+        if let Some(e) = self.erpt.as_mut() {
+            e.set_quantum(ed);
+        }
+    }
+
     /// A pass of the erpt sampler: seeds for about `extent pixels × pixelsamples` traces and their
     /// chains into a pass film, merged into the session film once complete.
     fn render_pass_erpt(&mut self) -> PassStats {

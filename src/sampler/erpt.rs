@@ -26,9 +26,23 @@
 //!
 //! Parameters (LuxRender's names; defaults from its scene-format documentation):
 //! `initsamples` (100000 warm-up samples), `chainlength` (2000 mutations per chain),
-//! `mutationrange` ((width + height) / 50 pixels), `basesampler` (the seeds' sampler: only
-//! "random" is built, others draw their seeds at random with a warning), `pixelsamples` (4:
-//! a pass takes about extent pixels × pixelsamples traces, see `crate::render::erpt`).
+//! `mutationrange` ((width + height) / 50 pixels), `basesampler` (the seeds' sampler, see
+//! below; default "random"), `pixelsamples` (4: a pass takes about extent pixels ×
+//! pixelsamples traces, see `crate::render::erpt`).
+//!
+//! # Stratified seeds (`basesampler`)
+//!
+//! LuxRender 1.x draws ERPT's seeds with the sampler `basesampler` names ("random" or
+//! "lowdiscrepancy" in its exporters). Here a seed is a point of the whole sampled frame
+//! rather than of one pixel, and a pass takes a few hundred seeds, so a stratified base must
+//! be progressive over the frame: with "lowdiscrepancy" or "sobol", seed `i` of a session is
+//! point `i` of the padded, Owen-scrambled (0,2)-sequence the sobol sampler uses
+//! ([`SeedPoint`]; every 1D and 2D request of a seed draws its own scrambled, shuffled
+//! copy). Any power-of-two run of seeds is then stratified over the frame and in every 2D
+//! request, and each seed is still uniform on its own, so the estimate stays unbiased and
+//! sessions on different streams (different scrambles) stay independent. A chain's mutations
+//! draw fresh dimensions at random, as with a random base. LuxRender's older stratified
+//! samplers ("stratified", "halton", "bestcandidate") use the same sequence, with a warning.
 
 use super::hash::{combine, mix64, unit_f32};
 use super::metropolis::small_mutation;
@@ -42,6 +56,41 @@ pub const DEFAULT_CHAIN_LENGTH: u32 = 2000;
 /// Most chains one seed starts (LuxRender caps them at 100 too).
 pub const MAX_CHAINS: u32 = 100;
 
+/// How seeds are drawn (`basesampler`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum BaseSampler {
+    /// Independent uniform seeds.
+    #[default]
+    Random,
+    /// Seeds from a stratified sequence over the frame ([`SeedPoint`]).
+    Stratified,
+}
+
+/// A seed's point of the stratified sequence: the sobol sampler's run key and index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SeedPoint {
+    pub(super) run_key: u64,
+    pub(super) index: u64,
+}
+
+impl SeedPoint {
+    /// The ξ of the seed's chain count, stratified over the seeds like their dimensions
+    /// (a request of its own, past every dimension a stream draws).
+    pub fn chain_xi(&self) -> f32 {
+        super::sobol::value_1d(self.run_key, self.index, u32::MAX)
+    }
+}
+
+/// The stratified point of seed `index` (counted over the session's passes) of (seed,
+/// stream): a sequence of its own per session.
+pub fn seed_point(seed: u64, stream: u64, index: u64) -> SeedPoint {
+    let sequence = combine(session_key(seed, stream), 0x6261_7365);
+    SeedPoint {
+        run_key: super::sobol::run_key(sequence, index),
+        index,
+    }
+}
+
 /// The ERPT parameters of a sampler statement.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ErptParams {
@@ -51,6 +100,8 @@ pub struct ErptParams {
     pub chain_length: u32,
     /// Largest film move of a mutation in pixels; `None`: (width + height) / 50.
     pub range: Option<f32>,
+    /// How seeds are drawn.
+    pub base: BaseSampler,
 }
 
 impl Default for ErptParams {
@@ -59,6 +110,7 @@ impl Default for ErptParams {
             init_samples: DEFAULT_INIT_SAMPLES,
             chain_length: DEFAULT_CHAIN_LENGTH,
             range: None,
+            base: BaseSampler::Random,
         }
     }
 }
@@ -97,14 +149,7 @@ pub(super) fn build(s: &mut Stmt) -> Result<(SamplerKind, u32, ErptParams), Buil
             )));
         }
     }
-    if let Some(base) = p.string("basesampler") {
-        if base != "random" {
-            s.warn(format!(
-                "sampler \"erpt\": basesampler \"{base}\" is not built; seeds are drawn by \
-                 \"random\" (unbiased)"
-            ));
-        }
-    }
+    let base = base_sampler(s)?;
     Ok((
         SamplerKind::Erpt,
         n,
@@ -112,8 +157,32 @@ pub(super) fn build(s: &mut Stmt) -> Result<(SamplerKind, u32, ErptParams), Buil
             init_samples,
             chain_length,
             range,
+            base,
         },
     ))
+}
+
+/// Reads `basesampler`: random (the default), the stratified samplers, or an error for the
+/// Markov chain samplers, which cannot draw independent seeds.
+fn base_sampler(s: &mut Stmt) -> Result<BaseSampler, BuildError> {
+    let Some(name) = s.params().string("basesampler") else {
+        return Ok(BaseSampler::Random);
+    };
+    match name {
+        "random" => Ok(BaseSampler::Random),
+        "lowdiscrepancy" | "sobol" => Ok(BaseSampler::Stratified),
+        "stratified" | "halton" | "bestcandidate" => {
+            s.warn(format!(
+                "sampler \"erpt\": basesampler \"{name}\" is not implemented; seeds are drawn \
+                 by the stratified sequence of \"lowdiscrepancy\" and \"sobol\" (unbiased)"
+            ));
+            Ok(BaseSampler::Stratified)
+        }
+        other => Err(s.err(format!(
+            "sampler \"erpt\": basesampler must be random, lowdiscrepancy or sobol (or \
+             stratified, halton, bestcandidate), got \"{other}\""
+        ))),
+    }
 }
 
 /// The key of a session's ERPT randomness: (seed, stream) of the session.
@@ -126,9 +195,11 @@ pub fn seed_key(seed: u64, stream: u64, index: u64) -> u64 {
     combine(combine(session_key(seed, stream), 0x7365_6564), index)
 }
 
-/// The key of warm-up sample `index` of (seed, stream) (independent of every seed).
-pub fn warm_up_key(seed: u64, stream: u64, index: u64) -> u64 {
-    combine(combine(session_key(seed, stream), 0x7761_726d), index)
+/// The key of warm-up sample `index` under `seed` (independent of every seed and chain). It
+/// does not depend on the stream: every session of a scene and seed (every farm lease of a
+/// job) estimates the same quantum, so one computed before can stand in for the warm-up.
+pub fn warm_up_key(seed: u64, index: u64) -> u64 {
+    combine(mix64(seed ^ 0x6572_7074_5f77_7570), index)
 }
 
 /// The key of chain `j` of the seed keyed `seed_key`.

@@ -248,6 +248,7 @@ impl Sampler {
             values,
             origin,
             span,
+            stratified: None,
         }
     }
 
@@ -290,6 +291,7 @@ impl Sampler {
             values: Vec::new(),
             origin: Vec2::new(px as f32, py as f32),
             span: Vec2::ONE,
+            stratified: None,
         }
     }
 }
@@ -310,6 +312,9 @@ pub struct SampleStream {
     /// Raster position and size of the film area dimensions 0 and 1 span.
     origin: Vec2,
     span: Vec2,
+    /// An erpt seed's point of a stratified sequence: the dimensions its values do not hold
+    /// yet are drawn from it instead of at random (`basesampler`).
+    stratified: Option<erpt::SeedPoint>,
 }
 
 /// Most dimensions a primary sample vector grows to (beyond it values are drawn afresh and
@@ -331,6 +336,43 @@ impl SampleStream {
         self.values.get(d as usize).copied().unwrap_or(0.0)
     }
 
+    /// This primary stream with the dimensions its values do not hold yet drawn from the
+    /// stratified seed point `p` (an erpt seed under a stratified `basesampler`).
+    pub fn with_stratified_fresh(mut self, p: erpt::SeedPoint) -> SampleStream {
+        self.stratified = Some(p);
+        self
+    }
+
+    /// Dimension `d` of a primary stream drawn by one 1D request: from the stratified point
+    /// when it is the next value to append, else [`SampleStream::primary`].
+    fn primary_1d(&mut self, d: u32) -> f32 {
+        match self.stratified {
+            Some(p) if self.values.len() == d as usize && d < MAX_PRIMARY_DIMS => {
+                let v = sobol::value_1d(p.run_key, p.index, d);
+                self.values.push(v);
+                v
+            }
+            _ => self.primary(d),
+        }
+    }
+
+    /// Dimensions `d`, `d + 1` of a primary stream drawn by one 2D request: jointly
+    /// stratified from the stratified point when both are to be appended (dimensions
+    /// skipped before them are drawn at random), else [`SampleStream::primary`].
+    fn primary_2d(&mut self, d: u32) -> Vec2 {
+        match self.stratified {
+            Some(p) if self.values.len() <= d as usize && d + 1 < MAX_PRIMARY_DIMS => {
+                if d > 0 {
+                    self.primary(d - 1);
+                }
+                let v = sobol::value_2d(p.run_key, p.index, d);
+                self.values.extend([v.x, v.y]);
+                v
+            }
+            _ => Vec2::new(self.primary(d), self.primary(d + 1)),
+        }
+    }
+
     /// The primary sample values this stream drew (metropolis, erpt).
     pub fn into_values(self) -> Vec<f32> {
         self.values
@@ -341,7 +383,7 @@ impl SampleStream {
         let d = self.dim;
         self.dim = self.dim.saturating_add(1);
         match self.kind {
-            SamplerKind::Metropolis | SamplerKind::Erpt => self.primary(d),
+            SamplerKind::Metropolis | SamplerKind::Erpt => self.primary_1d(d),
             SamplerKind::Random => random::value(self.key, d),
             SamplerKind::LowDiscrepancy => {
                 lowdiscrepancy::value_1d(self.key, self.index, self.log2_n, d)
@@ -355,9 +397,7 @@ impl SampleStream {
         let d = self.dim;
         self.dim = self.dim.saturating_add(2);
         match self.kind {
-            SamplerKind::Metropolis | SamplerKind::Erpt => {
-                Vec2::new(self.primary(d), self.primary(d + 1))
-            }
+            SamplerKind::Metropolis | SamplerKind::Erpt => self.primary_2d(d),
             SamplerKind::Random => {
                 Vec2::new(random::value(self.key, d), random::value(self.key, d + 1))
             }

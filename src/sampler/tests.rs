@@ -383,7 +383,7 @@ fn erpt_warns_only_about_what_it_ignores() {
     assert_eq!(s.map(|s| s.kind()), Ok(SamplerKind::Erpt));
     assert!(w.is_empty(), "{w:?}");
     let (s, w) = from_text(
-        "Sampler \"erpt\" \"bool noiseaware\" [\"true\"] \"string basesampler\" [\"sobol\"]",
+        "Sampler \"erpt\" \"bool noiseaware\" [\"true\"] \"string basesampler\" [\"halton\"]",
     );
     let s = s.unwrap_or_else(|e| panic!("{e}"));
     assert!(!s.noise_aware(), "noiseaware ignored");
@@ -391,6 +391,69 @@ fn erpt_warns_only_about_what_it_ignores() {
     assert!(w.iter().any(|d| d.message.contains("noiseaware")));
     assert!(w
         .iter()
-        .any(|d| d.message.contains("basesampler \"sobol\"")));
+        .any(|d| d.message.contains("basesampler \"halton\"")));
     assert!(w.iter().all(|d| d.loc.line == 1));
+}
+
+#[test]
+fn erpt_reads_its_base_sampler() {
+    use super::erpt::BaseSampler;
+    let base = |name: &str| {
+        let (s, w) = from_text(&format!(
+            "Sampler \"erpt\" \"string basesampler\" [\"{name}\"]"
+        ));
+        let s = s.unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(w.is_empty(), "{name}: {w:?}");
+        s.erpt().map(|p| p.base)
+    };
+    assert_eq!(base("random"), Some(BaseSampler::Random));
+    assert_eq!(base("lowdiscrepancy"), Some(BaseSampler::Stratified));
+    assert_eq!(base("sobol"), Some(BaseSampler::Stratified));
+    let (s, _) = from_text("\nSampler \"erpt\" \"string basesampler\" [\"metropolis\"]");
+    let msg = s.err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(
+        msg.starts_with("s.lxs:2:1: ") && msg.contains("basesampler"),
+        "{msg}"
+    );
+}
+
+/// The first 64 seeds of a stratified base form a (0, 6, 2)-net over the frame: one seed in
+/// each of the 8 × 8 cells (and each 64 × 1 and 1 × 64 elementary interval); the lens
+/// request is stratified the same way. A random base fails this almost surely.
+#[test]
+fn erpt_stratified_seeds_cover_the_frame_evenly() {
+    use super::erpt::seed_point;
+    for (seed, stream) in [(1u64, 0u64), (1, 7), (99, 3)] {
+        for first in [0u64, 64, 4096] {
+            let mut film = [[0u32; 8]; 8];
+            let (mut rows, mut lens) = (vec![0u32; 64], [[0u32; 8]; 8]);
+            for i in first..first + 64 {
+                let mut st = Sampler::start_primary(Vec::new(), 5, Vec2::ZERO, Vec2::ONE)
+                    .with_stratified_fresh(seed_point(seed, stream, i));
+                let cs = st.camera_sample();
+                let cell = |v: f32, n: usize| ((v * n as f32) as usize).min(n - 1);
+                film[cell(cs.p_film.y, 8)][cell(cs.p_film.x, 8)] += 1;
+                rows[cell(cs.p_film.y, 64)] += 1;
+                lens[cell(cs.p_lens.y, 8)][cell(cs.p_lens.x, 8)] += 1;
+                // The values a chain starts from are the ones drawn.
+                let v = st.into_values();
+                assert_eq!(v.len(), 5);
+                assert_eq!((v[0], v[1]), (cs.p_film.x, cs.p_film.y));
+            }
+            let flat = |g: [[u32; 8]; 8]| g.iter().flatten().all(|&c| c == 1);
+            assert!(
+                flat(film),
+                "seeds {first}.. of ({seed}, {stream}): {film:?}"
+            );
+            assert!(flat(lens), "lens of seeds {first}..: {lens:?}");
+            assert!(rows.iter().all(|&c| c == 1), "rows {rows:?}");
+        }
+    }
+    // Different streams draw differently scrambled sequences.
+    let p = |stream| {
+        let mut st = Sampler::start_primary(Vec::new(), 5, Vec2::ZERO, Vec2::ONE)
+            .with_stratified_fresh(seed_point(1, stream, 0));
+        st.camera_sample().p_film
+    };
+    assert_ne!(p(0), p(1));
 }

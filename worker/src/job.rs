@@ -16,6 +16,9 @@
 //!   user sampling map: the master sends the maps already combined)
 //! ```
 //!
+//! An erpt job's energy quantum is estimated by the first lease of the job a worker renders
+//! and remembered for its later ones ([`crate::quanta`]), which skip the warm-up.
+//!
 //! A worker's session never builds a sampling map from its own film (it only holds the
 //! samples since the last delta): a noise-aware job samples uniformly until the master's
 //! first map arrives.
@@ -27,6 +30,7 @@
 use crate::cache::Cache;
 use crate::link::{backoff, Link};
 use crate::map::MapSlot;
+use crate::quanta::{self, Quanta};
 use crate::Config;
 use anyhow::Context;
 use luxfarm::atomic_write::write_bytes_atomic;
@@ -126,6 +130,7 @@ impl Flags {
 pub async fn run_lease(
     link: &Link,
     cache: &Cache,
+    quanta: &Arc<Quanta>,
     cfg: &Config,
     threads: usize,
     a: pb::Assignment,
@@ -152,9 +157,20 @@ pub async fn run_lease(
             stream: a.stream,
         };
         let frame = a.frame;
+        let memo = (
+            quanta.clone(),
+            quanta::Key {
+                bundle_hash: a.bundle_hash.clone(),
+                scene_path: a.scene_path.clone(),
+                frame,
+                seed: a.seed,
+            },
+        );
         std::thread::Builder::new()
             .name("render".into())
-            .spawn(move || render_thread(&root, &scene, frame, opts, &flags, &shutdown, &tx))?
+            .spawn(move || {
+                render_thread(&root, &scene, frame, opts, &memo, &flags, &shutdown, &tx)
+            })?
     };
     let hb = tokio::spawn(heartbeat_loop(
         link.clone(),
@@ -184,12 +200,15 @@ pub async fn run_lease(
 }
 
 /// The render thread: passes while within the budget; a delta whenever the uploader asks or
-/// the budget is spent, and the last one at stop.
+/// the budget is spent, and the last one at stop. An erpt job's quantum is taken from the
+/// memo when an earlier lease of the job estimated it, and left there after the first pass.
+#[allow(clippy::too_many_arguments)]
 fn render_thread(
     root: &Path,
     scene: &Path,
     frame: Option<i64>,
     opts: SessionOptions,
+    (quanta, key): &(Arc<Quanta>, quanta::Key),
     flags: &Flags,
     shutdown: &AtomicBool,
     tx: &tokio::sync::mpsc::Sender<Delta>,
@@ -212,6 +231,13 @@ fn render_thread(
     let files = SceneFiles::confined(root, base).map_err(|e| shown(&e))?;
     let mut session = Session::new(&desc, files, opts).map_err(|e| shown(&e))?;
     session.follow_external_maps();
+    if let Some(q) = quanta.get(key).filter(|_| session.erpt_quantum().is_none()) {
+        session.set_erpt_quantum(q);
+        tracing::info!(
+            quantum = q,
+            "erpt: the job's quantum from an earlier lease, no warm-up"
+        );
+    }
     // Over the sample extent, as the film counts them (luxfarm::render::extent).
     let pass = session.pass_samples() as f64;
     store_f64(&flags.pass_samples, pass);
@@ -254,6 +280,9 @@ fn render_thread(
         asked = false;
         apply_map(&mut session, &flags.map);
         let stats = session.render_pass();
+        if let Some(q) = session.erpt_quantum() {
+            quanta.put(key.clone(), q);
+        }
         if stats.complete {
             store_f64(
                 &flags.samples,

@@ -18,6 +18,7 @@ pub mod cache;
 pub mod job;
 pub mod link;
 pub mod map;
+pub mod quanta;
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -97,6 +98,7 @@ pub async fn run(cfg: Config) -> anyhow::Result<()> {
     let threads = cfg.threads();
     let link = link::Link::new(&cfg, threads, shutdown.clone())?;
     let cache = cache::Cache::new(cfg.cache_dir.clone())?;
+    let quanta = Arc::new(quanta::Quanta::default());
     link.register().await?;
     let mut leases = 0u64;
     while !shutdown.load(Ordering::Relaxed) {
@@ -113,7 +115,7 @@ pub async fn run(cfg: Config) -> anyhow::Result<()> {
         let span =
             tracing::info_span!("lease", lease = %assignment.lease_id, job = %assignment.job_id);
         let _e = span.enter();
-        match job::run_lease(&link, &cache, &cfg, threads, assignment).await {
+        match job::run_lease(&link, &cache, &quanta, &cfg, threads, assignment).await {
             Ok(()) => {}
             Err(e) => tracing::error!(error = %format!("{e:#}"), "lease failed"),
         }
