@@ -35,6 +35,9 @@ pub struct DescriptionBuilder {
     objects_by_name: HashMap<String, usize>,
     /// Lights declared inside object definitions, instanced with each ObjectInstance.
     object_lights: HashMap<usize, Vec<super::description::LightDesc>>,
+    /// Emitting shapes (an AreaLightSource in scope) of object definitions, with their area
+    /// lights' texture bindings: each ObjectInstance places them as world shapes.
+    object_emitters: HashMap<usize, Vec<(super::description::ShapeDesc, Vec<texrefs::Binding>)>>,
     /// Texture references with the texture each was bound to.
     tex_refs: Vec<(texrefs::Owner, texrefs::Binding)>,
     /// `namedmaterialN` references: (material, parameter, item, bound material).
@@ -60,6 +63,7 @@ impl DescriptionBuilder {
             current_object: None,
             objects_by_name: HashMap::new(),
             object_lights: HashMap::new(),
+            object_emitters: HashMap::new(),
             tex_refs: Vec::new(),
             mat_refs: Vec::new(),
         }

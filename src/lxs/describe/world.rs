@@ -185,21 +185,18 @@ impl DescriptionBuilder {
         Ok(())
     }
 
+    /// A shape. One with an area light in scope inside an object definition is kept aside
+    /// and placed by each instance of the object as a world shape of its own (LuxRender 1.x's
+    /// `InstanceAreaLight` and `MotionAreaLight`: every instance is a light where it is).
     pub(super) fn add_shape(&mut self, e: Entity, portal: bool) -> LxsResult<()> {
         let mut area_light = None;
-        if !portal {
-            if let Some(al) = self.gs.area_light.clone() {
-                if self.current_object.is_some() {
-                    self.warn(&e.loc, "area lights are not supported on shapes inside ObjectBegin: ignored, as LuxRender does");
-                } else {
-                    let owner = Owner::AreaLight(self.desc.shapes.len());
-                    self.record_refs(owner, &al.1);
-                    area_light = Some(AreaLightDesc {
-                        entity: al.0.clone(),
-                        light_group: self.current_light_group(),
-                    });
-                }
-            }
+        let mut bindings = Vec::new();
+        if let Some(al) = self.gs.area_light.clone().filter(|_| !portal) {
+            bindings = al.1.clone();
+            area_light = Some(AreaLightDesc {
+                entity: al.0.clone(),
+                light_group: self.current_light_group(),
+            });
         }
         if portal && self.gs.current_light.is_none() {
             self.warn(
@@ -219,12 +216,48 @@ impl DescriptionBuilder {
             portal_light: self.gs.current_light_index.filter(|_| portal),
         };
         match self.current_object {
+            Some(obj) if !portal && shape.area_light.is_some() => {
+                self.object_emitters
+                    .entry(obj)
+                    .or_default()
+                    .push((shape, bindings));
+            }
             Some(obj) if !portal => {
                 if let Some(o) = self.desc.objects.get_mut(obj) {
                     o.shapes.push(shape);
                 }
             }
-            _ => self.desc.shapes.push(shape),
+            _ => self.add_world_shape(shape, &bindings),
+        }
+        Ok(())
+    }
+
+    /// Adds a world shape, recording its area light's texture references.
+    fn add_world_shape(&mut self, shape: ShapeDesc, bindings: &[Binding]) {
+        if shape.area_light.is_some() {
+            self.record_refs(Owner::AreaLight(self.desc.shapes.len()), bindings);
+        }
+        self.desc.shapes.push(shape);
+    }
+
+    /// Places the emitting shapes of `object` by an instance's transform `to_world`: world
+    /// shapes, or, for an instance inside another definition, emitters of that object.
+    fn place_emitters(&mut self, object: usize, to_world: &Xform, loc: &Loc) -> LxsResult<()> {
+        let emitters = self
+            .object_emitters
+            .get(&object)
+            .cloned()
+            .unwrap_or_default();
+        for (mut s, bindings) in emitters {
+            s.object_to_world = xform::mul(to_world, &s.object_to_world, loc)?;
+            match self.current_object {
+                Some(cur) => self
+                    .object_emitters
+                    .entry(cur)
+                    .or_default()
+                    .push((s, bindings)),
+                None => self.add_world_shape(s, &bindings),
+            }
         }
         Ok(())
     }
@@ -331,6 +364,7 @@ impl DescriptionBuilder {
         if portal {
             return Ok(());
         }
+        self.place_emitters(object, &to_world, loc)?;
         let lights = self.object_lights.get(&object).cloned().unwrap_or_default();
         for mut l in lights {
             place_light(&mut l, &to_world, loc)?;
