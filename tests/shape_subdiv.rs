@@ -1,5 +1,6 @@
 //! Loop subdivision and displacement end to end, from scene text: a displaced plane moves by
-//! the map times `dmscale` (with the texture named by a `Texture` statement), hostile
+//! the map times `dmscale` (with the texture named by a `Texture` statement), a
+//! microdisplaced plane is the surface LuxRender ray traces for its map, hostile
 //! `nlevels` is a located error, and a render of a subdivided icosahedron has a rounder
 //! silhouette than its cage, measured against the disk of an analytic sphere of equal area.
 //!
@@ -59,6 +60,87 @@ fn a_displaced_plane_moves_by_the_map_times_dmscale() {
     let desc = parse_text(&text, Path::new("/tmp/shape_subdiv.lxs"));
     let r = Renderable::build(&desc, Path::new("/tmp")).expect("scene builds");
     assert!((r.world.geometry().bounds().1.z - 0.1).abs() < 1e-5);
+}
+
+/// `subdivscheme "microdisplacement"` with a map that is u itself (a bilerp 0 → 1 along u)
+/// on a plane whose u runs 0 → 0.5 along x (the bilerp repeats at u = 1): every grid point
+/// rises by u · dmscale + dmoffset, so the surface rays hit is the tilted plane
+/// z = 0.2 · (x + 1) / 4 − 0.05 (flat micro-triangles between points on one plane), for any
+/// number of segments; a map value beyond 1 is clamped to 1, as in LuxRender.
+#[test]
+fn a_microdisplaced_plane_is_the_surface_its_map_describes() {
+    use glam::Vec3A;
+    use luxfarm::geometry::Ray;
+    let body = |v11: f32, segments: u32| {
+        format!(
+            r#"Texture "u" "float" "bilerp" "float v00" [0] "float v10" [{v11}] "float v01" [0] "float v11" [{v11}]
+{PLANE} "float uv" [0 0  0.5 0  0.5 1  0 1] "string subdivscheme" ["microdisplacement"]
+  "integer nsubdivlevels" [{segments}] "texture displacementmap" ["u"]
+  "float dmscale" [0.2] "float dmoffset" [-0.05]"#
+        )
+    };
+    for segments in [1, 4, 7] {
+        let desc = parse_text(&world_scene(&body(1.0, segments)), Path::new("/tmp/md.lxs"));
+        let r = Renderable::build(&desc, Path::new("/tmp")).expect("scene builds");
+        for (x, y) in [(-0.9, -0.8), (-0.3, 0.5), (0.2, -0.1), (0.77, 0.9)] {
+            let ray = Ray::new(Vec3A::new(x, y, 5.0), Vec3A::new(0.0, 0.0, -1.0));
+            let hit = r.world.intersect(&ray).expect("the plane is hit");
+            let want = 0.2 * (x + 1.0) / 4.0 - 0.05;
+            assert!(
+                (hit.it.p.z - want).abs() < 1e-5,
+                "{segments} segments at ({x}, {y}): z {} want {want}",
+                hit.it.p.z
+            );
+        }
+    }
+    // A map reaching 3 is clamped to 1: the plane is lifted by the clamped value.
+    let desc = parse_text(&world_scene(&body(6.0, 6)), Path::new("/tmp/md.lxs"));
+    let r = Renderable::build(&desc, Path::new("/tmp")).expect("scene builds");
+    let (lo, hi) = r.world.geometry().bounds();
+    assert!(
+        (lo.z + 0.05).abs() < 1e-5 && (hi.z - 0.15).abs() < 1e-5,
+        "{lo} {hi}"
+    );
+}
+
+/// With vertex normals (and `dmnormalsmooth` by default) the shading normal is LuxRender's:
+/// the interpolated normal tilted by the map's raw (u, v) derivatives, dpdu + (∂map/∂u)·n.
+/// Here dpdu = (4, 0, 0) (u = (x + 1) / 4), dpdv = (0, 2, 0) and ∂map/∂u = 1, so the normal is
+/// normalize((4, 0, 1) × (0, 2, 0)) = normalize(−2, 0, 8), while the geometric normal is the
+/// tilted plane's; `dmnormalsmooth false` leaves the flat micro-triangles' normal.
+#[test]
+fn a_microdisplaced_mesh_with_normals_is_shaded_as_luxrender_shades_it() {
+    use glam::Vec3A;
+    use luxfarm::geometry::Ray;
+    let body = |smooth: bool| {
+        format!(
+            r#"Texture "u" "float" "bilerp" "float v00" [0] "float v10" [1] "float v01" [0] "float v11" [1]
+{PLANE} "float uv" [0 0  0.5 0  0.5 1  0 1] "normal N" [0 0 1  0 0 1  0 0 1  0 0 1]
+  "string subdivscheme" ["microdisplacement"] "integer nsubdivlevels" [5]
+  "texture displacementmap" ["u"] "float dmscale" [0.2] "bool dmnormalsmooth" ["{smooth}"]"#
+        )
+    };
+    let hit_at = |smooth: bool| {
+        let desc = parse_text(&world_scene(&body(smooth)), Path::new("/tmp/md.lxs"));
+        let r = Renderable::build(&desc, Path::new("/tmp")).expect("scene builds");
+        let ray = Ray::new(Vec3A::new(0.3, -0.2, 5.0), Vec3A::new(0.0, 0.0, -1.0));
+        r.world.intersect(&ray).expect("the plane is hit")
+    };
+    let tilted = Vec3A::new(-2.0, 0.0, 8.0).normalize();
+    let flat = Vec3A::new(-0.05, 0.0, 1.0).normalize();
+    let h = hit_at(true);
+    assert!(
+        (h.shading.n - tilted).length() < 1e-4,
+        "shading {}",
+        h.shading.n
+    );
+    assert!((h.it.n - flat).length() < 1e-4, "geometric {}", h.it.n);
+    let h = hit_at(false);
+    assert!(
+        (h.shading.n - flat).length() < 1e-4,
+        "flat shading {}",
+        h.shading.n
+    );
 }
 
 #[test]

@@ -1,8 +1,9 @@
 //! Loop subdivision and displacement of the mesh shapes (`loopsubdiv`, `trianglemesh`, `mesh`,
 //! `plymesh`, `stlmesh`), with the parameters and defaults of LuxRender 1.x's mesh.cpp:
 //! `integer nsubdivlevels` (else `nlevels`; default 0, also for `loopsubdiv`, which LuxRender
-//! 1.x builds with the mesh plugin), `string subdivscheme` ("loop"; "microdisplacement" is not
-//! implemented), `texture displacementmap` (or the older `string displacementmap`: a float
+//! 1.x builds with the mesh plugin), `string subdivscheme` ("loop", or "microdisplacement":
+//! `nsubdivlevels` segments per edge of each triangle, see [`super::microdisplace`]),
+//! `texture displacementmap` (or the older `string displacementmap`: a float
 //! texture's name), `float dmscale` (0.1), `float dmoffset` (0), `bool dmnormalsmooth` (true:
 //! the result gets limit-surface normals, else it is flat shaded), `bool dmsharpboundary`
 //! (false) and `bool dmnormalsplit` (false: with normals given, vertices at one position but
@@ -48,6 +49,8 @@ pub struct MeshArrays {
 #[derive(Clone, Debug)]
 struct Params {
     levels: u32,
+    /// `subdivscheme` "microdisplacement" (with a map and levels > 0).
+    micro: bool,
     map: Option<String>,
     scale: f64,
     offset: f64,
@@ -74,16 +77,15 @@ fn read_params(b: &Build) -> Result<Params, BuildError> {
     let ps = b.params();
     let mut levels = levels_of(ps);
     let map = map_name(ps).map(str::to_string);
+    let mut micro = false;
     match ps.string_or("subdivscheme", "loop") {
         "loop" => {}
         "microdisplacement" if levels > 0 => {
-            if map.is_some() {
-                return Err(
-                    b.err("subdivscheme \"microdisplacement\" is not implemented (\"loop\" is)")
-                );
+            micro = map.is_some();
+            if !micro {
+                b.warn("no displacement map for microdisplacement: not subdividing (as LuxRender)");
+                levels = 0;
             }
-            b.warn("no displacement map for microdisplacement: not subdividing (as LuxRender)");
-            levels = 0;
         }
         "microdisplacement" => {}
         other => b.warn(&format!(
@@ -95,6 +97,7 @@ fn read_params(b: &Build) -> Result<Params, BuildError> {
     }
     Ok(Params {
         levels,
+        micro,
         map,
         scale: b.float("dmscale", 0.1)?,
         offset: b.float("dmoffset", 0.0)?,
@@ -120,15 +123,13 @@ pub(crate) fn apply(b: &Build, flip: bool, mesh: MeshArrays) -> Result<MeshArray
     if prm.levels == 0 {
         return Ok(mesh);
     }
+    if prm.micro {
+        return microdisplaced(b, flip, mesh, &prm);
+    }
     let ps = b.params();
     let Some(count) = subdivided_count(mesh.tris.len(), prm.levels, MAX_TRIANGLES) else {
-        let name = if ps.contains("nsubdivlevels") {
-            "nsubdivlevels"
-        } else {
-            "nlevels"
-        };
         return Err(BuildError::new(
-            &param_loc(ps, name, &b.desc.entity.loc),
+            &param_loc(ps, levels_param(ps), &b.desc.entity.loc),
             format!(
                 "shape \"{}\": {} levels of subdivision of {} triangles would give more than {} triangles",
                 b.desc.entity.kind,
@@ -138,18 +139,7 @@ pub(crate) fn apply(b: &Build, flip: bool, mesh: MeshArrays) -> Result<MeshArray
             ),
         ));
     };
-    let map = match &prm.map {
-        Some(name) => match b.ctx.displacement.get(name) {
-            Some(t) => Some(t.clone()),
-            None => {
-                b.warn(&format!(
-                    "unknown float texture \"{name}\": no displacement"
-                ));
-                None
-            }
-        },
-        None => None,
-    };
+    let map = map_of(b, &prm);
     let sm = match subdivide(&mesh, &prm, map.as_ref()) {
         Ok(sm) => sm,
         Err(e) => {
@@ -177,6 +167,80 @@ pub(crate) fn apply(b: &Build, flip: bool, mesh: MeshArrays) -> Result<MeshArray
         return Err(b.err("subdivision or displacement moved a vertex out of range"));
     }
     Ok(out)
+}
+
+/// The name of the parameter that set the level count (for error locations).
+fn levels_param(ps: &ParamSet) -> &'static str {
+    if ps.contains("nsubdivlevels") {
+        "nsubdivlevels"
+    } else {
+        "nlevels"
+    }
+}
+
+/// The displacement texture a shape names, or `None` with a warning when it is unknown.
+fn map_of(b: &Build, prm: &Params) -> Option<FloatTex> {
+    let name = prm.map.as_ref()?;
+    let t = b.ctx.displacement.get(name).cloned();
+    if t.is_none() {
+        b.warn(&format!(
+            "unknown float texture \"{name}\": no displacement"
+        ));
+    }
+    t
+}
+
+/// `subdivscheme "microdisplacement"` ([`super::microdisplace`]): `levels` segments per
+/// edge.
+fn microdisplaced(
+    b: &Build,
+    flip: bool,
+    mesh: MeshArrays,
+    prm: &Params,
+) -> Result<MeshArrays, BuildError> {
+    use super::microdisplace::{displace, micro_count, Micro};
+    let ps = b.params();
+    let Some(count) = micro_count(mesh.tris.len(), prm.levels, MAX_TRIANGLES) else {
+        return Err(BuildError::new(
+            &param_loc(ps, levels_param(ps), &b.desc.entity.loc),
+            format!(
+                "shape \"{}\": microdisplacement with {} segments per edge of {} triangles \
+                 would give more than {} triangles (luxfarm builds the displaced surface \
+                 as a mesh)",
+                b.desc.entity.kind,
+                prm.levels,
+                mesh.tris.len(),
+                MAX_TRIANGLES
+            ),
+        ));
+    };
+    let Some(map) = map_of(b, prm) else {
+        return Ok(mesh);
+    };
+    let m = Micro {
+        segments: prm.levels,
+        scale: prm.scale,
+        offset: prm.offset,
+        smooth: prm.smooth,
+    };
+    let d = displace(&mesh, flip, &map, m);
+    tracing::info!(
+        "{}: shape \"{}\": microdisplacement, {} segments per edge: {} -> {count} triangles",
+        b.desc.entity.loc,
+        b.desc.entity.kind,
+        prm.levels,
+        mesh.tris.len()
+    );
+    if d.bad > 0 {
+        b.warn(&format!(
+            "the displacement map gave {} grid points a non-finite value: they were not moved",
+            d.bad
+        ));
+    }
+    if d.mesh.p.iter().any(|p| !p.is_finite()) {
+        return Err(b.err("microdisplacement moved a vertex out of range"));
+    }
+    Ok(d.mesh)
 }
 
 /// The subdivided mesh and its normals (`None` for a flat-shaded result).
@@ -237,8 +301,20 @@ fn subdivide(
 /// The float texture at a vertex: its position, normal, a tangent frame around the normal
 /// and the corner's uv (LuxRender's differential geometry for displacement).
 fn evaluate(map: &FloatTex, p: DVec3, n: DVec3, uv: DVec2) -> f64 {
+    let (dpdu, dpdv) = coordinate_system(n.as_vec3a());
+    evaluate_in(map, p, n, uv, (dpdu.as_dvec3(), dpdv.as_dvec3()))
+}
+
+/// The float texture at a point with normal `n`, uv and tangents `frame` (dpdu, dpdv).
+pub(super) fn evaluate_in(
+    map: &FloatTex,
+    p: DVec3,
+    n: DVec3,
+    uv: DVec2,
+    frame: (DVec3, DVec3),
+) -> f64 {
     let n = n.as_vec3a();
-    let (dpdu, dpdv) = coordinate_system(n);
+    let (dpdu, dpdv) = (frame.0.as_vec3a(), frame.1.as_vec3a());
     let si = SurfaceInteraction {
         it: Interaction {
             p: p.as_vec3a(),
@@ -502,20 +578,47 @@ mod tests {
     }
 
     #[test]
-    fn microdisplacement_with_a_map_is_refused_and_without_one_does_nothing() {
+    fn microdisplacement_splits_each_triangle_into_n_by_n_and_without_a_map_does_nothing() {
         let scheme = (
             "subdivscheme",
             ParamValue::String(vec!["microdisplacement".into()]),
         );
         let d = tetra(vec![scheme.clone(), ("nsubdivlevels", ints(&[2]))]);
         assert_eq!(build(&d, &ShapeCtx::default()).unwrap().tris.len(), 4);
-        let d = tetra(vec![
-            scheme,
-            ("nsubdivlevels", ints(&[2])),
-            ("displacementmap", ParamValue::Texture("dm".into())),
-        ]);
-        let e = build(&d, &ctx_with("dm", 1.0)).unwrap_err();
-        assert!(e.message.contains("microdisplacement"), "{}", e.message);
+        // nsubdivlevels counts segments per edge: 3 gives 9 micro-triangles per triangle of
+        // the plane (8), each lifted by the map (1) times dmscale along the +z normal.
+        let d = plane(
+            vec![
+                scheme,
+                ("nsubdivlevels", ints(&[3])),
+                ("displacementmap", ParamValue::Texture("dm".into())),
+                ("dmscale", floats(&[0.25])),
+            ],
+            DMat4::IDENTITY,
+            false,
+        );
+        let m = build(&d, &ctx_with("dm", 1.0)).unwrap();
+        assert_eq!(m.tris.len(), 72);
+        assert!(m.p.iter().all(|p| (p.z - 0.25).abs() < 1e-6));
+        // Flat shaded: the plane has no normals.
+        assert!(m.n.is_none());
+        let e = build(
+            &plane(
+                vec![
+                    (
+                        "subdivscheme",
+                        ParamValue::String(vec!["microdisplacement".into()]),
+                    ),
+                    ("nsubdivlevels", ints(&[2000])),
+                    ("displacementmap", ParamValue::Texture("dm".into())),
+                ],
+                DMat4::IDENTITY,
+                false,
+            ),
+            &ctx_with("dm", 1.0),
+        )
+        .unwrap_err();
+        assert!(e.message.contains("more than"), "{}", e.message);
     }
 
     #[test]
