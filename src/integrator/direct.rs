@@ -35,7 +35,7 @@ pub fn light_draws(scene: &World, settings: &DirectSettings, i: usize, depth: u3
                 .map_or(0.0, |l| l.nsamples_at(depth) as f32)
                 * n
         }
-        LightSelector::One(d) => n * d.discrete_pdf(i),
+        sel => n * sel.pdf(i),
     }
 }
 
@@ -226,16 +226,21 @@ pub fn sample_lights(
                 add_group(l, light.group(), beta * sum / n as f32);
             }
         }
-        LightSelector::One(d) => {
+        sel => {
             let n = settings.shadow_rays;
+            let picks = sel.count(scene.lights().len());
             for _ in 0..n {
-                let (i, q, _) = d.sample_discrete(s.next_1d());
-                if q <= 0.0 || i >= scene.lights().len() {
-                    continue;
+                for k in 0..picks {
+                    let Some((i, q)) = sel.pick(k, s.next_1d()) else {
+                        continue;
+                    };
+                    if i >= scene.lights().len() {
+                        continue;
+                    }
+                    let c = sample_one(scene, settings, i, at, medium, s, full_weight, depth);
+                    let g = scene.lights()[i].group();
+                    add_group(l, g, beta * c / (n as f32 * q));
                 }
-                let c = sample_one(scene, settings, i, at, medium, s, full_weight, depth);
-                let g = scene.lights()[i].group();
-                add_group(l, g, beta * c / (n as f32 * q));
             }
         }
     }

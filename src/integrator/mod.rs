@@ -5,7 +5,8 @@
 //!
 //! - path: `maxdepth` (16), `rrstrategy` none/probability/efficiency ("efficiency"),
 //!   `rrcontinueprob` (0.65), `includeenvironment` (true), `directlightsampling` (true),
-//!   `lightstrategy` one/all/auto/importance ("auto"), `shadowraycount` (1).
+//!   `lightstrategy` (older name `strategy`; "auto"; see [`crate::light::strategy`]),
+//!   `shadowraycount` (1).
 //! - directlighting: `maxdepth` (5) specular bounces, `lightstrategy`, `shadowraycount`.
 //!
 //! Depth convention (as LuxCore's, which the benchmark reference uses): `maxdepth` is the
@@ -60,8 +61,7 @@ pub struct DirectSettings {
 impl DirectSettings {
     fn build(s: &mut Stmt) -> DirectSettings {
         let p = s.params();
-        let name = p.string_or("lightstrategy", "auto");
-        let strategy = LightStrategy::parse(name).unwrap_or_else(|| {
+        let strategy = LightStrategy::from_params(p, "lightstrategy").unwrap_or_else(|name| {
             s.warn(format!("unknown lightstrategy \"{name}\", using \"auto\""));
             LightStrategy::Auto
         });

@@ -265,12 +265,7 @@ pub(crate) mod tests {
     use glam::Mat4;
 
     fn common() -> LightCommon {
-        LightCommon {
-            group: 0,
-            nsamples: 1,
-            low_nsamples: 1,
-            low_level: 0,
-        }
+        LightCommon::single(0)
     }
 
     /// A scene without shapes to sample (tests of lights that need none).

@@ -204,6 +204,9 @@ pub struct LightCommon {
     /// The path depth (bounces before the shading point) where `low_nsamples` takes over
     /// (`lowlevel`; 0: never).
     pub low_level: u32,
+    /// Weight of the light in the importance-based light strategies (`importance`, default
+    /// 1, at least 0; [`LightSelector`]).
+    pub importance: f32,
 }
 
 impl LightCommon {
@@ -214,6 +217,7 @@ impl LightCommon {
             nsamples,
             low_nsamples: params.int_or("lownsamples", nsamples as i32).max(1) as u32,
             low_level: params.int_or("lowlevel", 0).max(0) as u32,
+            importance: params.float_or("importance", 1.0).max(0.0),
         }
     }
 
@@ -224,6 +228,7 @@ impl LightCommon {
             nsamples: 1,
             low_nsamples: 1,
             low_level: 0,
+            importance: 1.0,
         }
     }
 
@@ -479,6 +484,11 @@ impl Light {
             Light::Sky2(l) => l.le(dir),
             _ => Rgb::BLACK,
         }
+    }
+
+    /// The light's `importance` (the importance-based light strategies).
+    pub fn importance(&self) -> f32 {
+        self.common().importance
     }
 
     /// Emitted power's luminance (for the power-based light strategy).

@@ -70,8 +70,7 @@ pub struct BidirIntegrator {
 }
 
 fn strategy(s: &mut Stmt, name: &str) -> LightStrategy {
-    let v = s.params().string_or(name, "auto").to_string();
-    LightStrategy::parse(&v).unwrap_or_else(|| {
+    LightStrategy::from_params(s.params(), name).unwrap_or_else(|v| {
         s.warn(format!("unknown {name} \"{v}\", using \"auto\""));
         LightStrategy::Auto
     })
@@ -131,14 +130,8 @@ impl BidirIntegrator {
     pub fn prepare(&mut self, world: &World) {
         let n = world.lights().len() as u32;
         self.path_selector = LightSelector::new(self.path_strategy, world.lights());
-        self.path_count = match self.path_selector {
-            LightSelector::All => n,
-            LightSelector::One(_) => u32::from(n > 0),
-        };
-        let direct = match world.selector() {
-            LightSelector::All => n,
-            LightSelector::One(_) => u32::from(n > 0),
-        };
+        self.path_count = self.path_selector.count(n as usize);
+        let direct = world.selector().count(n as usize);
         self.layout = Layout::new(self.eye_depth, self.light_depth, direct);
     }
 
@@ -192,10 +185,12 @@ impl BidirIntegrator {
         for p in 0..self.path_count {
             let (index, draws) = match &self.path_selector {
                 LightSelector::All => (p, 1.0),
-                LightSelector::One(d) => {
+                sel => {
                     s.set_dimension(self.layout.light_origin(p));
-                    let (i, q, _) = d.sample_discrete(s.next_1d());
-                    (i as u32, q)
+                    match sel.pick(p, s.next_1d()) {
+                        Some((i, q)) => (i as u32, q),
+                        None => continue,
+                    }
                 }
             };
             walk::light_walk(&ctx, index, draws, p, s, &self.layout, &mut sc.light);

@@ -307,12 +307,8 @@ pub fn direct(
     for d in 0..layout.direct_count {
         stream.set_dimension(layout.direct(t - 1, d));
         let (u_pick, u, u_shape) = (stream.next_1d(), stream.next_2d(), stream.next_1d());
-        let (i, q) = match ctx.world.selector() {
-            crate::light::LightSelector::All => (d as usize, 1.0),
-            crate::light::LightSelector::One(dist) => {
-                let (i, q, _) = dist.sample_discrete(u_pick);
-                (i, q)
-            }
+        let Some((i, q)) = ctx.world.selector().pick(d, u_pick) else {
+            continue;
         };
         let Some(light) = lights.get(i) else {
             continue;

@@ -452,13 +452,10 @@ impl Ctx<'_> {
     }
 }
 
-/// Expected draws of light `i` under a selection: 1 each for `All`, the choice probability
-/// for `One`.
+/// Expected draws of light `i` under a selection: 1 each for `All`, the draws times the
+/// choice probability otherwise.
 pub fn draws(sel: &LightSelector, i: usize) -> f32 {
-    match sel {
-        LightSelector::All => 1.0,
-        LightSelector::One(d) => d.discrete_pdf(i),
-    }
+    sel.pdf(i)
 }
 
 #[cfg(test)]
