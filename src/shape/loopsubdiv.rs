@@ -22,28 +22,19 @@
 //! mesh whose topology cannot be subdivided (inconsistent winding, an edge with three faces)
 //! is kept as given with a warning, as LuxRender does.
 
+use super::mesh_arrays::evaluate_in;
+use super::mesh_arrays::MeshArrays;
 use super::subdiv::{Attr, Options, SubdivMesh};
 use super::{Build, BuildError};
 use crate::geometry::frame::coordinate_system;
-use crate::geometry::{Interaction, Shading, SurfaceInteraction};
+
 use crate::lxs::{ParamSet, SceneDescription, ShapeDesc, TextureType};
 use crate::texture::{param_loc, FloatTex, TextureError, TextureSet};
-use glam::{DVec2, DVec3, Vec2, Vec3A};
+use glam::{DVec2, DVec3};
 use std::collections::BTreeMap;
 
 /// Most triangles one subdivided shape may have (checked before anything is allocated).
 pub const MAX_TRIANGLES: u64 = 1 << 24;
-
-/// The arrays of a mesh in its target space, as `mesh.rs` holds them.
-#[derive(Clone, Debug)]
-pub struct MeshArrays {
-    pub p: Vec<Vec3A>,
-    pub n: Option<Vec<Vec3A>>,
-    pub uv: Option<Vec<Vec2>>,
-    pub cols: Option<Vec<[f32; 3]>>,
-    pub alphas: Option<Vec<f32>>,
-    pub tris: Vec<[u32; 3]>,
-}
 
 /// The subdivision parameters of one shape.
 #[derive(Clone, Debug)]
@@ -303,32 +294,6 @@ fn subdivide(
 fn evaluate(map: &FloatTex, p: DVec3, n: DVec3, uv: DVec2) -> f64 {
     let (dpdu, dpdv) = coordinate_system(n.as_vec3a());
     evaluate_in(map, p, n, uv, (dpdu.as_dvec3(), dpdv.as_dvec3()))
-}
-
-/// The float texture at a point with normal `n`, uv and tangents `frame` (dpdu, dpdv).
-pub(super) fn evaluate_in(
-    map: &FloatTex,
-    p: DVec3,
-    n: DVec3,
-    uv: DVec2,
-    frame: (DVec3, DVec3),
-) -> f64 {
-    let n = n.as_vec3a();
-    let (dpdu, dpdv) = (frame.0.as_vec3a(), frame.1.as_vec3a());
-    let si = SurfaceInteraction {
-        it: Interaction {
-            p: p.as_vec3a(),
-            n,
-            ..Interaction::default()
-        },
-        wo: n,
-        uv: uv.as_vec2(),
-        dpdu,
-        dpdv,
-        shading: Shading { n, dpdu, dpdv },
-        ..SurfaceInteraction::default()
-    };
-    map.eval(&si) as f64
 }
 
 /// Back to f32 arrays, one vertex per attribute vertex; the input's optional channels stay

@@ -5,7 +5,8 @@
 //! diagonal as LuxRender does. A mesh that asks for subdivision is subdivided (and displaced)
 //! in the target space by [`super::loopsubdiv`] before its face normals are computed.
 
-use super::loopsubdiv::{apply as apply_subdivision, MeshArrays};
+use super::loopsubdiv::apply as apply_subdivision;
+use super::mesh_arrays::MeshArrays;
 use super::{Build, BuildError};
 use crate::geometry::frame::{coordinate_system, LocalGeometry};
 use crate::geometry::transform::{error_floor, gamma, to_f32, to_f64};

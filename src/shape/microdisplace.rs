@@ -16,7 +16,7 @@
 //! triangle's dpdu/dpdv. The micro-triangles between the points are flat. luxfarm builds
 //! that same surface once, as a mesh of N² triangles per triangle (each triangle's grid of its
 //! own, as LuxRender computes each triangle alone), so a shape is refused past
-//! [`super::loopsubdiv::MAX_TRIANGLES`] where LuxRender would spend time instead of memory.
+//! `loopsubdiv::MAX_TRIANGLES` where LuxRender would spend time instead of memory.
 //!
 //! Shading (`dmnormalsmooth`, default true, and only for a mesh with normals, as LuxRender):
 //! the interpolated normal tilted by the map's derivatives, LuxRender's `GetDuv` with step
@@ -26,7 +26,7 @@
 //! points, interpolated across each micro-triangle. Without smoothing, or without normals,
 //! the micro-triangles are flat shaded.
 
-use super::loopsubdiv::{evaluate_in, MeshArrays};
+use super::mesh_arrays::{evaluate_in, MeshArrays};
 use crate::geometry::frame::coordinate_system;
 use crate::geometry::{Interaction, Shading, SurfaceInteraction};
 use crate::texture::FloatTex;

@@ -14,6 +14,7 @@ pub mod heightfield;
 pub mod hyperboloid;
 pub mod loopsubdiv;
 pub mod mesh;
+pub mod mesh_arrays;
 pub mod microdisplace;
 pub mod paraboloid;
 pub mod plymesh;
