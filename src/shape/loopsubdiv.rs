@@ -140,19 +140,14 @@ pub(crate) fn apply(b: &Build, flip: bool, mesh: MeshArrays) -> Result<MeshArray
             return Ok(mesh);
         }
     };
-    tracing::info!(
-        "{}: shape \"{}\": {} levels of loop subdivision: {} -> {count} triangles",
-        b.desc.entity.loc,
-        b.desc.entity.kind,
-        prm.levels,
-        mesh.tris.len()
+    let what = format!("{} levels of loop subdivision", prm.levels);
+    report(
+        b,
+        &what,
+        (mesh.tris.len(), count),
+        sm.bad_displacements,
+        "vertices",
     );
-    if sm.bad_displacements > 0 {
-        b.warn(&format!(
-            "the displacement map gave {} vertices a non-finite value: they were not moved",
-            sm.bad_displacements
-        ));
-    }
     let out = to_arrays(&mesh, sm, flip);
     if out.p.iter().any(|p| !p.is_finite()) {
         return Err(b.err("subdivision or displacement moved a vertex out of range"));
@@ -179,6 +174,21 @@ fn map_of(b: &Build, prm: &Params) -> Option<FloatTex> {
         ));
     }
     t
+}
+
+/// Logs a refinement (`what`, triangles before and after) and warns about the `bad` points
+/// (named `points`) the displacement map left unmoved.
+fn report(b: &Build, what: &str, (before, after): (usize, u64), bad: usize, points: &str) {
+    tracing::info!(
+        "{}: shape \"{}\": {what}: {before} -> {after} triangles",
+        b.desc.entity.loc,
+        b.desc.entity.kind,
+    );
+    if bad > 0 {
+        b.warn(&format!(
+            "the displacement map gave {bad} {points} a non-finite value: they were not moved"
+        ));
+    }
 }
 
 /// `subdivscheme "microdisplacement"` ([`super::microdisplace`]): `levels` segments per
@@ -215,19 +225,8 @@ fn microdisplaced(
         smooth: prm.smooth,
     };
     let d = displace(&mesh, flip, &map, m);
-    tracing::info!(
-        "{}: shape \"{}\": microdisplacement, {} segments per edge: {} -> {count} triangles",
-        b.desc.entity.loc,
-        b.desc.entity.kind,
-        prm.levels,
-        mesh.tris.len()
-    );
-    if d.bad > 0 {
-        b.warn(&format!(
-            "the displacement map gave {} grid points a non-finite value: they were not moved",
-            d.bad
-        ));
-    }
+    let what = format!("microdisplacement, {} segments per edge", prm.levels);
+    report(b, &what, (mesh.tris.len(), count), d.bad, "grid points");
     if d.mesh.p.iter().any(|p| !p.is_finite()) {
         return Err(b.err("microdisplacement moved a vertex out of range"));
     }
