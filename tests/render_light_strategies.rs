@@ -3,7 +3,8 @@
 //! integrators and bidirectional's light paths, on a floor lit by two area lights and a point
 //! light of unequal power and importance. A light whose importance is 0 is never drawn by the
 //! importance-weighted strategies: a point light then lights nothing (as in LuxRender), while
-//! an area light is still reached by BSDF sampling and its light stays.
+//! an area light is still reached by the BSDF-sampled rays luxfarm traces from every surface
+//! (LuxRender traces them only from surfaces with a non-diffuse component).
 
 mod transport_common;
 

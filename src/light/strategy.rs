@@ -14,8 +14,11 @@
 //! | `logpowerimp` | 1 | ln(1 + `importance` × power) |
 //!
 //! `importance` is every light's parameter (default 1, negative counts as 0). A light with
-//! weight 0 is never drawn, so a point-like one then lights nothing, as in LuxRender; an area
-//! light is still reached by BSDF sampling. LuxRender's `logpowerimp` weighs by
+//! weight 0 is never drawn (nor is any light when every weight is 0), so a point-like one
+//! then lights nothing, as in LuxRender. An area light of weight 0 is still reached by the
+//! BSDF-sampled rays, which luxfarm traces from every surface (LuxRender only from surfaces
+//! with a non-diffuse component, so there a diffuse surface loses it). LuxRender's
+//! `logpowerimp` weighs by
 //! ln(importance × power), which is negative or undefined below 1 W; ln(1 + x) keeps its
 //! ordering and stays a weight. Unknown names fall back to `auto` with a warning by the
 //! caller.
@@ -81,12 +84,24 @@ impl LightSelector {
         let n = lights.len();
         let weighted = |w: &dyn Fn(&Light) -> f32, draws: usize| {
             let weights: Vec<f32> = lights.iter().map(w).collect();
+            let dist = PiecewiseConstant1D::new(&weights);
+            // No weight anywhere: no light is drawn (LuxRender's distribution is undefined
+            // there and adds nothing).
+            let draws = if dist.integral() > 0.0 {
+                draws.max(1)
+            } else {
+                0
+            };
             LightSelector::Drawn {
-                dist: PiecewiseConstant1D::new(&weights),
-                draws: draws.max(1) as u32,
+                dist,
+                draws: draws as u32,
             }
         };
-        let power = |l: &Light| l.importance() * l.power();
+        // In f64: a product past f32's range stays the largest weight instead of becoming
+        // infinite (which would count as no weight).
+        let power = |l: &Light| {
+            (f64::from(l.importance()) * f64::from(l.power())).min(f64::from(f32::MAX)) as f32
+        };
         match strategy {
             LightStrategy::All => LightSelector::All,
             LightStrategy::Auto if n <= AUTO_ALL => LightSelector::All,
@@ -119,8 +134,9 @@ impl LightSelector {
     pub fn pick(&self, k: u32, u: f32) -> Option<(usize, f32)> {
         match self {
             LightSelector::All => Some((k as usize, 1.0)),
+            LightSelector::Drawn { draws: 0, .. } => None,
             LightSelector::Drawn { dist, draws } => {
-                let n = (*draws).max(1);
+                let n = *draws;
                 let v = ((k.min(n - 1) as f32 + u) / n as f32).min(1.0 - f32::EPSILON / 2.0);
                 let (i, q, _) = dist.sample_discrete(v);
                 (q > 0.0).then_some((i, q * n as f32))
@@ -218,6 +234,8 @@ mod tests {
             let expected: f32 = (0..4).map(|i| sel.pdf(i)).sum();
             assert!((expected - draws as f32).abs() < 1e-5);
         }
+        let none = LightSelector::new(LightStrategy::Importance, &[]);
+        assert_eq!(none.count(0), 0);
         let sel = drawn(&[1.0, 0.0, 1.0], 1);
         assert_eq!(sel.pdf(1), 0.0);
         assert!((0..100).all(|j| sel.pick(0, j as f32 / 100.0).map(|p| p.0) != Some(1)));

@@ -361,7 +361,7 @@ impl SampleStream {
     /// skipped before them are drawn at random), else [`SampleStream::primary`].
     fn primary_2d(&mut self, d: u32) -> Vec2 {
         match self.stratified {
-            Some(p) if self.values.len() <= d as usize && d + 1 < MAX_PRIMARY_DIMS => {
+            Some(p) if self.values.len() <= d as usize && d < MAX_PRIMARY_DIMS - 1 => {
                 if d > 0 {
                     self.primary(d - 1);
                 }
@@ -369,7 +369,7 @@ impl SampleStream {
                 self.values.extend([v.x, v.y]);
                 v
             }
-            _ => Vec2::new(self.primary(d), self.primary(d + 1)),
+            _ => Vec2::new(self.primary(d), self.primary(d.saturating_add(1))),
         }
     }
 

@@ -426,7 +426,7 @@ fn erpt_stratified_seeds_cover_the_frame_evenly() {
     for (seed, stream) in [(1u64, 0u64), (1, 7), (99, 3)] {
         for first in [0u64, 64, 4096] {
             let mut film = [[0u32; 8]; 8];
-            let (mut rows, mut lens) = (vec![0u32; 64], [[0u32; 8]; 8]);
+            let (mut rows, mut cols, mut lens) = (vec![0u32; 64], vec![0u32; 64], [[0u32; 8]; 8]);
             for i in first..first + 64 {
                 let mut st = Sampler::start_primary(Vec::new(), 5, Vec2::ZERO, Vec2::ONE)
                     .with_stratified_fresh(seed_point(seed, stream, i));
@@ -434,6 +434,7 @@ fn erpt_stratified_seeds_cover_the_frame_evenly() {
                 let cell = |v: f32, n: usize| ((v * n as f32) as usize).min(n - 1);
                 film[cell(cs.p_film.y, 8)][cell(cs.p_film.x, 8)] += 1;
                 rows[cell(cs.p_film.y, 64)] += 1;
+                cols[cell(cs.p_film.x, 64)] += 1;
                 lens[cell(cs.p_lens.y, 8)][cell(cs.p_lens.x, 8)] += 1;
                 // The values a chain starts from are the ones drawn.
                 let v = st.into_values();
@@ -447,6 +448,7 @@ fn erpt_stratified_seeds_cover_the_frame_evenly() {
             );
             assert!(flat(lens), "lens of seeds {first}..: {lens:?}");
             assert!(rows.iter().all(|&c| c == 1), "rows {rows:?}");
+            assert!(cols.iter().all(|&c| c == 1), "columns {cols:?}");
         }
     }
     // Different streams draw differently scrambled sequences.

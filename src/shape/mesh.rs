@@ -6,7 +6,7 @@
 //! in the target space by [`super::loopsubdiv`] before its face normals are computed.
 
 use super::loopsubdiv::apply as apply_subdivision;
-use super::mesh_arrays::MeshArrays;
+use super::mesh_arrays::{MeshArrays, DEFAULT_UV};
 use super::{Build, BuildError};
 use crate::geometry::frame::{coordinate_system, LocalGeometry};
 use crate::geometry::transform::{error_floor, gamma, to_f32, to_f64};
@@ -55,12 +55,6 @@ pub struct TriangleMesh {
     /// Geometric normal flipped: ReverseOrientation XOR the transform swaps handedness.
     pub flip: bool,
 }
-
-const DEFAULT_UV: [Vec2; 3] = [
-    Vec2::new(0.0, 0.0),
-    Vec2::new(1.0, 0.0),
-    Vec2::new(1.0, 1.0),
-];
 
 impl TriangleMesh {
     /// Validates `data` and transforms it into the target space of `b`.
@@ -236,7 +230,7 @@ impl TriangleMesh {
         hit
     }
 
-    /// The uv of triangle `i`'s vertices (LuxRender's (0,0), (1,0), (1,1) without "uv").
+    /// The uv of triangle `i`'s vertices ([`DEFAULT_UV`] without "uv").
     fn vertex_uv(&self, i: usize) -> [Vec2; 3] {
         match &self.uv {
             Some(uv) => self.tris[i].map(|k| uv[k as usize]),
@@ -317,5 +311,45 @@ fn split_quad(p: &[Vec3A], uv: Option<&[Vec2]>, q: [u32; 4]) -> [[u32; 3]; 2] {
         [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
     } else {
         [[q[1], q[2], q[3]], [q[1], q[3], q[0]]]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::geometry::Transform;
+    use crate::shape::test_util::{floats, ints, points, shape};
+    use crate::shape::{Shape, ShapeCtx};
+    use glam::{DMat4, Vec2};
+
+    fn triangle(extra: Vec<(&str, crate::lxs::ParamValue)>) -> super::TriangleMesh {
+        let mut params = vec![
+            (
+                "P",
+                points(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+            ),
+            ("indices", ints(&[0, 1, 2])),
+        ];
+        params.extend(extra);
+        let desc = shape("trianglemesh", params, DMat4::IDENTITY, false);
+        match Shape::build(&desc, &Transform::IDENTITY, &ShapeCtx::default()) {
+            Ok(Shape::Mesh(m)) => m,
+            _ => panic!("a mesh"),
+        }
+    }
+
+    /// LuxRender 1.x gives every corner of a mesh without uv the uv (0.5, 0.5); given uvs
+    /// are interpolated.
+    #[test]
+    fn a_mesh_without_uv_is_at_the_centre_of_uv_space() {
+        let m = triangle(Vec::new());
+        for b in [[1.0, 0.0, 0.0], [0.2, 0.3, 0.5], [0.0, 0.0, 1.0]] {
+            assert_eq!(m.geometry(0, b).uv, Vec2::new(0.5, 0.5));
+        }
+        let g = triangle(vec![("uv", floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0]))])
+            .geometry(0, [0.2, 0.3, 0.5]);
+        assert!((g.uv - Vec2::new(0.3, 0.5)).length() < 1e-6, "{}", g.uv);
+        // Without uv the tangents come from the normal: a frame around +z.
+        let g = m.geometry(0, [0.2, 0.3, 0.5]);
+        assert!(g.dpdu.cross(g.dpdv).normalize().z.abs() > 0.999);
     }
 }

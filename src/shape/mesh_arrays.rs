@@ -6,6 +6,12 @@ use crate::geometry::{Interaction, Shading, SurfaceInteraction};
 use crate::texture::FloatTex;
 use glam::{DVec2, DVec3, Vec2, Vec3A};
 
+/// The uv of every corner of a mesh without "uv": LuxRender 1.x's mesh triangles
+/// (`MeshBaryTriangle`, `MeshWaldTriangle`, `MeshMicroDisplacementTriangle`) give each corner
+/// (0.5, 0.5), so a uv-mapped texture reads one value there and the tangents come from the
+/// normal alone.
+pub const DEFAULT_UV: [Vec2; 3] = [Vec2::new(0.5, 0.5); 3];
+
 /// The arrays of a mesh in its target space, as `mesh.rs` holds them.
 #[derive(Clone, Debug)]
 pub struct MeshArrays {

@@ -26,7 +26,7 @@
 //! points, interpolated across each micro-triangle. Without smoothing, or without normals,
 //! the micro-triangles are flat shaded.
 
-use super::mesh_arrays::{evaluate_in, MeshArrays};
+use super::mesh_arrays::{evaluate_in, MeshArrays, DEFAULT_UV};
 use crate::geometry::frame::coordinate_system;
 use crate::geometry::{Interaction, Shading, SurfaceInteraction};
 use crate::texture::FloatTex;
@@ -34,13 +34,6 @@ use glam::{DVec2, DVec3, Vec2};
 
 /// LuxRender's sample distance for the map's derivatives.
 const DUV_DELTA: f32 = 0.001;
-
-/// LuxRender's uvs of a mesh without uv.
-const DEFAULT_UV: [DVec2; 3] = [
-    DVec2::new(0.0, 0.0),
-    DVec2::new(1.0, 0.0),
-    DVec2::new(1.0, 1.0),
-];
 
 /// The displacement settings of one shape.
 #[derive(Clone, Copy, Debug)]
@@ -60,11 +53,14 @@ pub struct Displaced {
     pub bad: usize,
 }
 
-/// The micro-triangle count of `tris` triangles at `segments` per edge, or `None` past
-/// `limit`.
+/// The micro-triangle count of `tris` triangles at `segments` per edge, or `None` when it or
+/// the number of grid points (each triangle's grid has its own) passes `limit`.
 pub fn micro_count(tris: usize, segments: u32, limit: u64) -> Option<u64> {
-    let per = u64::from(segments).checked_mul(u64::from(segments))?;
-    (tris as u64).checked_mul(per).filter(|&n| n <= limit)
+    let n = u64::from(segments);
+    let per = n.checked_mul(n)?;
+    let points = (n + 1).checked_mul(n + 2)? / 2;
+    (tris as u64).checked_mul(points).filter(|&p| p <= limit)?;
+    (tris as u64).checked_mul(per).filter(|&t| t <= limit)
 }
 
 /// One base triangle's corners.
@@ -124,7 +120,7 @@ fn base_of(mesh: &MeshArrays, t: [u32; 3], flip: bool) -> Base {
     };
     let uv = match &mesh.uv {
         Some(uv) => [0, 1, 2].map(|i| uv[at(i)].as_dvec2()),
-        None => DEFAULT_UV,
+        None => DEFAULT_UV.map(|t| t.as_dvec2()),
     };
     let (du1, du2) = (uv[0].x - uv[2].x, uv[1].x - uv[2].x);
     let (dv1, dv2) = (uv[0].y - uv[2].y, uv[1].y - uv[2].y);
@@ -319,6 +315,38 @@ mod tests {
         }
     }
 
+    /// With no displacement the micro-triangles tile the base triangle exactly: their areas
+    /// add up to its area, for any number of segments (a wrong index would overlap or leave
+    /// holes and change the sum).
+    #[test]
+    fn undisplaced_micro_triangles_tile_the_base_triangle() {
+        let mesh = flat_mesh(false);
+        for n in [1, 2, 3, 7] {
+            let m = Micro {
+                segments: n,
+                scale: 0.0,
+                offset: 0.0,
+                smooth: false,
+            };
+            let d = displace(&mesh, false, &FloatTex::constant(0.0), m);
+            let area: f32 = d
+                .mesh
+                .tris
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|i| d.mesh.p[i as usize]);
+                    0.5 * (b - a).cross(c - a).length()
+                })
+                .sum();
+            assert!((area - 2.0).abs() < 1e-4, "{n} segments: area {area}");
+            assert!(d
+                .mesh
+                .tris
+                .iter()
+                .all(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]));
+        }
+    }
+
     #[test]
     fn without_normals_the_face_normal_follows_the_flip_and_shading_is_flat() {
         let mesh = flat_mesh(false);
@@ -339,6 +367,8 @@ mod tests {
     fn counts_are_checked_before_anything_is_built() {
         assert_eq!(micro_count(10, 3, 1000), Some(90));
         assert_eq!(micro_count(10, 11, 1000), None);
+        // One segment: 3 points per triangle, over the limit before the triangles are.
+        assert_eq!(micro_count(400, 1, 1000), None);
         assert_eq!(micro_count(usize::MAX, u32::MAX, u64::MAX), None);
     }
 }
