@@ -9,6 +9,7 @@ const OPTS: ParseOptions = ParseOptions {
     max_include_depth: 32,
     max_array_len: 1 << 28,
     max_total_bytes: u64::MAX,
+    max_copied_values: luxfarm::lxs::describe::MAX_COPIED_VALUES,
     frame: None,
 };
 
@@ -450,4 +451,59 @@ fn missing_root_file_is_an_io_error() {
     let e = lxs::parse_file(Path::new("/nonexistent/scene.lxs"), &OPTS).unwrap_err();
     assert_eq!(e.kind, K::Io);
     assert!(e.to_string().starts_with("/nonexistent/scene.lxs:"), "{e}");
+}
+
+/// Instancing copies shapes (an object instanced inside another definition; emitting shapes
+/// placed per instance), so a small file could ask for unbounded memory: past
+/// `max_copied_values` the instance that would copy more is an error at its line.
+#[test]
+fn instancing_beyond_the_copy_limit_is_an_error_at_the_instance() {
+    // A 4-vertex emitting quad: 12 point values and 6 indices per copy.
+    let lamp = "ObjectBegin \"lamp\"\nAreaLightSource \"area\" \"color L\" [1 1 1]\n\
+                Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
+                [0 0 0 1 0 0 1 1 0 0 1 0]\nObjectEnd\n";
+    let scene = |instances: usize| {
+        let mut t = format!("WorldBegin\n{lamp}");
+        for i in 0..instances {
+            t.push_str(&format!(
+                "AttributeBegin\nTranslate {i} 0 0\nObjectInstance \"lamp\"\nAttributeEnd\n"
+            ));
+        }
+        t + "WorldEnd\n"
+    };
+    let small = ParseOptions {
+        max_copied_values: 18 * 3,
+        ..OPTS
+    };
+    let desc = lxs::parse_str(&scene(3), "t.lxs", &small).expect("three copies fit");
+    assert_eq!(
+        desc.shapes
+            .iter()
+            .filter(|s| s.area_light.is_some())
+            .count(),
+        3
+    );
+    let text = scene(4);
+    let e = parse_err(&text, &small);
+    assert_eq!(e.kind, K::InputTooLarge, "{e}");
+    // The fourth ObjectInstance.
+    let fourth = text
+        .match_indices("ObjectInstance")
+        .nth(3)
+        .map(|(i, _)| i)
+        .unwrap_or(0);
+    let line = text[..fourth].matches('\n').count() as u32 + 1;
+    assert_eq!(e.loc.line, line, "{e}");
+    // Nested instances are charged the same way.
+    let nested =
+        "WorldBegin\nObjectBegin \"a\"\nShape \"trianglemesh\" \"integer indices\" [0 1 2] \
+         \"point P\" [0 0 0 1 0 0 0 1 0]\nObjectEnd\nObjectBegin \"b\"\nObjectInstance \"a\"\n\
+         ObjectInstance \"a\"\nObjectEnd\nWorldEnd\n";
+    let tight = ParseOptions {
+        max_copied_values: 15,
+        ..OPTS
+    };
+    let e = parse_err(nested, &tight);
+    assert_eq!(e.kind, K::InputTooLarge, "{e}");
+    assert_eq!(e.loc.line, 7, "{e}");
 }

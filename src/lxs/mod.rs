@@ -38,6 +38,10 @@ pub struct ParseOptions {
     pub max_array_len: usize,
     /// Most bytes read over the root file and all its Includes.
     pub max_total_bytes: u64,
+    /// Most parameter values instancing may copy (shapes of an object instanced inside
+    /// another definition, emitting shapes placed per instance): copies multiply what the
+    /// input holds.
+    pub max_copied_values: u64,
     /// The animation frame to import, for formats whose scenes are animated (LightWave);
     /// `None`: the scene's own current frame. Formats without animation ignore it.
     pub frame: Option<i64>,
@@ -50,6 +54,7 @@ impl Default for ParseOptions {
             max_include_depth: 32,
             max_array_len: 1 << 28,
             max_total_bytes: u64::MAX,
+            max_copied_values: describe::MAX_COPIED_VALUES,
             frame: None,
         }
     }
@@ -70,7 +75,7 @@ pub fn parse_file(path: &Path, opts: &ParseOptions) -> Result<SceneDescription, 
         )
     })?;
     let canonical = std::fs::canonicalize(path).ok();
-    let mut builder = DescriptionBuilder::new(&name);
+    let mut builder = DescriptionBuilder::new(&name).with_copy_limit(opts.max_copied_values);
     let mut parser = parser::Parser::new(Box::new(file), &name, canonical, opts);
     parser.run(&mut builder)?;
     Ok(builder.finish())
@@ -82,7 +87,7 @@ pub fn parse_str(
     name: &str,
     opts: &ParseOptions,
 ) -> Result<SceneDescription, LxsError> {
-    let mut builder = DescriptionBuilder::new(name);
+    let mut builder = DescriptionBuilder::new(name).with_copy_limit(opts.max_copied_values);
     parse_with(text.as_bytes(), name, opts, &mut builder)?;
     Ok(builder.finish())
 }

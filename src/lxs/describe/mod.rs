@@ -10,6 +10,8 @@ mod refs;
 mod state;
 mod texrefs;
 mod world;
+
+pub use world::MAX_COPIED_VALUES;
 pub mod xform;
 
 use super::builder::SceneBuilder;
@@ -38,6 +40,11 @@ pub struct DescriptionBuilder {
     /// Emitting shapes (an AreaLightSource in scope) of object definitions, with their area
     /// lights' texture bindings: each ObjectInstance places them as world shapes.
     object_emitters: HashMap<usize, Vec<(super::description::ShapeDesc, Vec<texrefs::Binding>)>>,
+    /// Parameter values copied so far by instancing (shapes of an object instanced inside
+    /// another definition, and emitting shapes placed per instance), against
+    /// `copy_limit`.
+    copied_values: u64,
+    copy_limit: u64,
     /// Texture references with the texture each was bound to.
     tex_refs: Vec<(texrefs::Owner, texrefs::Binding)>,
     /// `namedmaterialN` references: (material, parameter, item, bound material).
@@ -64,9 +71,18 @@ impl DescriptionBuilder {
             objects_by_name: HashMap::new(),
             object_lights: HashMap::new(),
             object_emitters: HashMap::new(),
+            copied_values: 0,
+            copy_limit: MAX_COPIED_VALUES,
             tex_refs: Vec::new(),
             mat_refs: Vec::new(),
         }
+    }
+
+    /// This builder with at most `limit` parameter values copied by instancing
+    /// ([`crate::lxs::ParseOptions::max_copied_values`]).
+    pub fn with_copy_limit(mut self, limit: u64) -> DescriptionBuilder {
+        self.copy_limit = limit;
+        self
     }
 
     /// The finished description.

@@ -12,6 +12,31 @@ use crate::lxs::error::{LxsError, LxsErrorKind, LxsResult};
 use crate::lxs::params::{Loc, ParamSet, ParamValue};
 use std::rc::Rc;
 
+/// The default of most parameter values instancing may copy in one scene (shapes copied
+/// into another object's definition, emitting shapes placed per instance): copies multiply
+/// what a file holds, so a small hostile file could otherwise ask for unbounded memory. 2^26
+/// values is a thousand instances of an emitting mesh of 20,000 vertices.
+pub const MAX_COPIED_VALUES: u64 = 1 << 26;
+
+/// The parameter values a shape carries (a triple counts as 3).
+fn shape_values(s: &ShapeDesc) -> u64 {
+    s.entity
+        .params
+        .params
+        .iter()
+        .map(|p| {
+            let triples = matches!(
+                p.value,
+                ParamValue::Point(_)
+                    | ParamValue::Vector(_)
+                    | ParamValue::Normal(_)
+                    | ParamValue::Color(_)
+            );
+            p.value.len() as u64 * if triples { 3 } else { 1 }
+        })
+        .sum()
+}
+
 impl DescriptionBuilder {
     /// The camera's world-to-camera transform: the CTM, or with `"string endtransform"` naming
     /// a coordinate system, a two-key motion from shutteropen to shutterclose (LuxRender).
@@ -240,9 +265,32 @@ impl DescriptionBuilder {
         self.desc.shapes.push(shape);
     }
 
+    /// Counts `values` copied by the instance at `loc` against the copy limit
+    /// ([`MAX_COPIED_VALUES`] by default): past it, the instance is an error.
+    fn charge_copy(&mut self, values: u64, loc: &Loc) -> LxsResult<()> {
+        self.copied_values = self.copied_values.saturating_add(values);
+        if self.copied_values > self.copy_limit {
+            return Err(LxsError::new(
+                LxsErrorKind::InputTooLarge,
+                loc.clone(),
+                format!(
+                    "instancing would copy more than {} parameter values of shapes \
+                     (instances inside object definitions, or of emitting shapes)",
+                    self.copy_limit
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// Places the emitting shapes of `object` by an instance's transform `to_world`: world
     /// shapes, or, for an instance inside another definition, emitters of that object.
     fn place_emitters(&mut self, object: usize, to_world: &Xform, loc: &Loc) -> LxsResult<()> {
+        let values = self
+            .object_emitters
+            .get(&object)
+            .map_or(0, |v| v.iter().map(|(s, _)| shape_values(s)).sum());
+        self.charge_copy(values, loc)?;
         let emitters = self
             .object_emitters
             .get(&object)
@@ -338,6 +386,12 @@ impl DescriptionBuilder {
     ) -> LxsResult<()> {
         if let Some(cur) = self.current_object.filter(|_| !portal) {
             // An instance inside another definition: copy the shapes in, transformed.
+            let values = self
+                .desc
+                .objects
+                .get(object)
+                .map_or(0, |o| o.shapes.iter().map(shape_values).sum());
+            self.charge_copy(values, loc)?;
             let shapes = self
                 .desc
                 .objects
