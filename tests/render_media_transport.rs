@@ -213,11 +213,14 @@ fn emission_only_slab_attenuates_by_beer_lambert() {
 
 /// Multiple scattering with the medium only inside the sphere (the camera and the light in
 /// vacuum): every medium vertex is reached across the sphere's boundary, and connections
-/// enter and leave it.
+/// enter and leave it. Ten runs a side: the path tracer's rare long paths through the sphere
+/// make its block means heavy-tailed, and six runs underestimated their spread (a change of
+/// the meshes' default uv, which only turns the walls' shading frames, gave one block
+/// |z| = 4.07 at six runs; 2.75 at ten).
 #[test]
 fn sphere_bidirectional_multi_matches_path() {
-    let rp = room_runs(&room(PATH_MULTI, WORLD_VACUUM), 0, 6);
-    let rb = room_runs(&room(BIDIR_MULTI, WORLD_VACUUM), 100, 6);
+    let rp = room_runs(&room(PATH_MULTI, WORLD_VACUUM), 0, 10);
+    let rb = room_runs(&room(BIDIR_MULTI, WORLD_VACUUM), 100, 10);
     assert_agree("sphere multi bidir/path", &rp, &rb, 4.0, 0.0);
 }
 
