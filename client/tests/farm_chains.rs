@@ -126,3 +126,74 @@ fn farm_matches_local(stem: &str, sampler: &str, integrator: &str) {
         "farm mean ratio {ratio_farm} (tolerance {tol})"
     );
 }
+
+/// An erpt job's second lease on a worker takes the quantum its first lease estimated and
+/// skips the warm-up: the worker renders a lease, stalls (SIGSTOP) past the master's worker
+/// timeout, which ends its lease, and resumes (SIGCONT); its new lease of the job logs the
+/// quantum its first lease's warm-up logged, with no second warm-up. (A master restart keeps
+/// the lease, so it is not the way to a second one.)
+#[test]
+fn a_second_erpt_lease_on_a_worker_reuses_the_jobs_quantum() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = scene_text(ERPT, PATH);
+    let data = dir.path().join("data");
+    let s = server(
+        &data,
+        &["--upload-interval", "0.5", "--worker-timeout", "2"],
+    );
+    let (st, job) = post_job(
+        &s,
+        text.into_bytes(),
+        "?filename=erpt.lxs&haltspp=100000&seed=7",
+    );
+    assert_eq!(st, 201, "{job}");
+    let id = job["id"].as_str().unwrap().to_string();
+    let log_path = dir.path().join("worker.log");
+    let log = std::fs::File::create(&log_path).unwrap();
+    let mut w = Proc(
+        Command::new(exe())
+            .args(["worker", "--master", &s.url(), "--threads", "1"])
+            .env_remove("LUXFARM_TOKEN")
+            .env("RUST_LOG", "info")
+            .env("NO_COLOR", "1")
+            .stdout(std::process::Stdio::null())
+            .stderr(log)
+            .spawn()
+            .expect("spawn worker"),
+    );
+    let read_log = || std::fs::read_to_string(&log_path).unwrap_or_default();
+    let estimated = "erpt: the warm-up estimated the job's quantum";
+    let reused = "erpt: the job's quantum from an earlier lease, no warm-up";
+    wait_job(&s, &id, 300, |v| {
+        v["merged_deltas"].as_u64().unwrap_or(0) >= 2
+    });
+    assert!(read_log().contains(estimated), "{}", read_log());
+    // The worker stalls past the timeout: its lease is over; resumed, it asks again.
+    let signal = |sig: &str| run_ok(Command::new("kill").args([sig, &w.0.id().to_string()]));
+    signal("-STOP");
+    let v = wait_job(&s, &id, 120, |v| v["active_leases"] == 0);
+    assert_eq!(v["active_leases"], 0, "{v}");
+    signal("-CONT");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
+    while !read_log().contains(reused) && std::time::Instant::now() < deadline {
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    }
+    let v = get_json(&s.api(&format!("/jobs/{id}")));
+    let _ = http().delete(s.api(&format!("/jobs/{id}"))).send();
+    stop_workers(std::slice::from_mut(&mut w));
+    let text = read_log();
+    let quantum = |line: &str| -> String {
+        let l = text
+            .lines()
+            .find(|l| l.contains(line))
+            .unwrap_or_else(|| panic!("no \"{line}\" in the worker's log (job {v}):\n{text}"));
+        let at = l.find("quantum=").expect("the quantum is logged") + "quantum=".len();
+        l[at..].split_whitespace().next().unwrap().to_string()
+    };
+    assert!(
+        text.matches("lease started").count() >= 2,
+        "one lease only:\n{text}"
+    );
+    assert_eq!(text.matches(estimated).count(), 1, "{text}");
+    assert_eq!(quantum(estimated), quantum(reused), "{text}");
+}

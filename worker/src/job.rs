@@ -231,8 +231,10 @@ fn render_thread(
     let files = SceneFiles::confined(root, base).map_err(|e| shown(&e))?;
     let mut session = Session::new(&desc, files, opts).map_err(|e| shown(&e))?;
     session.follow_external_maps();
-    if let Some(q) = quanta.get(key).filter(|_| session.erpt_quantum().is_none()) {
+    let mut known = session.erpt_quantum().is_some();
+    if let Some(q) = quanta.get(key).filter(|_| !known) {
         session.set_erpt_quantum(q);
+        known = true;
         tracing::info!(
             quantum = q,
             "erpt: the job's quantum from an earlier lease, no warm-up"
@@ -281,6 +283,10 @@ fn render_thread(
         apply_map(&mut session, &flags.map);
         let stats = session.render_pass();
         if let Some(q) = session.erpt_quantum() {
+            if !known {
+                known = true;
+                tracing::info!(quantum = q, "erpt: the warm-up estimated the job's quantum");
+            }
             quanta.put(key.clone(), q);
         }
         if stats.complete {
