@@ -181,3 +181,18 @@ fn region_problems_are_reported_where_they_are() {
     assert!(w.iter().any(|w| w.contains("dropped")), "{w:?}");
     check("mismatched grid", &c, |_| 1.0);
 }
+
+/// A `cloud` region in the default box [0, 1]³: its hemisphere (centre (0.5, 0.5, 0.33),
+/// radius 0.5, density 1 near the centre) darkens the columns over x > 0 it covers, and
+/// leaves the half x < 0 untouched.
+#[test]
+fn a_cloud_region_darkens_what_it_covers() {
+    let (c, w) = columns_with(
+        "emission",
+        r#"Volume "cloud" "color sigma_a" [20 20 20] "float turbulence" [0] "float stepsize" [0.01]"#,
+    );
+    assert!(w.iter().all(|w| !w.contains("cloud")), "{w:?}");
+    eprintln!("cloud: {c:.4?}");
+    assert!(c[..4].iter().all(|v| (v - 1.0).abs() < 1e-3), "{c:?}");
+    assert!(c[4..].iter().any(|v| *v < 0.8), "{c:?}");
+}
