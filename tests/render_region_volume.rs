@@ -9,7 +9,7 @@
 //! - `volumegrid` 2×1×1 with values 0 and 1 across x: the density interpolated between voxel
 //!   centres, exp(-2 sigma_a d(x)), averaged over each pixel's width;
 //! - the statement's transform moves the box; pixels outside it see the environment
-//!   unchanged; an oversized grid is a located error; a `cloud` region is warned about.
+//!   unchanged; an oversized grid is a located error; an unknown region kind is warned about.
 
 mod render_util;
 
@@ -168,16 +168,31 @@ fn region_problems_are_reported_where_they_are() {
         .to_string();
     assert!(err.contains("/tmp/render_region_big.lxs:11:1"), "{err}");
     assert!(err.contains("more than"), "{err}");
-    let (c, w) = columns(r#"Volume "cloud" "color sigma_a" [1 1 1]"#);
+    let (c, w) = columns(r#"Volume "smoke" "color sigma_a" [1 1 1]"#);
     assert!(
-        w.iter().any(|w| w.contains(":11:1") && w.contains("cloud")),
+        w.iter().any(|w| w.contains(":11:1") && w.contains("smoke")),
         "{w:?}"
     );
-    check("cloud (not rendered)", &c, |_| 1.0);
+    check("unknown region kind (not rendered)", &c, |_| 1.0);
     // A grid whose values do not match its size is dropped with a warning, as LuxRender does.
     let (c, w) = columns(
         r#"Volume "volumegrid" "integer nx" [2] "float density" [1] "color sigma_a" [1 1 1]"#,
     );
     assert!(w.iter().any(|w| w.contains("dropped")), "{w:?}");
     check("mismatched grid", &c, |_| 1.0);
+}
+
+/// A `cloud` region in the default box [0, 1]³: its hemisphere (centre (0.5, 0.5, 0.33),
+/// radius 0.5, density 1 near the centre) darkens the columns over x > 0 it covers, and
+/// leaves the half x < 0 untouched.
+#[test]
+fn a_cloud_region_darkens_what_it_covers() {
+    let (c, w) = columns_with(
+        "emission",
+        r#"Volume "cloud" "color sigma_a" [20 20 20] "float turbulence" [0] "float stepsize" [0.01]"#,
+    );
+    assert!(w.iter().all(|w| !w.contains("cloud")), "{w:?}");
+    eprintln!("cloud: {c:.4?}");
+    assert!(c[..4].iter().all(|v| (v - 1.0).abs() < 1e-3), "{c:?}");
+    assert!(c[4..].iter().any(|v| *v < 0.8), "{c:?}");
 }

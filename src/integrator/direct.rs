@@ -20,7 +20,7 @@ use crate::sampler::SampleStream;
 use crate::sampling::power_heuristic;
 use crate::scene::World;
 use crate::spectrum::Rgb;
-use crate::volume::{HenyeyGreenstein, MediaSet, MediumId};
+use crate::volume::{HenyeyGreenstein, MediaSet, Medium, MediumId};
 use glam::Vec3A;
 
 /// Expected number of shadow-ray draws on light `i` per estimate at a shading point `depth`
@@ -65,6 +65,20 @@ pub enum Arrival<'a> {
     /// A BSDF sample with this solid-angle density from a shading point at this depth:
     /// weighted against light sampling.
     Bsdf(&'a Interaction, f32, u32),
+}
+
+/// Adds `beta ×` the emission of medium `m` along [0, `t_max`] of `ray` (seen through the
+/// medium: [`Medium::emission`]) to the first light group, where LuxRender 1.x puts its
+/// volume integrator's emission (the group current at the VolumeIntegrator statement, before
+/// any LightGroup). Free for media that do not emit: one flag is checked.
+pub fn add_medium_emission(m: &Medium, ray: &Ray, t_max: f32, beta: Rgb, l: &mut [Rgb]) {
+    if !m.emits() {
+        return;
+    }
+    let e = beta * m.emission(ray, t_max);
+    if let Some(g) = l.first_mut().filter(|_| e.is_finite()) {
+        *g += e;
+    }
 }
 
 /// Adds `beta ×` the emission of light `i` at `si` (a point of its surface or a crossing),

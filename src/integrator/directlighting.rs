@@ -9,9 +9,14 @@
 //! may instead scatter once in a medium (distance sampling, as `path` does it): that point
 //! receives direct lighting through the phase function (light samples and one phase sample,
 //! combined with MIS) and ends the path, as a surface's direct lighting does. This is
-//! LuxRender 1.x's single scattering along the eye ray.
+//! LuxRender 1.x's single scattering along the eye ray. The emission of region volumes is
+//! added along the eye ray and its specular continuations (where LuxRender 1.x's
+//! directlighting adds its volume integrator's `Li`), not along the rays that sample the
+//! BSDF for direct light.
 
-use super::direct::{add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival, Scatterer};
+use super::direct::{
+    add_emission, add_medium_emission, bsdf_hit_weight, escaped, sample_lights, Arrival, Scatterer,
+};
 use super::volume::VolumeIntegrator;
 use super::DirectSettings;
 use crate::geometry::{Interaction, Ray};
@@ -72,12 +77,13 @@ impl DirectLightingIntegrator {
             let mut t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
             let mut scattered = None;
             if let Some(m) = medium.and_then(|id| media.and_then(|ms| ms.get(id))) {
+                add_medium_emission(m, &ray, t_hit, beta, l);
                 if scatters && m.scatters() {
                     let ms = m.sample(&ray, t_hit, s.next_1d(), s.next_1d());
                     beta *= ms.weight;
                     if let Some(t) = ms.scatter_t {
                         t_hit = t;
-                        scattered = Some(m);
+                        scattered = Some(ms.phase);
                     }
                 } else {
                     beta *= m.tr(&ray, t_hit);
@@ -86,7 +92,7 @@ impl DirectLightingIntegrator {
             scene.crossed_lights(&ray, t_hit, |i, c| {
                 add_emission(scene, &self.direct, i, c, arrival, beta, l)
             });
-            if let Some(m) = scattered {
+            if let Some(phase) = scattered {
                 if !beta.is_black() && beta.is_finite() {
                     let it = Interaction {
                         p: ray.at(t_hit),
@@ -96,7 +102,7 @@ impl DirectLightingIntegrator {
                     let at = Scatterer::Medium {
                         it: &it,
                         d_in: ray.d.normalize_or_zero(),
-                        phase: m.phase(),
+                        phase,
                     };
                     sample_lights(scene, &self.direct, &at, medium, s, beta, false, depth, l);
                     self.mis_sample(scene, &at, medium, s, beta, depth, l);

@@ -7,13 +7,18 @@
 //! In a scene with participating media ([`crate::volume`]) the path knows the medium it is in
 //! (the camera's, changed where it crosses a medium boundary): each segment is attenuated by
 //! it, and with the `single`/`multi` volume integrator may scatter in it, the scattering point
-//! then being a path vertex with direct lighting through the phase function. A scene without
-//! media never has a current medium and takes none of these branches.
+//! then being a path vertex with direct lighting through the phase function. Along every
+//! segment in an emitting region volume the path adds the region's emission seen through the
+//! medium (as LuxRender 1.x's path integrator adds its volume integrator's `Li` per
+//! segment; no other strategy samples it, so it counts fully). A scene without media never
+//! has a current medium and takes none of these branches.
 //!
 //! In a scene whose materials disperse light, a path that meets a dispersing surface is given
 //! a wavelength there ([`super::spectral`]); other scenes and paths stay RGB.
 
-use super::direct::{add_emission, bsdf_hit_weight, escaped, sample_lights, Arrival, Scatterer};
+use super::direct::{
+    add_emission, add_medium_emission, bsdf_hit_weight, escaped, sample_lights, Arrival, Scatterer,
+};
 use super::spectral::sample_wavelength;
 use super::volume::VolumeIntegrator;
 use super::DirectSettings;
@@ -115,12 +120,13 @@ impl PathIntegrator {
             let mut t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
             let mut scattered = None;
             if let Some(m) = medium.and_then(|id| media.and_then(|ms| ms.get(id))) {
+                add_medium_emission(m, &ray, t_hit, beta, l);
                 if scatters_left > 0 && m.scatters() {
                     let ms = m.sample(&ray, t_hit, s.next_1d(), s.next_1d());
                     beta *= ms.weight;
                     if let Some(t) = ms.scatter_t {
                         t_hit = t;
-                        scattered = Some(m);
+                        scattered = Some(ms.phase);
                     }
                 } else {
                     beta *= m.tr(&ray, t_hit);
@@ -129,7 +135,7 @@ impl PathIntegrator {
             scene.crossed_lights(&ray, t_hit, |i, c| {
                 add_emission(scene, &self.direct, i, c, arrival, beta, l)
             });
-            if let Some(m) = scattered {
+            if let Some(phase) = scattered {
                 // A scattering vertex in the medium.
                 if depth >= self.max_depth || beta.is_black() {
                     break;
@@ -140,7 +146,6 @@ impl PathIntegrator {
                     ..Interaction::default()
                 };
                 let d_in = ray.d.normalize_or_zero();
-                let phase = m.phase();
                 let last = depth + 1 >= self.max_depth;
                 if dls {
                     let at = Scatterer::Medium {

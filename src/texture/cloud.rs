@@ -5,12 +5,15 @@
 //! (0). The point is displaced by `turbulence` (0.01) times a turbulence of `octaves` (1)
 //! octaves of noise at scale `noisescale` (0.5) with ratio `omega` (0.75), modulated by
 //! `variability` (0.9); the density is min(1, (amount·10^0.7)^`sharpness` (6)).
+//!
+//! The density function itself, [`CloudModel`], is also the `cloud` region volume's
+//! ([`crate::volume::cloud`]), which places it in its box and seeds its spheres otherwise.
 
 use super::mapping::Mapping3D;
 use super::noise::noise_p;
 use super::{TexNode, TextureError, TextureSet};
 use crate::geometry::SurfaceInteraction;
-use crate::lxs::TextureDesc;
+use crate::lxs::{ParamSet, TextureDesc};
 use glam::{Mat3A, Vec3A};
 use std::f32::consts::PI;
 
@@ -75,9 +78,80 @@ impl Taus113 {
     }
 }
 
+/// The parameters LuxRender's cloud texture and cloud region volume share, with their
+/// defaults.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CloudParams {
+    pub radius: f32,
+    pub noise_scale: f32,
+    pub turbulence: f32,
+    pub sharpness: f32,
+    pub noise_offset: f32,
+    pub spheres: i32,
+    pub octaves: i32,
+    pub omega: f32,
+    pub variability: f32,
+    pub base_flatness: f32,
+    pub sphere_size: f32,
+}
+
+impl CloudParams {
+    /// Reads the parameters (marking them used); octaves are clamped to [0, MAX_OCTAVES].
+    pub fn read(p: &ParamSet) -> CloudParams {
+        CloudParams {
+            radius: p.float_or("radius", 0.5),
+            noise_scale: p.float_or("noisescale", 0.5),
+            turbulence: p.float_or("turbulence", 0.01),
+            sharpness: p.float_or("sharpness", 6.0),
+            noise_offset: p.float_or("noiseoffset", 0.0),
+            spheres: p.int_or("spheres", 0),
+            octaves: p.int_or("octaves", 1).clamp(0, MAX_OCTAVES),
+            omega: p.float_or("omega", 0.75),
+            variability: p.float_or("variability", 0.9),
+            base_flatness: p.float_or("baseflatness", 0.8),
+            sphere_size: p.float_or("spheresize", 0.15),
+        }
+    }
+
+    /// `Err((parameter, message))` for values the model cannot use.
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
+        let all = [
+            self.radius,
+            self.noise_scale,
+            self.turbulence,
+            self.sharpness,
+            self.noise_offset,
+            self.omega,
+            self.variability,
+            self.base_flatness,
+            self.sphere_size,
+        ];
+        if all.iter().any(|v| !v.is_finite()) {
+            return Err(("radius", "cloud parameters must be finite".into()));
+        }
+        if !(self.radius > 0.0 && self.noise_scale != 0.0) {
+            return Err((
+                "radius",
+                "cloud radius must be positive and noisescale not zero".into(),
+            ));
+        }
+        if !(0..=MAX_SPHERES).contains(&self.spheres) {
+            return Err((
+                "spheres",
+                format!(
+                    "cloud spheres must be in 0..={MAX_SPHERES}, got {}",
+                    self.spheres
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// LuxRender's cloud density function, shared by the texture and the region volume (which
+/// place it differently: the texture in the unit cube, the volume in its box).
 #[derive(Debug)]
-pub struct CloudTex {
-    pub mapping: Mapping3D,
+pub struct CloudModel {
     pub radius: f32,
     pub spheres: Vec<(Vec3A, f32)>,
     pub cumulus: bool,
@@ -92,7 +166,7 @@ pub struct CloudTex {
     pub centre: Vec3A,
 }
 
-impl CloudTex {
+impl CloudModel {
     fn cloud_noise(&self, p: Vec3A, omega: f32, octaves: i32) -> f32 {
         let (mut sum, mut lambda, mut o) = (0.0, 1.0, 1.0);
         for _ in 0..octaves.max(0) {
@@ -148,100 +222,75 @@ impl CloudTex {
         amount.max(0.0)
     }
 
-    /// The density at texture-space point `p`.
+    /// The density at point `p` of the model's space.
     pub fn density(&self, p: Vec3A) -> f32 {
         let displaced = p + self.turbulence * self.turbulence_at(p, self.noise_scale, self.octaves);
         let amount = self.shape(displaced);
         (amount * 10f32.powf(0.7)).powf(self.sharpness).min(1.0)
     }
 
+    /// Places `n` cumulus spheres of size `sphere_size` around the hemisphere's centre, as
+    /// both of LuxRender's clouds do; `rand(res)` is their generator's (value mod res) / res.
+    pub fn place_spheres(&mut self, n: i32, sphere_size: f32, mut rand: impl FnMut(u64) -> f32) {
+        self.cumulus = n > 0;
+        for _ in 0..n.max(0) {
+            let r = (rand(10) / 2.0 + 0.5) * sphere_size;
+            let on_edge = Vec3A::new(self.radius / 2.0 * rand(1000), 0.0, 0.0);
+            let angle_y = (-180.0 * rand(1000)).to_radians();
+            let angle_z = (360.0 * rand(1000)).to_radians();
+            let on_edge =
+                Mat3A::from_rotation_z(angle_z) * (Mat3A::from_rotation_y(angle_y) * on_edge);
+            let mut pos = self.centre + on_edge;
+            let shift = self.turbulence_at(
+                pos + Vec3A::new(self.noise_offset * 4.0, 0.0, 0.0),
+                self.radius * 0.7,
+                2,
+            );
+            pos += shift * self.radius * 1.5;
+            self.spheres.push((pos, r));
+        }
+    }
+}
+
+#[derive(Debug)]
+pub struct CloudTex {
+    pub mapping: Mapping3D,
+    pub model: CloudModel,
+}
+
+impl CloudTex {
     pub fn value(&self, si: &SurfaceInteraction) -> f32 {
-        self.density(self.mapping.map(si))
+        self.model.density(self.mapping.map(si))
     }
 }
 
 pub fn build(set: &mut TextureSet, t: &TextureDesc) -> Result<TexNode, TextureError> {
-    let p = &t.entity.params;
-    let radius = p.float_or("radius", 0.5);
-    let noise_scale = p.float_or("noisescale", 0.5);
-    let turbulence = p.float_or("turbulence", 0.01);
-    let sharpness = p.float_or("sharpness", 6.0);
-    let noise_offset = p.float_or("noiseoffset", 0.0);
-    let n_spheres = p.int_or("spheres", 0);
-    let octaves = p.int_or("octaves", 1).clamp(0, MAX_OCTAVES);
-    let omega = p.float_or("omega", 0.75);
-    let variability = p.float_or("variability", 0.9);
-    let base_flatness = p.float_or("baseflatness", 0.8);
-    let sphere_size = p.float_or("spheresize", 0.15);
-    let all = [
-        radius,
-        noise_scale,
-        turbulence,
-        sharpness,
-        noise_offset,
-        omega,
-        variability,
-        base_flatness,
-        sphere_size,
-    ];
-    if all.iter().any(|v| !v.is_finite()) {
-        return Err(TextureError::param(
-            t,
-            "radius",
-            "cloud parameters must be finite",
-        ));
-    }
-    if !(radius > 0.0 && noise_scale != 0.0) {
-        return Err(TextureError::param(
-            t,
-            "radius",
-            "cloud radius must be positive and noisescale not zero",
-        ));
-    }
-    if !(0..=MAX_SPHERES).contains(&n_spheres) {
-        return Err(TextureError::param(
-            t,
-            "spheres",
-            format!("cloud spheres must be in 0..={MAX_SPHERES}, got {n_spheres}"),
-        ));
-    }
-    let mut tex = CloudTex {
-        mapping: set.mapping3d(t),
-        radius,
+    let c = CloudParams::read(&t.entity.params);
+    c.check()
+        .map_err(|(name, message)| TextureError::param(t, name, message))?;
+    let mut model = CloudModel {
+        radius: c.radius,
         spheres: Vec::new(),
-        cumulus: n_spheres > 0,
-        sharpness,
-        base_fade: 1.0 - base_flatness,
-        variability,
-        omega,
-        noise_scale,
-        noise_offset,
-        turbulence,
-        octaves,
+        cumulus: false,
+        sharpness: c.sharpness,
+        base_fade: 1.0 - c.base_flatness,
+        variability: c.variability,
+        omega: c.omega,
+        noise_scale: c.noise_scale,
+        noise_offset: c.noise_offset,
+        turbulence: c.turbulence,
+        octaves: c.octaves,
         centre: Vec3A::new(0.5, 0.5, 1.0 / 3.0),
     };
-    if tex.cumulus {
+    if c.spheres > 0 {
         // LuxRender seeds with ULONG_MAX · noiseoffset (float arithmetic).
-        let seed = (u64::MAX as f32 * noise_offset) as u64;
-        let mut rng = Taus113::new(seed);
-        for _ in 0..n_spheres {
-            let r = (rng.cloud_rand(10) / 2.0 + 0.5) * sphere_size;
-            let on_edge = Vec3A::new(radius / 2.0 * rng.cloud_rand(1000), 0.0, 0.0);
-            let angle_y = (-180.0 * rng.cloud_rand(1000)).to_radians();
-            let angle_z = (360.0 * rng.cloud_rand(1000)).to_radians();
-            let on_edge =
-                Mat3A::from_rotation_z(angle_z) * (Mat3A::from_rotation_y(angle_y) * on_edge);
-            let mut pos = tex.centre + on_edge;
-            let shift = tex.turbulence_at(
-                pos + Vec3A::new(noise_offset * 4.0, 0.0, 0.0),
-                radius * 0.7,
-                2,
-            );
-            pos += shift * radius * 1.5;
-            tex.spheres.push((pos, r));
-        }
+        let mut rng = Taus113::new((u64::MAX as f32 * c.noise_offset) as u64);
+        model.place_spheres(c.spheres, c.sphere_size, |res| rng.cloud_rand(res));
     }
-    Ok(TexNode::Cloud(Box::new(tex)))
+    Ok(TexNode::Cloud(Box::new(CloudTex {
+        mapping: set.mapping3d(t),
+        model,
+    })))
 }
 
 #[cfg(test)]
@@ -265,8 +314,7 @@ mod tests {
 
     #[test]
     fn hemisphere_density_peaks_at_the_centre() {
-        let tex = CloudTex {
-            mapping: Mapping3D::global(glam::Affine3A::IDENTITY),
+        let tex = CloudModel {
             radius: 0.5,
             spheres: vec![],
             cumulus: false,

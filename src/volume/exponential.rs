@@ -4,7 +4,7 @@
 //! as every medium. Integrals are marched ([`super::heterogeneous`]) in steps of `stepsize`
 //! (default 1).
 
-use super::heterogeneous::{Density, Heterogeneous};
+use super::heterogeneous::{Coeffs, Density, Field, Heterogeneous};
 use super::{constant_color, VolumeError};
 use crate::lxs::Xform;
 use crate::plugin::Stmt;
@@ -29,13 +29,18 @@ pub fn build(
     let step = s.positive("stepsize", 1.0)?;
     super::read_fresnel(s.params(), s.loc(), textures)?;
     Ok(Heterogeneous {
-        density: Density::Exponential {
-            sigma_a,
-            sigma_s,
-            a,
-            b,
-            up,
-            origin: Vec3A::from(origin.as_vec3()),
+        density: Density::Scaled {
+            c: Coeffs {
+                sigma_a,
+                sigma_s,
+                le: crate::spectrum::Rgb::BLACK,
+            },
+            field: Field::Exponential {
+                a,
+                b,
+                up,
+                origin: Vec3A::from(origin.as_vec3()),
+            },
         },
         g,
         step,

@@ -4,12 +4,15 @@
 //! common `fresnel` index, and `stepsize` (metres, default 1): integrals along a ray are ray
 //! marched in steps of that length, the density taken at each step's middle.
 //!
-//! `exponential` ([`Density::Exponential`]) is the same marching over an analytic density
-//! a·e^(-b·h), h the height along `updir` ([`super::exponential`]), and [`Density::Grid`] over
-//! the values of a `volumegrid` region ([`super::grid`]).
+//! `exponential` ([`Field::Exponential`]) is the same marching over constant coefficients
+//! scaled by an analytic density a·e^(-b·h), h the height along `updir`
+//! ([`super::exponential`]); [`Field::Grid`] scales them by the values of a `volumegrid`
+//! region ([`super::grid`]) and [`Field::Cloud`] by a `cloud` region's density
+//! ([`super::cloud`]). A region's scaled density also scales its emission `Le`.
 
+use super::cloud::CloudRegion;
 use super::grid::Grid;
-use super::{channel_avg, MediumSample, VolumeError};
+use super::{channel_avg, HenyeyGreenstein, MediumSample, VolumeError};
 use crate::geometry::{Interaction, Ray, SurfaceInteraction};
 use crate::plugin::Stmt;
 use crate::spectrum::Rgb;
@@ -19,7 +22,65 @@ use glam::Vec3A;
 /// Steps one integral may take; longer rays take longer steps.
 const MAX_STEPS: f32 = 1024.0;
 /// Marching stops once every channel's transmittance is below this.
-const OPAQUE: f32 = 1e-4;
+pub(super) const OPAQUE: f32 = 1e-4;
+
+/// The coefficients of a medium at one point: absorption, scattering and (region volumes)
+/// emitted radiance per unit length.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Coeffs {
+    pub sigma_a: Rgb,
+    pub sigma_s: Rgb,
+    pub le: Rgb,
+}
+
+impl Coeffs {
+    pub fn sigma_t(&self) -> Rgb {
+        self.sigma_a + self.sigma_s
+    }
+}
+
+impl std::ops::Add for Coeffs {
+    type Output = Coeffs;
+    fn add(self, o: Coeffs) -> Coeffs {
+        Coeffs {
+            sigma_a: self.sigma_a + o.sigma_a,
+            sigma_s: self.sigma_s + o.sigma_s,
+            le: self.le + o.le,
+        }
+    }
+}
+
+/// A scalar density in space (≥ 0 and finite wherever it is evaluated).
+#[derive(Debug)]
+pub enum Field {
+    /// a·e^(-b·h), h = (p - origin)·up.
+    Exponential {
+        a: f32,
+        b: f32,
+        up: Vec3A,
+        origin: Vec3A,
+    },
+    /// The values of a `volumegrid` region's grid.
+    Grid(Box<Grid>),
+    /// LuxRender's `cloud` region ([`super::cloud`]).
+    Cloud(Box<CloudRegion>),
+}
+
+impl Field {
+    /// The density at world point `p`.
+    pub fn at(&self, p: Vec3A) -> f32 {
+        let d = match self {
+            Field::Exponential { a, b, up, origin } => a * (-b * (p - *origin).dot(*up)).exp(),
+            Field::Grid(g) => g.density(p),
+            Field::Cloud(c) => c.density(p),
+        };
+        if d.is_finite() {
+            d.max(0.0)
+        } else {
+            0.0
+        }
+    }
+}
 
 /// How the coefficients vary in space.
 #[derive(Debug)]
@@ -29,26 +90,19 @@ pub enum Density {
         sigma_a: ColorTex,
         sigma_s: ColorTex,
     },
-    /// sigma × a·e^(-b·h), h = (p - origin)·up.
-    Exponential {
-        sigma_a: Rgb,
-        sigma_s: Rgb,
-        a: f32,
-        b: f32,
-        up: Vec3A,
-        origin: Vec3A,
-    },
-    /// sigma × the density of a `volumegrid` region's grid.
-    Grid {
-        sigma_a: Rgb,
-        sigma_s: Rgb,
-        grid: Box<Grid>,
-    },
+    /// Constant coefficients (and emission `le`) times a scalar field.
+    Scaled { c: Coeffs, field: Field },
 }
 
 impl Density {
     /// (sigma_a, sigma_s) at world point `p`.
     fn at(&self, p: Vec3A) -> (Rgb, Rgb) {
+        let c = self.coeffs(p);
+        (c.sigma_a, c.sigma_s)
+    }
+
+    /// The coefficients at world point `p`.
+    pub fn coeffs(&self, p: Vec3A) -> Coeffs {
         match self {
             Density::Textures { sigma_a, sigma_s } => {
                 let si = SurfaceInteraction {
@@ -59,28 +113,19 @@ impl Density {
                     ..SurfaceInteraction::default()
                 };
                 let clean = |c: Rgb| c.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
-                (clean(sigma_a.eval(&si)), clean(sigma_s.eval(&si)))
+                Coeffs {
+                    sigma_a: clean(sigma_a.eval(&si)),
+                    sigma_s: clean(sigma_s.eval(&si)),
+                    le: Rgb::BLACK,
+                }
             }
-            Density::Exponential {
-                sigma_a,
-                sigma_s,
-                a,
-                b,
-                up,
-                origin,
-            } => {
-                let h = (p - *origin).dot(*up);
-                let d = a * (-b * h).exp();
-                let d = if d.is_finite() { d.max(0.0) } else { 0.0 };
-                (*sigma_a * d, *sigma_s * d)
-            }
-            Density::Grid {
-                sigma_a,
-                sigma_s,
-                grid,
-            } => {
-                let d = grid.density(p);
-                (*sigma_a * d, *sigma_s * d)
+            Density::Scaled { c, field } => {
+                let d = field.at(p);
+                Coeffs {
+                    sigma_a: c.sigma_a * d,
+                    sigma_s: c.sigma_s * d,
+                    le: c.le * d,
+                }
             }
         }
     }
@@ -109,7 +154,7 @@ impl Heterogeneous {
     }
 
     /// The steps along [0, `dist_max`] (distance units): (step length, count).
-    fn steps(&self, dist_max: f32) -> (f32, u32) {
+    pub fn steps(&self, dist_max: f32) -> (f32, u32) {
         if !dist_max.is_finite() || dist_max <= 0.0 {
             return (self.step, if dist_max > 0.0 { MAX_STEPS as u32 } else { 0 });
         }
@@ -155,6 +200,7 @@ impl Heterogeneous {
             MediumSample {
                 scatter_t: None,
                 weight: if pdf > 0.0 { tr / pdf } else { Rgb::BLACK },
+                phase: HenyeyGreenstein::new(self.g),
             }
         };
         if len <= 0.0 {
@@ -181,6 +227,7 @@ impl Heterogeneous {
                 return MediumSample {
                     scatter_t: Some((a + d) / len),
                     weight,
+                    phase: HenyeyGreenstein::new(self.g),
                 };
             }
             tau += st * h;

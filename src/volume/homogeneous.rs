@@ -6,7 +6,7 @@
 //! Distances are sampled per colour channel (one channel picked uniformly, the density being the
 //! average over the channels), so the weights stay bounded when the channels differ.
 
-use super::{channel_avg, read_common, transmittance, MediumSample, VolumeError};
+use super::{channel_avg, read_common, transmittance, HenyeyGreenstein, MediumSample, VolumeError};
 use crate::geometry::Ray;
 use crate::plugin::Stmt;
 use crate::spectrum::Rgb;
@@ -63,6 +63,7 @@ impl Homogeneous {
             return MediumSample {
                 scatter_t: Some(d / len),
                 weight,
+                phase: HenyeyGreenstein::new(self.g),
             };
         }
         let tr = transmittance(st, dist_max);
@@ -70,6 +71,7 @@ impl Homogeneous {
         MediumSample {
             scatter_t: None,
             weight: if pdf > 0.0 { tr / pdf } else { Rgb::BLACK },
+            phase: HenyeyGreenstein::new(self.g),
         }
     }
 }

@@ -1,10 +1,13 @@
 //! Participating media ("volumes"): the plugin family of `MakeNamedVolume` — `clear`,
-//! `homogeneous`, `heterogeneous`, `exponential` — and [`MediaSet`], which tells a renderer
-//! which medium a ray travels in.
+//! `homogeneous`, `heterogeneous`, `exponential` — the old region `Volume` statements
+//! (`homogeneous`, `exponential`, `volumegrid`, `cloud`, with emission `Le`), and
+//! [`MediaSet`], which tells a renderer which medium a ray travels in.
 //!
 //! ```text
 //! MakeNamedVolume (VolumeDesc) --Medium::build (one file per medium)--> Medium
-//! region Volume statements --Region::build (region.rs)--> the medium where none is named
+//! region Volume statements --Region::build (region.rs, cloud.rs)--> Region
+//!     all regions --Regions (regions.rs: summed where they overlap)--> the medium where
+//!     none is named
 //! shapes' Interior/Exterior names, camera's Exterior --MediaSet::build--> MediaSet
 //!     (only the media something references; none at all when no referenced medium acts on
 //!      light: the world then holds no MediaSet and rays take no medium code path)
@@ -16,18 +19,23 @@
 //! Exterior; without one, in the medium named "world" when the scene defines it (the default
 //! medium LuxBlend writes on every shape's outside), else in vacuum.
 //!
+//! Only region volumes emit ([`Medium::emits`], checked once per segment by the
+//! integrators, so media without emission cost nothing more).
+//!
 //! Units: coefficients are per scene unit (metres), distances are along the ray.
 
 pub mod clear;
+pub mod cloud;
 pub mod exponential;
 pub mod grid;
 pub mod heterogeneous;
 pub mod homogeneous;
 pub mod phase;
 pub mod region;
+pub mod regions;
 
 use crate::geometry::Ray;
-use crate::lxs::{Diagnostic, Loc, ParamSet, SceneDescription};
+use crate::lxs::{Diagnostic, Loc, ParamSet, SceneDescription, VolumeDesc};
 use crate::plugin::{report_unused, warn, BuildError, Stmt};
 use crate::spectrum::Rgb;
 use crate::texture::{param_loc, FresnelTex, TextureError, TextureSet};
@@ -39,6 +47,7 @@ pub use heterogeneous::Heterogeneous;
 pub use homogeneous::Homogeneous;
 pub use phase::HenyeyGreenstein;
 pub use region::Region;
+pub use regions::Regions;
 
 /// Why a medium could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -69,6 +78,9 @@ pub struct MediumSample {
     /// What the path throughput is multiplied by (transmittance, times sigma_s at a
     /// scattering point, over the sampling density).
     pub weight: Rgb,
+    /// The phase function at the scattering point (the medium's lobe; in overlapping region
+    /// volumes of different `g`, the lobe chosen there: [`regions`]).
+    pub phase: HenyeyGreenstein,
 }
 
 #[derive(Debug)]
@@ -77,8 +89,8 @@ pub enum Medium {
     Homogeneous(Homogeneous),
     /// `heterogeneous` and `exponential`: ray marched.
     Marched(Heterogeneous),
-    /// A region `Volume`: a medium confined to a box.
-    Region(Box<Region>),
+    /// The region `Volume`s: media confined to boxes, summed where they overlap.
+    Region(Box<Regions>),
 }
 
 impl Medium {
@@ -112,7 +124,8 @@ impl Medium {
             Medium::Clear(c) => c.absorption.is_black(),
             Medium::Homogeneous(h) => h.sigma_a.is_black() && h.sigma_s.is_black(),
             Medium::Marched(_) => false,
-            Medium::Region(r) => r.inner.is_vacuum(),
+            // Regions::new keeps only regions that attenuate or emit.
+            Medium::Region(_) => false,
         }
     }
 
@@ -122,7 +135,7 @@ impl Medium {
             Medium::Clear(_) => false,
             Medium::Homogeneous(h) => !h.sigma_s.is_black(),
             Medium::Marched(_) => true,
-            Medium::Region(r) => r.inner.scatters(),
+            Medium::Region(r) => r.scatters(),
         }
     }
 
@@ -157,17 +170,27 @@ impl Medium {
             Medium::Clear(c) => MediumSample {
                 scatter_t: None,
                 weight: c.tr(ray, t_max),
+                phase: HenyeyGreenstein::new(0.0),
             },
         }
     }
 
-    /// The phase function at scattering points.
-    pub fn phase(&self) -> HenyeyGreenstein {
+    /// Whether the medium emits light (only region volumes with `Le` do): integrators
+    /// check this once per segment before asking for [`Medium::emission`].
+    pub fn emits(&self) -> bool {
         match self {
-            Medium::Clear(_) => HenyeyGreenstein::new(0.0),
-            Medium::Homogeneous(h) => HenyeyGreenstein::new(h.g),
-            Medium::Marched(m) => HenyeyGreenstein::new(m.g),
-            Medium::Region(r) => r.inner.phase(),
+            Medium::Region(r) => r.emits(),
+            _ => false,
+        }
+    }
+
+    /// The radiance the medium emits toward the ray's origin along [0, `t_max`],
+    /// attenuated on its way: ∫ Tr(t)·Le(t) dt ([`Regions::emission`]); black for media
+    /// that do not emit.
+    pub fn emission(&self, ray: &Ray, t_max: f32) -> Rgb {
+        match self {
+            Medium::Region(r) => r.emission(ray, t_max),
+            _ => Rgb::BLACK,
         }
     }
 }
@@ -425,8 +448,10 @@ fn regions(desc: &SceneDescription) -> impl Iterator<Item = &crate::lxs::VolumeD
     desc.volumes.iter().filter(|v| v.name.is_none())
 }
 
-/// The first region volume of a kind that is rendered, built; later ones are warned about
-/// (one region is rendered). The marching step defaults to the VolumeIntegrator's `stepsize`.
+/// The region volumes of kinds that are rendered, built into one aggregate medium (their
+/// coefficients and emission add where they overlap, [`regions`]); `None` when there are
+/// none or none acts on light. The marching step defaults to the VolumeIntegrator's
+/// `stepsize`.
 fn build_region(
     desc: &SceneDescription,
     textures: &mut TextureSet,
@@ -438,37 +463,49 @@ fn build_region(
         .and_then(|e| e.params.float("stepsize"))
         .filter(|s| s.is_finite() && *s > 0.0)
         .unwrap_or(1.0);
-    let mut built: Option<Medium> = None;
+    let mut built = Vec::new();
     for v in regions(desc).filter(|v| region::is_supported(&v.entity.kind)) {
-        if built.is_some() {
-            warn(
-                warnings,
-                &v.entity.loc,
-                format!(
-                    "Volume \"{}\": only the first region volume is rendered; this one is ignored",
-                    v.entity.kind
-                ),
-            );
-            continue;
-        }
         if let Some(r) = Region::build(v, textures, warnings, step)? {
-            built = Some(Medium::Region(Box::new(r)));
+            warn_bidir_emission(desc, &r, v, warnings);
+            built.push(r);
         }
         report_unused("Volume", &v.entity, warnings);
     }
-    Ok(built)
+    Ok(Regions::new(built).map(|all| Medium::Region(Box::new(all))))
+}
+
+/// Warns (located) at each emitting region when the scene renders with the bidirectional
+/// integrator, which does not add region emission (LuxRender 1.x's does not either).
+fn warn_bidir_emission(
+    desc: &SceneDescription,
+    r: &Region,
+    v: &VolumeDesc,
+    w: &mut Vec<Diagnostic>,
+) {
+    let bidir = desc
+        .surface_integrator
+        .as_ref()
+        .is_some_and(|e| e.kind == "bidirectional");
+    if bidir && r.emits() {
+        warn(
+            w,
+            &v.entity.loc,
+            "region volume emission (\"Le\") is not rendered by the bidirectional integrator \
+             (nor by LuxRender 1.x's); path and directlighting render it",
+        );
+    }
 }
 
 /// Warns (located) about the region `Volume` statements of kinds that are not rendered
-/// (homogeneous, exponential and volumegrid regions are: [`region`]).
+/// (homogeneous, exponential, volumegrid and cloud regions are: [`region`]).
 pub fn warn_unrendered(desc: &SceneDescription, warnings: &mut Vec<Diagnostic>) {
     for v in regions(desc).filter(|v| !region::is_supported(&v.entity.kind)) {
         warn(
             warnings,
             &v.entity.loc,
             format!(
-                "Volume \"{}\" (a region volume) is ignored: only homogeneous, exponential and \
-                 volumegrid regions are rendered",
+                "Volume \"{}\" (a region volume) is ignored: only homogeneous, exponential, \
+                 volumegrid and cloud regions are rendered",
                 v.entity.kind
             ),
         );

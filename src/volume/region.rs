@@ -1,26 +1,29 @@
-//! The old region `Volume` statement (pbrt's volume regions, deprecated in LuxRender 1.x but
-//! still read): `homogeneous` (also spelled `homogenous`), `exponential` and `volumegrid`,
-//! each filling the box between `p0` (default 0 0 0) and `p1` (1 1 1) of the statement's
-//! space with `sigma_a`, `sigma_s` (colours, default 0) and `g`. `exponential` scales them by
+//! One region `Volume` statement (pbrt's volume regions, deprecated in LuxRender 1.x but
+//! still read): `homogeneous` (also spelled `homogenous`), `exponential`, `volumegrid` and
+//! `cloud`, each filling the box between `p0` (default 0 0 0) and `p1` (1 1 1) of the
+//! statement's space with `sigma_a`, `sigma_s` (colours, default 0), `g`, and emitted radiance
+//! `Le` (colour per unit length, default 0). `exponential` scales the three colours by
 //! a·e^(-b·h), h measured from the box's low corner along `updir` (default 0 1 0) in the
-//! volume's space; `volumegrid` by its `density` grid ([`super::grid`]); both are marched in
-//! steps of `stepsize` (the statement's, else the VolumeIntegrator's, else 1).
+//! volume's space; `volumegrid` by its `density` grid ([`super::grid`]); `cloud` by its cloud
+//! density ([`super::cloud`]); these three are marched in steps of `stepsize` (the
+//! statement's, else the VolumeIntegrator's, else 1). LuxRender's `DensityRegion` scales
+//! `Le` by the density as it scales the coefficients; a homogeneous region emits `Le`
+//! everywhere in its box.
 //!
 //! ```text
-//! Volume (VolumeDesc, no name) --Region::build--> Region { box, inner Medium }
-//!   MediaSet::build: the region is the medium wherever a ray's medium is not set
-//!   tr / sample: the ray clipped to the box, the inner medium over the clipped part
+//! Volume (VolumeDesc, no name) --Region::build--> Region { box, Inner }
+//!   Region::pieces: the ray clipped to the box, cut into pieces of constant coefficients
+//!   (one for a homogeneous region, one per marching step otherwise: the step's midpoint)
+//!   super::regions merges the pieces of every region along a ray
 //! ```
-//!
-//! `Le` (emission) is not rendered (a located warning); the `cloud` region is not built.
 
+use super::cloud::CloudRegion;
 use super::grid::Grid;
-use super::heterogeneous::{Density, Heterogeneous};
-use super::{constant_color, Homogeneous, Medium, MediumSample};
+use super::heterogeneous::{Coeffs, Density, Field, Heterogeneous};
+use super::{constant_color, Homogeneous};
 use crate::geometry::Ray;
 use crate::lxs::{Diagnostic, VolumeDesc};
 use crate::plugin::{BuildError, Stmt};
-use crate::spectrum::Rgb;
 use crate::texture::TextureSet;
 use glam::{Affine3A, DVec3, Vec3A};
 
@@ -31,14 +34,31 @@ pub struct Region {
     to_volume: Affine3A,
     lo: Vec3A,
     hi: Vec3A,
-    pub inner: Box<Medium>,
+    inner: Inner,
+}
+
+/// What fills a region's box.
+#[derive(Debug)]
+enum Inner {
+    /// The same coefficients everywhere (homogeneous).
+    Uniform { c: Coeffs, g: f32 },
+    /// Coefficients that vary: marched.
+    Marched(Heterogeneous),
+}
+
+/// A stretch [t0, t1] of a ray (ray parameters) over which a region's coefficients are `c`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Piece {
+    pub t0: f32,
+    pub t1: f32,
+    pub c: Coeffs,
 }
 
 /// The region kinds [`Region::build`] renders.
 pub fn is_supported(kind: &str) -> bool {
     matches!(
         kind,
-        "homogeneous" | "homogenous" | "exponential" | "volumegrid"
+        "homogeneous" | "homogenous" | "exponential" | "volumegrid" | "cloud"
     )
 }
 
@@ -66,20 +86,39 @@ impl Region {
             return Err(s.err("region volume: p0 and p1 must be finite"));
         }
         let le = constant_color(&mut s, textures, "Le")?;
-        if !le.is_black() {
-            s.warn("region volume: emission (\"Le\") is not rendered");
-        }
+        let scaled = |s: &mut Stmt, textures: &mut TextureSet| -> Result<Coeffs, BuildError> {
+            Ok(Coeffs {
+                sigma_a: constant_color(s, textures, "sigma_a")?,
+                sigma_s: constant_color(s, textures, "sigma_s")?,
+                le,
+            })
+        };
         let inner = match v.entity.kind.as_str() {
             "homogeneous" | "homogenous" => {
-                Medium::Homogeneous(Homogeneous::build(&mut s, textures)?)
+                let h = Homogeneous::build(&mut s, textures)?;
+                let c = Coeffs {
+                    sigma_a: h.sigma_a,
+                    sigma_s: h.sigma_s,
+                    le,
+                };
+                Inner::Uniform { c, g: h.g }
             }
             "exponential" => {
-                Medium::Marched(exponential_region(&mut s, textures, m, lo, default_step)?)
+                let c = scaled(&mut s, textures)?;
+                Inner::Marched(exponential_region(&mut s, c, m, lo, default_step)?)
             }
-            "volumegrid" => match grid(&mut s, textures, to_volume, lo, hi, default_step)? {
-                Some(h) => Medium::Marched(h),
-                None => return Ok(None),
-            },
+            "volumegrid" => {
+                let c = scaled(&mut s, textures)?;
+                match grid(&mut s, c, to_volume, lo, hi, default_step)? {
+                    Some(h) => Inner::Marched(h),
+                    None => return Ok(None),
+                }
+            }
+            "cloud" => {
+                let c = scaled(&mut s, textures)?;
+                let field = Field::Cloud(Box::new(CloudRegion::build(&mut s, to_volume, lo, hi)?));
+                Inner::Marched(marched(&mut s, c, field, default_step)?)
+            }
             other => {
                 s.warn(format!("region volume \"{other}\" is not rendered"));
                 return Ok(None);
@@ -89,8 +128,60 @@ impl Region {
             to_volume,
             lo,
             hi,
-            inner: Box::new(inner),
+            inner,
         }))
+    }
+
+    /// A homogeneous region over the box `lo`–`hi` of world space (tests build regions
+    /// without a scene).
+    #[cfg(test)]
+    pub fn uniform(lo: Vec3A, hi: Vec3A, c: Coeffs, g: f32) -> Region {
+        Region {
+            to_volume: Affine3A::IDENTITY,
+            lo,
+            hi,
+            inner: Inner::Uniform { c, g },
+        }
+    }
+
+    /// The Henyey–Greenstein asymmetry of the region's scattering.
+    pub fn g(&self) -> f32 {
+        match &self.inner {
+            Inner::Uniform { g, .. } => *g,
+            Inner::Marched(h) => h.g,
+        }
+    }
+
+    /// Whether the region neither attenuates nor emits (a homogeneous one with all zero).
+    pub fn is_vacuum(&self) -> bool {
+        match &self.inner {
+            Inner::Uniform { c, .. } => {
+                c.sigma_a.is_black() && c.sigma_s.is_black() && c.le.is_black()
+            }
+            Inner::Marched(_) => false,
+        }
+    }
+
+    /// Whether the region can scatter light.
+    pub fn scatters(&self) -> bool {
+        match &self.inner {
+            Inner::Uniform { c, .. } => !c.sigma_s.is_black(),
+            Inner::Marched(h) => match &h.density {
+                Density::Scaled { c, .. } => !c.sigma_s.is_black(),
+                Density::Textures { .. } => true,
+            },
+        }
+    }
+
+    /// Whether the region emits light (`Le` not black).
+    pub fn emits(&self) -> bool {
+        match &self.inner {
+            Inner::Uniform { c, .. } => !c.le.is_black(),
+            Inner::Marched(h) => match &h.density {
+                Density::Scaled { c, .. } => !c.le.is_black(),
+                Density::Textures { .. } => false,
+            },
+        }
     }
 
     /// The part of `ray`'s extent [0, `t_max`] inside the box, if any.
@@ -112,48 +203,81 @@ impl Region {
         (t0 < t1).then_some((t0, t1))
     }
 
-    /// The inner medium's extinction at world point `p` inside the box, 0 outside it.
-    pub fn sigma_t(&self, p: Vec3A) -> Rgb {
+    /// The coefficients at world point `p` (0 outside the box).
+    pub fn coeffs(&self, p: Vec3A) -> Coeffs {
         let q = self.to_volume.transform_point3a(p);
-        if q.cmpge(self.lo).all() && q.cmple(self.hi).all() {
-            self.inner.sigma_t(p)
-        } else {
-            Rgb::BLACK
+        if !(q.cmpge(self.lo).all() && q.cmple(self.hi).all()) {
+            return Coeffs::default();
+        }
+        match &self.inner {
+            Inner::Uniform { c, .. } => *c,
+            Inner::Marched(h) => h.density.coeffs(p),
         }
     }
 
-    /// Transmittance over [0, `t_max`]: the inner medium's over the part inside the box.
-    pub fn tr(&self, ray: &Ray, t_max: f32) -> Rgb {
-        match self.clip(ray, t_max) {
-            Some((t0, t1)) => self.inner.tr(&shifted(ray, t0), t1 - t0),
-            None => Rgb::WHITE,
+    /// The pieces of constant coefficients along `ray`'s extent [0, `t_max`] inside the box
+    /// (`None` when the ray misses it): the whole clipped part for a homogeneous region, the
+    /// marching steps (coefficients at each step's middle) otherwise.
+    pub fn pieces(&self, ray: &Ray, t_max: f32) -> Option<Pieces<'_>> {
+        let (t0, t1) = self.clip(ray, t_max)?;
+        let len = ray.d.length();
+        if !(len > 0.0 && t1.is_finite()) {
+            return None;
         }
-    }
-
-    /// Samples a scattering point inside the box (the ray passes freely outside it).
-    pub fn sample(&self, ray: &Ray, t_max: f32, u: f32, u_channel: f32) -> MediumSample {
-        match self.clip(ray, t_max) {
-            Some((t0, t1)) => {
-                let s = self.inner.sample(&shifted(ray, t0), t1 - t0, u, u_channel);
-                MediumSample {
-                    scatter_t: s.scatter_t.map(|t| t0 + t),
-                    weight: s.weight,
-                }
+        let (step, n) = match &self.inner {
+            Inner::Uniform { .. } => (t1 - t0, 1),
+            Inner::Marched(h) => {
+                let (step, n) = h.steps((t1 - t0) * len);
+                (step / len, n)
             }
-            None => MediumSample {
-                scatter_t: None,
-                weight: Rgb::WHITE,
-            },
-        }
+        };
+        Some(Pieces {
+            region: self,
+            o: ray.o,
+            d: ray.d,
+            t0,
+            t1,
+            step,
+            n,
+            i: 0,
+        })
     }
 }
 
-/// The ray starting at parameter `t0` of `ray`.
-fn shifted(ray: &Ray, t0: f32) -> Ray {
-    Ray {
-        o: ray.o + ray.d * t0,
-        t_max: ray.t_max - t0,
-        ..*ray
+/// The pieces of one region along a ray, in order ([`Region::pieces`]).
+pub struct Pieces<'a> {
+    region: &'a Region,
+    o: Vec3A,
+    d: Vec3A,
+    t0: f32,
+    t1: f32,
+    step: f32,
+    n: u32,
+    i: u32,
+}
+
+impl Iterator for Pieces<'_> {
+    type Item = Piece;
+
+    fn next(&mut self) -> Option<Piece> {
+        if self.i >= self.n {
+            return None;
+        }
+        // Both ends from the same expression: consecutive pieces share their boundary.
+        let at = |i: u32| {
+            if i >= self.n {
+                self.t1
+            } else {
+                self.t0 + i as f32 * self.step
+            }
+        };
+        let (a, b) = (at(self.i), at(self.i + 1).min(self.t1));
+        self.i += 1;
+        let c = match &self.region.inner {
+            Inner::Uniform { c, .. } => *c,
+            Inner::Marched(h) => h.density.coeffs(self.o + self.d * (0.5 * (a + b))),
+        };
+        Some(Piece { t0: a, t1: b, c })
     }
 }
 
@@ -165,13 +289,11 @@ fn step(s: &Stmt, default_step: f32) -> Result<f32, BuildError> {
 /// the unit `updir` of the volume's space (default 0 1 0), expressed in world space.
 fn exponential_region(
     s: &mut Stmt,
-    textures: &mut TextureSet,
+    c: Coeffs,
     m: glam::DMat4,
     lo: Vec3A,
     default_step: f32,
 ) -> Result<Heterogeneous, BuildError> {
-    let sigma_a = constant_color(s, textures, "sigma_a")?;
-    let sigma_s = constant_color(s, textures, "sigma_s")?;
     let a = s.finite("a", 1.0)?;
     let b = s.finite("b", 1.0)?;
     let up = s.params().vector("updir").unwrap_or([0.0, 1.0, 0.0]);
@@ -181,15 +303,25 @@ fn exponential_region(
     // h = up_obj · (M⁻¹ p - lo) = (L⁻ᵀ up_obj) · (p - M lo), L the linear part of M.
     let up_world = glam::DMat3::from_mat4(m).inverse().transpose() * up_obj;
     let origin = m.transform_point3(lo.as_dvec3());
+    let field = Field::Exponential {
+        a,
+        b,
+        up: Vec3A::from(up_world.as_vec3()),
+        origin: Vec3A::from(origin.as_vec3()),
+    };
+    marched(s, c, field, default_step)
+}
+
+/// A marched region of coefficients `c` scaled by `field`, with the statement's `g` and
+/// `stepsize`.
+fn marched(
+    s: &mut Stmt,
+    c: Coeffs,
+    field: Field,
+    default_step: f32,
+) -> Result<Heterogeneous, BuildError> {
     Ok(Heterogeneous {
-        density: Density::Exponential {
-            sigma_a,
-            sigma_s,
-            a,
-            b,
-            up: Vec3A::from(up_world.as_vec3()),
-            origin: Vec3A::from(origin.as_vec3()),
-        },
+        density: Density::Scaled { c, field },
         g: super::read_g(s),
         step: step(s, default_step)?,
     })
@@ -199,15 +331,12 @@ fn exponential_region(
 /// LuxRender drops such a grid; a grid past [`super::grid::MAX_CELLS`] is an error.
 fn grid(
     s: &mut Stmt,
-    textures: &mut TextureSet,
+    c: Coeffs,
     to_volume: Affine3A,
     lo: Vec3A,
     hi: Vec3A,
     default_step: f32,
 ) -> Result<Option<Heterogeneous>, BuildError> {
-    let sigma_a = constant_color(s, textures, "sigma_a")?;
-    let sigma_s = constant_color(s, textures, "sigma_s")?;
-    let g = super::read_g(s);
     let dims = [
         s.int_at_least("nx", 1, 1)?,
         s.int_at_least("ny", 1, 1)?,
@@ -227,13 +356,5 @@ fn grid(
         }
         Err(e) => return Err(s.err(format!("volumegrid: {e}"))),
     };
-    Ok(Some(Heterogeneous {
-        density: Density::Grid {
-            sigma_a,
-            sigma_s,
-            grid: Box::new(grid),
-        },
-        g,
-        step: step(s, default_step)?,
-    }))
+    marched(s, c, Field::Grid(Box::new(grid)), default_step).map(Some)
 }

@@ -18,7 +18,7 @@ use crate::geometry::{Ray, SurfaceInteraction};
 use crate::light::Light;
 use crate::sampler::SampleStream;
 use crate::spectrum::Rgb;
-use crate::volume::MediumId;
+use crate::volume::{HenyeyGreenstein, MediumId};
 use glam::Vec3A;
 
 /// Vertices after which Russian roulette may end a subpath (LuxRender's `rrStart`).
@@ -97,6 +97,8 @@ enum Stop {
     /// A scattering point in a medium.
     Medium {
         p: Vec3A,
+        /// The phase function there.
+        phase: HenyeyGreenstein,
     },
     /// It left the scene.
     Escaped,
@@ -160,7 +162,10 @@ fn trace(
                 weight *= ms.weight;
                 if let Some(t) = ms.scatter_t {
                     let stop = if may_scatter {
-                        Stop::Medium { p: ray.at(t) }
+                        Stop::Medium {
+                            p: ray.at(t),
+                            phase: ms.phase,
+                        }
                     } else {
                         Stop::Absorbed
                     };
@@ -252,16 +257,13 @@ fn vertex_at(
             let emitter = ctx.world.area_light(si.prim).map(|(i, _)| i as u32);
             Vertex::new(Kind::Surface { emitter }, si, beta, 0.0)
         }
-        Stop::Medium { p } => {
+        Stop::Medium { p, phase } => {
             let mut si = SurfaceInteraction::default();
             si.it.p = p;
             si.it.time = ray.time;
             si.wo = -ray.d.normalize_or_zero();
             let mut v = Vertex::new(Kind::Medium, si, beta, 0.0);
-            v.phase = t
-                .medium
-                .and_then(|id| ctx.world.media().and_then(|ms| ms.get(id)))
-                .map(|m| m.phase());
+            v.phase = Some(phase);
             v
         }
         Stop::Escaped | Stop::Absorbed => return None,
