@@ -71,6 +71,33 @@ pub fn film_rgb(film: &Film) -> Vec<Rgb> {
         .collect()
 }
 
+/// Writes a linear RGB image (rows top to bottom) as an OpenEXR file, for a look.
+pub fn write_rgb_exr(
+    path: &std::path::Path,
+    w: u32,
+    h: u32,
+    rgb: &[[f32; 3]],
+) -> anyhow::Result<()> {
+    use luxfarm::imageio::exr::{write_exr, ExrCompression, ExrImage};
+    let gray: Vec<f32> = rgb.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).collect();
+    let img = ExrImage {
+        width: w,
+        height: h,
+        rgb,
+        gray: &gray,
+        alpha: &[],
+        z: None,
+    };
+    write_exr(
+        path,
+        &img,
+        luxfarm::imageio::ChannelSet::Rgb,
+        false,
+        ExrCompression::Zip,
+    )?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

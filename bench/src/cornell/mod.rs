@@ -61,6 +61,10 @@ pub struct Args {
     /// Leave LuxCore out (same as `--without luxcore`).
     #[arg(long)]
     pub no_luxcore: bool,
+    /// Keep every render's linear RGB image in this directory as OpenEXR
+    /// (`{contestant}-run{i}.exr`, `{contestant}-equal-time.exr`), for error maps.
+    #[arg(long)]
+    pub keep: Option<PathBuf>,
 }
 
 /// One render's speed and image (linear RGB, row-major).
@@ -216,6 +220,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     let shared = a.shared.clone().unwrap_or_else(crate::support::shared_dir);
     let (w, h, refpx) = load_image(&shared.join("scenes/cornell/luxcore-ref-2048.exr"))
         .map_err(anyhow::Error::msg)?;
+    let w_img = w;
     let reference = Reference {
         w,
         h,
@@ -269,6 +274,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
                 r.samples_per_sec,
                 r.samples_per_cpu_sec
             );
+            keep(&a, &format!("run{i}"), w, &r, (w_img, h))?;
             runs[k].push(r);
         }
     }
@@ -288,12 +294,28 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
                 s.who.label(),
                 r.seconds
             );
+            keep(&a, "equal-time", &s.who, &r, (w_img, h))?;
             s.at_budget = Some((rmse, f64::from(spp), r.seconds));
         }
     }
     println!("machine: {} (after)", machine());
     print!("{}", report(&sums, a.spp, a.budget));
     Ok(ExitCode::SUCCESS)
+}
+
+/// Writes a render's image into `--keep`'s directory, if given.
+fn keep(a: &Args, tag: &str, who: &Who, r: &Run, (w, h): (usize, usize)) -> anyhow::Result<()> {
+    let Some(dir) = &a.keep else {
+        return Ok(());
+    };
+    std::fs::create_dir_all(dir)?;
+    let name: String = who
+        .label()
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect();
+    let path = dir.join(format!("{name}-{tag}.exr"));
+    crate::image_metrics::write_rgb_exr(&path, w as u32, h as u32, &r.rgb)
 }
 
 fn summarize(who: &Who, runs: &[Run], reference: &Reference) -> Summary {

@@ -187,28 +187,6 @@ fn render_luxcore(
     Ok(px.iter().map(|c| c.to_array()).collect())
 }
 
-/// Writes luxfarm's image beside LuxCore's, for a look.
-fn write_exr(path: &Path, w: u32, h: u32, rgb: &[[f32; 3]]) -> anyhow::Result<()> {
-    use luxfarm::imageio::exr::{write_exr, ExrCompression, ExrImage};
-    let gray: Vec<f32> = rgb.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).collect();
-    let img = ExrImage {
-        width: w,
-        height: h,
-        rgb,
-        gray: &gray,
-        alpha: &[],
-        z: None,
-    };
-    write_exr(
-        path,
-        &img,
-        luxfarm::imageio::ChannelSet::Rgb,
-        false,
-        ExrCompression::Zip,
-    )?;
-    Ok(())
-}
-
 /// One line of the table.
 struct Row {
     name: &'static str,
@@ -326,7 +304,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         )?;
         let result = (|| {
             let (ours, warnings) = render_ours(&text, &lxs_path, a.spp, a.threads)?;
-            write_exr(
+            crate::image_metrics::write_rgb_exr(
                 &dir.join(format!("{stem}-luxfarm.exr")),
                 a.res,
                 a.res,
