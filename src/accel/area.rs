@@ -115,7 +115,7 @@ impl Geometry {
         match shape {
             Shape::Mesh(m) => match &a.tris {
                 Some(dist) => {
-                    let (s, uv) = m.sample(dist.pick(u_pick), u);
+                    let (s, uv) = pick_triangle(m, dist, u, u_pick);
                     let it = Interaction {
                         p: s.p,
                         p_error: s.p_error,
@@ -147,7 +147,7 @@ impl Geometry {
         let shape = self.objects.get(object as usize)?.shapes.first()?;
         let (g, pdf) = match shape {
             Shape::Mesh(m) => {
-                let (s, uv) = m.sample(a.tris.as_ref()?.pick(u_pick), u);
+                let (s, uv) = pick_triangle(m, a.tris.as_ref()?, u, u_pick);
                 let g = LocalGeometry {
                     p: s.p,
                     p_error: s.p_error,
@@ -167,5 +167,29 @@ impl Geometry {
         };
         let g = to_world(&motion.transform_at(time)?, &g);
         Some((g.interaction(time), g.uv, pdf))
+    }
+}
+
+/// Meshes with at most this many triangles pick theirs with the point's own first coordinate
+/// (remapped within the triangle's share), so the 2D sample stays stratified over the whole
+/// light; past it the remapped coordinate would keep too few bits of an f32, and the
+/// separate `u_pick` chooses.
+const REMAP_MAX_TRIANGLES: usize = 1 << 10;
+
+/// A point of mesh `m` uniform by area: the triangle drawn by area from `dist`, then a point
+/// in it. With few triangles the triangle comes from `u.x` itself ([`REMAP_MAX_TRIANGLES`]):
+/// a stratified `u` then stays stratified across the triangles of a quad light, which a
+/// separate pick dimension would shuffle.
+fn pick_triangle(
+    m: &crate::shape::TriangleMesh,
+    dist: &DiscreteDistribution,
+    u: Vec2,
+    u_pick: f32,
+) -> (crate::shape::mesh::MeshPoint, Vec2) {
+    if dist.len() <= REMAP_MAX_TRIANGLES {
+        let (i, ux) = dist.sample(u.x);
+        m.sample(i, Vec2::new(ux, u.y))
+    } else {
+        m.sample(dist.pick(u_pick), u)
     }
 }

@@ -153,3 +153,23 @@ fn sampled_mesh_points_carry_their_uv() {
         );
     }
 }
+
+#[test]
+fn a_stratified_sample_stays_stratified_over_a_quads_two_triangles() {
+    // A quad light is two triangles of equal area; its points come from the 2D sample alone
+    // (the separate pick number is not used), so an 8 × 8 grid of samples puts exactly 32
+    // points in each triangle, whatever `u_pick` says.
+    let g = geo(&[crate::shape::test_util::quad(DMat4::IDENTITY, false)]);
+    let mut rng = fixtures::Rng::new(11);
+    let mut first = 0;
+    for i in 0..64 {
+        let u = Vec2::new((i % 8) as f32 + 0.5, (i / 8) as f32 + 0.5) / 8.0;
+        let (it, _, pdf) = g.sample(ShapeId(0), u, rng.f32(), 0.0);
+        assert!((pdf - 0.25).abs() < 1e-6, "the quad spans [-1, 1]²");
+        let (again, _, _) = g.sample(ShapeId(0), u, rng.f32(), 0.0);
+        assert_eq!(it.p, again.p, "u_pick chose the point");
+        // The quad's first triangle is (-1,-1), (1,-1), (1,1): below the diagonal y = x.
+        first += u32::from(it.p.y < it.p.x);
+    }
+    assert_eq!(first, 32);
+}
