@@ -68,7 +68,7 @@ impl World {
         warnings.append(&mut materials.warnings);
 
         // Lights, then the area lights on the built shapes.
-        let media = if opts.media {
+        let mut media = if opts.media {
             MediaSet::build(desc, &built.media, &mut textures, warnings)?.map(Box::new)
         } else {
             None
@@ -102,6 +102,9 @@ impl World {
                 pi.light = Some(lights.len());
             }
             lights.push(light);
+        }
+        if let Some(ms) = media.as_mut() {
+            ms.index_lights(&built_lights, lights.len());
         }
         let (lo, hi) = geometry.bounds();
         let (center, radius) = if lo.cmple(hi).all() {

@@ -321,6 +321,11 @@ pub struct MediaSet {
     boundaries: Vec<Option<Boundary>>,
     /// The medium camera rays start in.
     pub camera: Option<MediumId>,
+    /// Per light (the scene description's lights, then per built light after
+    /// [`Self::index_lights`]): the medium its rays start in, when its `LightSource` statement
+    /// had an `Exterior` in effect (LuxRender 1.x gives a light the exterior volume current
+    /// at its statement); `None` when it had none.
+    light_start: Vec<Option<Option<MediumId>>>,
     /// Whether some medium scatters.
     pub scatters: bool,
 }
@@ -400,6 +405,13 @@ impl MediaSet {
             .and_then(|c| c.exterior.as_deref())
             .or_else(|| desc.named_volumes.contains_key("world").then_some("world"));
         let camera = side(camera_name, &mut media, warnings)?;
+        let mut light_start = Vec::with_capacity(desc.lights.len());
+        for l in &desc.lights {
+            light_start.push(match l.exterior.as_deref() {
+                Some(name) => Some(resolve(Some(name), &mut media, warnings)?),
+                None => None,
+            });
+        }
         if media.is_empty() {
             return Ok(None);
         }
@@ -413,8 +425,29 @@ impl MediaSet {
             media,
             boundaries,
             camera,
+            light_start,
             scatters,
         }))
+    }
+
+    /// Re-indexes the lights' start media from the scene description's lights to the built
+    /// lights: `built[i]` are the built lights of description light i (a sunsky is two), and
+    /// the `count - …` lights after them (area lights) have no start medium of their own.
+    pub fn index_lights(&mut self, built: &[std::ops::Range<usize>], count: usize) {
+        let mut per_light = vec![None; count];
+        for (range, start) in built.iter().zip(&self.light_start) {
+            for i in range.clone().filter(|&i| i < count) {
+                per_light[i] = *start;
+            }
+        }
+        self.light_start = per_light;
+    }
+
+    /// The medium built light `i`'s rays start in, when its statement named one (`Some(None)`:
+    /// a vacuum or unknown name); `None` when it did not, and the medium must be found from
+    /// where its rays go.
+    pub fn light_start(&self, i: usize) -> Option<Option<MediumId>> {
+        self.light_start.get(i).copied().flatten()
     }
 
     pub fn get(&self, id: MediumId) -> Option<&Medium> {

@@ -2,8 +2,8 @@
 //! (radiance) and the light subpath from a light (importance).
 //!
 //! Each walk stores its vertices with their throughput and densities (see [`super::vertex`]).
-//! In a scene with media a walk knows the medium it is in (the camera's; a light's is found
-//! from the first surface its ray meets), attenuates every segment by it and, in media that
+//! In a scene with media a walk knows the medium it is in (the camera's; a light's is the
+//! exterior named at its statement, else found from the first surface its ray meets), attenuates every segment by it and, in media that
 //! scatter (volume integrator `single` or `multi`), samples the segment's end: a scattering
 //! point becomes a medium vertex whose phase function is sampled as a surface's BSDF, as
 //! long as the subpath has scattering events left (`max_scatters`).
@@ -85,10 +85,24 @@ const EXTRA_PIECES: u32 = 1 << 24;
 #[derive(Clone, Copy, Debug)]
 enum Start {
     Known(Option<MediumId>),
-    /// A light's ray, whose medium is not known from the light: the one on the arriving side
-    /// of the first surface it meets when that is a medium boundary, else the camera's (the
-    /// scene's outer medium, as LuxBlend's "world").
+    /// A light's ray whose light names no medium (an area light, or a `LightSource` with no
+    /// `Exterior` in effect): the one on the arriving side of the first surface it meets when
+    /// that is a medium boundary, else the camera's (the scene's outer medium, as LuxBlend's
+    /// "world").
     FirstHit,
+}
+
+/// The medium light `index`'s rays start in: the one its statement named (LuxRender 1.x's
+/// exterior volume of a `LightSource`), else found from the first surface they meet.
+fn light_start(ctx: &Ctx, index: u32) -> Start {
+    match ctx
+        .world
+        .media()
+        .and_then(|ms| ms.light_start(index as usize))
+    {
+        Some(m) => Start::Known(m),
+        None => Start::FirstHit,
+    }
 }
 
 /// Where a traced ray stopped.
@@ -527,7 +541,7 @@ pub fn light_walk(
         }
         let n = path.len();
         let start = if n == 1 {
-            Start::FirstHit
+            light_start(ctx, index)
         } else {
             Start::Known(path[n - 1].medium_toward(ctx.world, ray.d))
         };
