@@ -103,7 +103,11 @@ impl World {
             }
             lights.push(light);
         }
-        let (lo, hi) = geometry.bounds();
+        let (mut lo, mut hi) = geometry.bounds();
+        if let Some(m) = &media {
+            let (rlo, rhi) = m.region_bounds();
+            (lo, hi) = (lo.min(rlo), hi.max(rhi));
+        }
         let (center, radius) = if lo.cmple(hi).all() {
             ((lo + hi) * 0.5, (hi - lo).length() * 0.5)
         } else {
@@ -119,7 +123,10 @@ impl World {
             .filter(|&i| lights[i].is_primitive())
             .collect();
         let selector = LightSelector::new(opts.light_strategy, &lights);
-        if lights.is_empty() {
+        let emitting_media = media
+            .as_ref()
+            .is_some_and(|m| m.media.iter().any(|v| v.emits()));
+        if lights.is_empty() && !emitting_media {
             let loc = desc
                 .camera
                 .as_ref()
@@ -128,7 +135,7 @@ impl World {
             warn(
                 warnings,
                 &loc,
-                "the scene has no lights: the image will be black",
+                "the scene has no lights nor emitting volumes: the image will be black",
             );
         }
         warnings.append(&mut textures.warnings);
