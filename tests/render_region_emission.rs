@@ -2,13 +2,14 @@
 //!
 //! - An orthographic camera looks down -z through an emitting homogeneous region 2 units
 //!   deep with nothing else in the scene: every pixel sees Le·(1 − e^(−2σa))/σa (Le·2
-//!   without absorption), with every volume integrator, in path and directlighting. The
-//!   emission along a segment is computed in closed form, so the image is exact (no noise).
+//!   without absorption), with every volume integrator, in path, directlighting and
+//!   bidirectional (which adds it along its eye subpath). The emission along a segment is
+//!   computed in closed form, so the image is exact (no noise).
 //! - Two overlapping scattering, emitting regions and the three disjoint regions of the same
 //!   summed coefficients (the parts covered by one, by both, by the other) render the same
 //!   block means within noise: path tracing with multiple scattering, lit by an environment
-//!   and by the regions' emission, six independent runs a side compared by z-scores.
-//! - With the bidirectional integrator, region emission is warned about at the statement.
+//!   and by the regions' emission, six independent runs a side compared by z-scores; and
+//!   bidirectional renders the overlapping regions as path does (same comparison).
 
 mod transport_common;
 
@@ -51,6 +52,45 @@ fn emitter(sigma_a: f32, le: f32, half: bool) -> String {
     )
 }
 
+/// The emitting box rendered with surface integrator `si` and volume integrator `vi`: every
+/// pixel is the closed form, and only the covered columns shine when the box covers x > 0.
+fn box_shines_its_closed_form(si: &str, vi: &str) {
+    let setup = format!(
+        "Sampler \"random\" \"integer pixelsamples\" [2]\n\
+         SurfaceIntegrator \"{si}\"\nVolumeIntegrator \"{vi}\""
+    );
+    for (sigma, le) in [(0.5f32, 0.8f32), (0.0, 0.8), (3.0, 2.0)] {
+        let want = if sigma > 0.0 {
+            f64::from(le) * (1.0 - (-2.0 * f64::from(sigma)).exp()) / f64::from(sigma)
+        } else {
+            f64::from(le) * 2.0
+        };
+        let got = pixels(&scene(8, &setup, &emitter(sigma, le, false)));
+        let mean = got.iter().sum::<f64>() / got.len() as f64;
+        eprintln!("{si}/{vi} sigma {sigma} Le {le}: mean {mean:.6} vs {want:.6}");
+        assert!(
+            (mean - want).abs() < 1e-3 * want,
+            "{si}/{vi} sigma {sigma}: mean {mean} vs {want}"
+        );
+        for (i, g) in got.iter().enumerate() {
+            assert!(
+                (g - want).abs() < 1e-3 * want,
+                "{si}/{vi} sigma {sigma}: pixel {i} {g} vs {want}"
+            );
+        }
+    }
+    // Only the half x > 0 covered: the other columns stay black.
+    let got = pixels(&scene(8, &setup, &emitter(0.5, 0.8, true)));
+    let want = 0.8 * (1.0 - (-1.0f64).exp()) / 0.5;
+    for (i, g) in got.iter().enumerate() {
+        let w = if i % 8 < 4 { 0.0 } else { want };
+        assert!(
+            (g - w).abs() < 1e-3 * want,
+            "{si}/{vi} half: pixel {i} {g} vs {w}"
+        );
+    }
+}
+
 #[test]
 fn an_emitting_box_shines_its_closed_form() {
     let setups = [
@@ -61,37 +101,26 @@ fn an_emitting_box_shines_its_closed_form() {
         ("directlighting", "single"),
     ];
     for (si, vi) in setups {
-        let setup = format!(
-            "Sampler \"random\" \"integer pixelsamples\" [2]\n\
-             SurfaceIntegrator \"{si}\"\nVolumeIntegrator \"{vi}\""
-        );
-        for (sigma, le) in [(0.5f32, 0.8f32), (0.0, 0.8), (3.0, 2.0)] {
-            let want = if sigma > 0.0 {
-                f64::from(le) * (1.0 - (-2.0 * f64::from(sigma)).exp()) / f64::from(sigma)
-            } else {
-                f64::from(le) * 2.0
-            };
-            let got = pixels(&scene(8, &setup, &emitter(sigma, le, false)));
-            let mean = got.iter().sum::<f64>() / got.len() as f64;
-            eprintln!("{si}/{vi} sigma {sigma} Le {le}: mean {mean:.6} vs {want:.6}");
-            for (i, g) in got.iter().enumerate() {
-                assert!(
-                    (g - want).abs() < 1e-3 * want,
-                    "{si}/{vi} sigma {sigma}: pixel {i} {g} vs {want}"
-                );
-            }
-        }
-        // Only the half x > 0 covered: the other columns stay black.
-        let got = pixels(&scene(8, &setup, &emitter(0.5, 0.8, true)));
-        let want = 0.8 * (1.0 - (-1.0f64).exp()) / 0.5;
-        for (i, g) in got.iter().enumerate() {
-            let w = if i % 8 < 4 { 0.0 } else { want };
-            assert!(
-                (g - w).abs() < 1e-3 * want,
-                "{si}/{vi} half: pixel {i} {g} vs {w}"
-            );
-        }
+        box_shines_its_closed_form(si, vi);
     }
+}
+
+/// Bidirectional adds the emission along its eye subpath, with no warning about it.
+#[test]
+fn bidirectional_renders_region_emission_in_closed_form() {
+    for vi in ["emission", "single", "multi"] {
+        box_shines_its_closed_form("bidirectional", vi);
+    }
+    let setup = "SurfaceIntegrator \"bidirectional\"";
+    let text = scene(4, setup, &emitter(0.5, 0.8, false));
+    let desc = scene_text(&text, Path::new("/tmp/region_bidir.lxs"));
+    let warnings: Vec<String> = Renderable::build(&desc, Path::new("/tmp"))
+        .expect("scene builds")
+        .warnings
+        .into_iter()
+        .map(|d| d.to_string())
+        .collect();
+    assert!(warnings.is_empty(), "{warnings:?}");
 }
 
 /// The overlapping regions' coefficients: A over x in [-1, 0.5], B over [-0.5, 1] (both
@@ -109,11 +138,18 @@ fn region(x0: f32, x1: f32, c: (&str, &str, &str)) -> String {
     )
 }
 
-fn block_runs(world: &str, first: u64) -> Vec<Vec<f64>> {
-    let setup = "Sampler \"random\" \"integer pixelsamples\" [8]\n\
-                 SurfaceIntegrator \"path\" \"integer maxdepth\" [8]\n\
-                 VolumeIntegrator \"multi\"";
-    let text = scene(16, setup, world);
+/// Block means of six runs (streams from `first`) of `world` with surface integrator
+/// `integrator` (`path` of depth 8, or bidirectional with subpaths of as many vertices)
+/// and multiple scattering.
+fn block_runs(integrator: &str, world: &str, first: u64) -> Vec<Vec<f64>> {
+    let surface = match integrator {
+        "path" => "SurfaceIntegrator \"path\" \"integer maxdepth\" [8]",
+        _ => "SurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [9] \"integer lightdepth\" [9]",
+    };
+    let setup = format!(
+        "Sampler \"random\" \"integer pixelsamples\" [8]\n{surface}\nVolumeIntegrator \"multi\""
+    );
+    let text = scene(16, &setup, world);
     let desc = scene_text(&text, &here().join("region_overlap.lxs"));
     runs(&desc, &here(), first, 6, 1, 4)
 }
@@ -128,26 +164,9 @@ fn overlapping_regions_render_as_their_sums() {
         region(-0.5, 0.5, AB),
         region(0.5, 1.0, B)
     );
-    let a = block_runs(&overlapping, 0);
-    let b = block_runs(&disjoint, 100);
+    let a = block_runs("path", &overlapping, 0);
+    let b = block_runs("path", &disjoint, 100);
     assert_agree("overlapping/disjoint regions", &a, &b, 4.0, 0.0);
-}
-
-#[test]
-fn bidirectional_warns_that_it_does_not_render_region_emission() {
-    let setup = "SurfaceIntegrator \"bidirectional\"";
-    let text = scene(4, setup, &emitter(0.5, 0.8, false));
-    let desc = scene_text(&text, Path::new("/tmp/region_bidir.lxs"));
-    let warnings: Vec<String> = Renderable::build(&desc, Path::new("/tmp"))
-        .expect("scene builds")
-        .warnings
-        .into_iter()
-        .map(|d| d.to_string())
-        .collect();
-    assert!(
-        warnings
-            .iter()
-            .any(|w| w.contains("/tmp/region_bidir.lxs:7:1") && w.contains("bidirectional")),
-        "{warnings:?}"
-    );
+    let c = block_runs("bidirectional", &overlapping, 200);
+    assert_agree("overlapping regions, bidirectional/path", &c, &a, 4.0, 0.0);
 }

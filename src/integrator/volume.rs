@@ -6,7 +6,8 @@
 //! - `emission`: rays are attenuated by the media they cross, never scattered (with every
 //!   integrator other than `none`, region volumes' emission `Le` is added along the path
 //!   segments that cross them: path's every segment, directlighting's eye ray and specular
-//!   continuations, as in LuxRender 1.x; bidirectional does not render it, with a warning);
+//!   continuations, as in LuxRender 1.x; bidirectional's every eye subpath segment, which
+//!   LuxRender 1.x's bidirectional does not render);
 //! - `single`: as emission, plus one scattering event in a medium per path;
 //! - `multi`: as many scattering events as the path's depth allows.
 //!

@@ -106,7 +106,11 @@ impl World {
         if let Some(ms) = media.as_mut() {
             ms.index_lights(&built_lights, lights.len());
         }
-        let (lo, hi) = geometry.bounds();
+        let (mut lo, mut hi) = geometry.bounds();
+        if let Some(m) = &media {
+            let (rlo, rhi) = m.region_bounds();
+            (lo, hi) = (lo.min(rlo), hi.max(rhi));
+        }
         let (center, radius) = if lo.cmple(hi).all() {
             ((lo + hi) * 0.5, (hi - lo).length() * 0.5)
         } else {
@@ -122,7 +126,10 @@ impl World {
             .filter(|&i| lights[i].is_primitive())
             .collect();
         let selector = LightSelector::new(opts.light_strategy, &lights);
-        if lights.is_empty() {
+        let emitting_media = media
+            .as_ref()
+            .is_some_and(|m| m.media.iter().any(|v| v.emits()));
+        if lights.is_empty() && !emitting_media {
             let loc = desc
                 .camera
                 .as_ref()
@@ -131,7 +138,7 @@ impl World {
             warn(
                 warnings,
                 &loc,
-                "the scene has no lights: the image will be black",
+                "the scene has no lights nor emitting volumes: the image will be black",
             );
         }
         warnings.append(&mut textures.warnings);

@@ -35,7 +35,7 @@ pub mod region;
 pub mod regions;
 
 use crate::geometry::Ray;
-use crate::lxs::{Diagnostic, Loc, ParamSet, SceneDescription, VolumeDesc};
+use crate::lxs::{Diagnostic, Loc, ParamSet, SceneDescription};
 use crate::plugin::{report_unused, warn, BuildError, Stmt};
 use crate::spectrum::Rgb;
 use crate::texture::{param_loc, FresnelTex, TextureError, TextureSet};
@@ -454,6 +454,20 @@ impl MediaSet {
         self.media.get(id as usize)
     }
 
+    /// The world-space box around the region volumes, which have no shape of their own
+    /// (empty, lo > hi, when there are none): the scene's bounds take it in, so lights at
+    /// infinity emit over the regions too.
+    pub fn region_bounds(&self) -> (Vec3A, Vec3A) {
+        let mut b = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
+        for m in &self.media {
+            if let Medium::Region(r) = m {
+                let (lo, hi) = r.world_bounds();
+                b = (b.0.min(lo), b.1.max(hi));
+            }
+        }
+        b
+    }
+
     /// The boundary a primitive is, if any.
     pub fn boundary(&self, prim: u32) -> Option<Boundary> {
         self.boundaries.get(prim as usize).copied().flatten()
@@ -499,34 +513,11 @@ fn build_region(
     let mut built = Vec::new();
     for v in regions(desc).filter(|v| region::is_supported(&v.entity.kind)) {
         if let Some(r) = Region::build(v, textures, warnings, step)? {
-            warn_bidir_emission(desc, &r, v, warnings);
             built.push(r);
         }
         report_unused("Volume", &v.entity, warnings);
     }
     Ok(Regions::new(built).map(|all| Medium::Region(Box::new(all))))
-}
-
-/// Warns (located) at each emitting region when the scene renders with the bidirectional
-/// integrator, which does not add region emission (LuxRender 1.x's does not either).
-fn warn_bidir_emission(
-    desc: &SceneDescription,
-    r: &Region,
-    v: &VolumeDesc,
-    w: &mut Vec<Diagnostic>,
-) {
-    let bidir = desc
-        .surface_integrator
-        .as_ref()
-        .is_some_and(|e| e.kind == "bidirectional");
-    if bidir && r.emits() {
-        warn(
-            w,
-            &v.entity.loc,
-            "region volume emission (\"Le\") is not rendered by the bidirectional integrator \
-             (nor by LuxRender 1.x's); path and directlighting render it",
-        );
-    }
 }
 
 /// Warns (located) about the region `Volume` statements of kinds that are not rendered

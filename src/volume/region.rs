@@ -173,6 +173,24 @@ impl Region {
         }
     }
 
+    /// The world-space box around the region (its box's corners carried out of the
+    /// volume's space).
+    pub fn world_bounds(&self) -> (Vec3A, Vec3A) {
+        let to_world = self.to_volume.inverse();
+        let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
+        for i in 0..8 {
+            let pick = |bit: usize, a: f32, b: f32| if i & bit == 0 { a } else { b };
+            let c = Vec3A::new(
+                pick(1, self.lo.x, self.hi.x),
+                pick(2, self.lo.y, self.hi.y),
+                pick(4, self.lo.z, self.hi.z),
+            );
+            let w = to_world.transform_point3a(c);
+            (lo, hi) = (lo.min(w), hi.max(w));
+        }
+        (lo, hi)
+    }
+
     /// Whether the region emits light (`Le` not black).
     pub fn emits(&self) -> bool {
         match &self.inner {

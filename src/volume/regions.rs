@@ -59,6 +59,16 @@ impl Regions {
         })
     }
 
+    /// The world-space box around every member.
+    pub fn world_bounds(&self) -> (Vec3A, Vec3A) {
+        let mut b = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
+        for r in &self.members {
+            let (lo, hi) = r.world_bounds();
+            b = (b.0.min(lo), b.1.max(hi));
+        }
+        b
+    }
+
     /// How many regions the aggregate holds.
     pub fn len(&self) -> usize {
         self.members.len()

@@ -14,13 +14,18 @@
 //!
 //! Participating media: both subpaths carry the medium they are in; see [`walk`] (medium
 //! vertices, distance sampling), [`vertex`] (their densities) and [`strategies`]
-//! (transmittance along connections).
+//! (transmittance along connections). The emission of region volumes is added along every
+//! segment of the eye subpath, times the eye throughput at the segment's start, with weight
+//! 1 (as path adds it: no light subpath or connection can end on volume emission, so the eye
+//! path is its only strategy); light subpaths gather none. It goes to the first light
+//! group, as path's does.
 //!
 //! Parameters (LuxRender's names and defaults): `eyedepth` (8) and `lightdepth` (8) vertices
 //! per subpath (the camera and the light included, at most [`MAX_DEPTH`]),
 //! `eyerrthreshold` and `lightrrthreshold` (0: Russian roulette on each vertex's scattering
 //! efficiency; 1: none), `lightstrategy` (auto) and `lightpathstrategy` (auto).
 
+pub mod layout;
 pub mod mis;
 pub mod strategies;
 pub mod vertex;
@@ -33,9 +38,9 @@ use crate::light::{LightSelector, LightStrategy};
 use crate::plugin::{BuildError, Stmt};
 use crate::sampler::SampleStream;
 use crate::scene::World;
+use layout::Layout;
 use mis::PathDensities;
 use vertex::{Ctx, Vertex};
-use walk::Layout;
 
 /// Largest `eyedepth` / `lightdepth` accepted (LuxRender advises against 16 and more).
 pub const MAX_DEPTH: u32 = 64;
@@ -163,7 +168,7 @@ impl BidirIntegrator {
             time: ray.time,
         };
         let lens = camera.lens_point(&ray);
-        out.alpha = walk::eye_walk(
+        let walked = walk::eye_walk(
             &ctx,
             ray,
             lens,
@@ -172,6 +177,9 @@ impl BidirIntegrator {
             &mut sc.eye,
             &mut sc.crossings,
         );
+        out.alpha = walked.alpha;
+        // In the first light group, as path's (LuxRender's volume integrator's group).
+        strategies::add_eye(out, 0, walked.medium_emission, 1.0);
         let ne = sc.eye.len();
         for t in 2..=ne {
             strategies::emission(&ctx, &mut sc.dens, &sc.eye, t, out);

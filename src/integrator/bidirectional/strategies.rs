@@ -216,7 +216,7 @@ fn solid_angle(area: f32, from: &Vertex, to: &Vertex) -> f32 {
 }
 
 /// Adds an eye-buffer contribution `c` (already weighted by `w`) to light group `g`.
-fn add_eye(out: &mut SampleOut, g: usize, c: Rgb, w: f32) {
+pub(super) fn add_eye(out: &mut SampleOut, g: usize, c: Rgb, w: f32) {
     if !c.is_finite() || c.is_black() {
         return;
     }

@@ -8,11 +8,17 @@
 //! point becomes a medium vertex whose phase function is sampled as a surface's BSDF, as
 //! long as the subpath has scattering events left (`max_scatters`).
 //! Null-material surfaces are crossed without a vertex; an eye walk crossing an emitting null
-//! surface remembers it (`crossings`), since the eye path sees its light there. Russian
+//! surface remembers it (`crossings`), since the eye path sees its light there. Along every
+//! segment of the eye walk (each piece of it, in the medium of that piece) the walk gathers
+//! the emission of emitting region volumes seen through the medium, times the throughput at
+//! the piece's start, over the whole piece up to its surface (the scattering point sampled on
+//! it does not shorten it: the emission integral is exact, distance sampling estimates only
+//! the rest); light walks gather none. Russian
 //! roulette follows LuxRender: after the third vertex a subpath continues with probability
 //! `min(1, max(threshold, mean(f·|cos| / pdf)))` of the last scattering, so threshold 1 turns
-//! it off. Random numbers come from fixed dimensions per vertex ([`Layout`]).
+//! it off. Random numbers come from fixed dimensions per vertex ([`super::layout::Layout`]).
 
+use super::layout::Layout;
 use super::vertex::{to_area, Ctx, Kind, Vertex};
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::light::Light;
@@ -25,57 +31,6 @@ use glam::Vec3A;
 const RR_START: usize = 3;
 /// Null surfaces one segment may cross.
 const MAX_PASS_THROUGH: u32 = 64;
-
-/// Which sample dimensions each vertex draws (the camera's five come first).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Layout {
-    /// Light samples per eye vertex (direct lighting).
-    pub direct_count: u32,
-    eye_stride: u32,
-    light_base: u32,
-    light_stride: u32,
-}
-
-impl Layout {
-    pub fn new(max_eye: u32, max_light: u32, direct_count: u32) -> Layout {
-        let eye_stride = 7 + 4 * direct_count;
-        Layout {
-            direct_count,
-            eye_stride,
-            light_base: 5 + max_eye.saturating_sub(1) * eye_stride,
-            light_stride: 6 + max_light.saturating_sub(1) * 7,
-        }
-    }
-
-    /// First dimension of eye vertex `i` (1 = the first hit): distance sampling (2, for the
-    /// segment reaching it), component, lobe, direction (2D), roulette, then per light
-    /// sample: choice, position (2D), mesh triangle.
-    pub fn eye(&self, i: usize) -> u32 {
-        5 + (i as u32).saturating_sub(1) * self.eye_stride
-    }
-
-    /// First dimension of light sample `d` at eye vertex `i`.
-    pub fn direct(&self, i: usize, d: u32) -> u32 {
-        self.eye(i) + 7 + 4 * d
-    }
-
-    /// First dimension of light subpath `p`: choice, position (2D), direction (2D), mesh
-    /// triangle.
-    pub fn light_origin(&self, p: u32) -> u32 {
-        self.light_base + p * self.light_stride
-    }
-
-    /// First dimension of vertex `i` >= 1 of light subpath `p`: distance sampling (2),
-    /// component, lobe, direction (2D), roulette.
-    pub fn light_vertex(&self, p: u32, i: usize) -> u32 {
-        self.light_origin(p) + 6 + (i as u32).saturating_sub(1) * 7
-    }
-
-    /// Dimensions a sample uses with `paths` light subpaths.
-    pub fn total(&self, paths: u32) -> u32 {
-        self.light_base + paths * self.light_stride
-    }
-}
 
 /// Dimensions of the distance samples of a segment's pieces after its first (a segment
 /// crossing null surfaces into other media): outside every vertex block, 2 per piece.
@@ -121,6 +76,15 @@ enum Stop {
     Absorbed,
 }
 
+/// How [`trace`] runs: whether distance sampling may stop at a scattering point (the
+/// subpath has scattering events left), and whether it gathers the media's emission (eye
+/// walks only).
+#[derive(Clone, Copy, Debug)]
+struct Mode {
+    may_scatter: bool,
+    emission: bool,
+}
+
 /// The result of [`trace`]: where it stopped, the medium it arrived in, and the throughput
 /// factor of the way there (transmittance over the distance sampling's density).
 struct Traced {
@@ -129,24 +93,28 @@ struct Traced {
     start: Option<MediumId>,
     medium: Option<MediumId>,
     weight: Rgb,
+    /// With [`Mode::emission`]: the media's emission along the way, seen through them, each
+    /// piece's times the throughput factor up to the piece's start (black otherwise).
+    emission: Rgb,
 }
 
 /// Traces `ray` to the closest surface that is not null, or to a scattering point in a
 /// medium sampled on the way (distance sampling in media that scatter, with dimensions
-/// from `dim`; `may_scatter` false when the subpath's scattering budget is spent). Emitting
-/// null surfaces crossed on the way are reported to `crossed` with the throughput factor and
-/// the medium up to them.
+/// from `dim`; `mode.may_scatter` false when the subpath's scattering budget is spent).
+/// Emitting null surfaces crossed on the way are reported to `crossed` with the throughput
+/// factor and the medium up to them.
 fn trace(
     ctx: &Ctx,
     mut ray: Ray,
     start: Start,
-    may_scatter: bool,
+    mode: Mode,
     s: &mut SampleStream,
     dim: u32,
     mut crossed: impl FnMut(&SurfaceInteraction, u32, Rgb, Option<MediumId>),
 ) -> Traced {
     let media = ctx.world.media();
     let mut weight = Rgb::WHITE;
+    let mut emission = Rgb::BLACK;
     let mut medium = match start {
         Start::Known(m) => m,
         Start::FirstHit => None,
@@ -166,6 +134,9 @@ fn trace(
         }
         let t_hit = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
         if let Some(m) = medium.and_then(|id| media.and_then(|ms| ms.get(id))) {
+            if mode.emission && m.emits() {
+                emission += weight * m.emission(&ray, t_hit);
+            }
             if ctx.samples_distance(m) {
                 s.set_dimension(if piece == 0 {
                     dim
@@ -175,7 +146,7 @@ fn trace(
                 let ms = m.sample(&ray, t_hit, s.next_1d(), s.next_1d());
                 weight *= ms.weight;
                 if let Some(t) = ms.scatter_t {
-                    let stop = if may_scatter {
+                    let stop = if mode.may_scatter {
                         Stop::Medium {
                             p: ray.at(t),
                             phase: ms.phase,
@@ -188,6 +159,7 @@ fn trace(
                         start: first,
                         medium,
                         weight,
+                        emission,
                     };
                 }
             } else {
@@ -200,6 +172,7 @@ fn trace(
                 start: first,
                 medium,
                 weight,
+                emission,
             };
         };
         if !ctx.world.material(si.prim).is_null() {
@@ -208,6 +181,7 @@ fn trace(
                 start: first,
                 medium,
                 weight,
+                emission,
             };
         }
         if let Some((i, _)) = ctx.world.area_light(si.prim) {
@@ -223,6 +197,7 @@ fn trace(
         start: first,
         medium,
         weight,
+        emission,
     }
 }
 
@@ -361,8 +336,18 @@ fn spawn(v: &Vertex, d: Vec3A) -> Ray {
     v.si.it.spawn_ray(d)
 }
 
-/// Traces the eye subpath of camera ray `ray` leaving lens point `lens` into `path`;
-/// returns the sample's alpha (0 when the camera ray leaves the scene).
+/// What an eye walk yields besides its vertices.
+#[derive(Clone, Copy, Debug)]
+pub struct EyeWalk {
+    /// The sample's alpha (0 when the camera ray leaves the scene).
+    pub alpha: f32,
+    /// The emission of emitting media along the subpath's segments, each segment's times
+    /// the throughput at its start: radiance at the sample's position, whole (no other
+    /// strategy reaches a point of volume emission, so its MIS weight is 1).
+    pub medium_emission: Rgb,
+}
+
+/// Traces the eye subpath of camera ray `ray` leaving lens point `lens` into `path`.
 pub fn eye_walk(
     ctx: &Ctx,
     ray: Ray,
@@ -371,7 +356,7 @@ pub fn eye_walk(
     layout: &Layout,
     path: &mut Vec<Vertex>,
     crossings: &mut Vec<(usize, Vertex)>,
-) -> f32 {
+) -> EyeWalk {
     path.clear();
     crossings.clear();
     let bidir = ctx.bidir;
@@ -383,6 +368,7 @@ pub fn eye_walk(
     let max = bidir.eye_depth as usize;
     let mut scatters_left = bidir.volume.max_scatters();
     let mut alpha = 1.0;
+    let mut medium_emission = Rgb::BLACK;
     let mut ray = ray;
     let mut beta = Rgb::WHITE;
     let mut pdf_dir = ctx.camera.dir_pdf(ray.d.normalize_or_zero(), ray.time);
@@ -393,11 +379,15 @@ pub fn eye_walk(
         };
         let n = path.len();
         let start = Start::Known(prev.medium_toward(ctx.world, ray.d));
+        let mode = Mode {
+            may_scatter: scatters_left > 0,
+            emission: true,
+        };
         let traced = trace(
             ctx,
             ray,
             start,
-            scatters_left > 0,
+            mode,
             s,
             layout.eye(n),
             |si, light, w, medium| {
@@ -414,6 +404,7 @@ pub fn eye_walk(
                 crossings.push((n, v));
             },
         );
+        medium_emission += beta * traced.emission;
         beta *= traced.weight;
         if matches!(traced.stop, Stop::Escaped) {
             if n == 1 {
@@ -466,7 +457,10 @@ pub fn eye_walk(
         }
         ray = spawn(&path[cur], sc.wi);
     }
-    alpha
+    EyeWalk {
+        alpha,
+        medium_emission,
+    }
 }
 
 /// The first vertex of a light subpath from light `index` (chosen with `draws` expected
@@ -546,7 +540,11 @@ pub fn light_walk(
             Start::Known(path[n - 1].medium_toward(ctx.world, ray.d))
         };
         let dim = layout.light_vertex(p, n);
-        let traced = trace(ctx, ray, start, scatters_left > 0, s, dim, |_, _, _, _| {});
+        let mode = Mode {
+            may_scatter: scatters_left > 0,
+            emission: false,
+        };
+        let traced = trace(ctx, ray, start, mode, s, dim, |_, _, _, _| {});
         if n == 1 {
             path[0].medium = traced.start;
             let falloff = match &traced.stop {
@@ -587,22 +585,5 @@ pub fn light_walk(
         let r = to_area(pdf_rev, &path[n], &path[n - 1]) * path[n].dist_rev;
         path[n - 1].pdf_rev = r;
         ray = spawn(&path[n], sc.wi);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn layout_blocks_do_not_overlap() {
-        let l = Layout::new(8, 6, 2);
-        assert_eq!(l.eye(1), 5);
-        assert_eq!(l.direct(1, 0), 12);
-        assert_eq!(l.direct(1, 1) + 4, l.eye(2));
-        assert_eq!(l.eye(7) + 15, l.light_origin(0));
-        assert_eq!(l.light_vertex(0, 1), l.light_origin(0) + 6);
-        assert_eq!(l.light_vertex(0, 5) + 7, l.light_origin(1));
-        assert_eq!(l.total(2), l.light_origin(2));
     }
 }
