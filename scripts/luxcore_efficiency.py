@@ -8,7 +8,9 @@ variant, rendered by one LuxCore engine and sampler for a fixed wall time (or sp
 The scene is built from ../shared/bench/cornell_scene.py in LuxCore's own scene language, as
 ../shared/bench/luxcore_cornell.py builds it. `--lamp-half H` replaces the ceiling lamp by a
 square of half-side H at the same place and multiplies its radiance by `--lamp-scale` (the
-caustic variant: a small bright lamp whose light reaches the floor through the glass sphere).
+caustic variant: a small bright lamp whose light reaches the floor through the glass sphere);
+`--lamp-cover C` puts a closed glass slab of half-side C under it (faces at z 1.95 and 1.975),
+so that its light reaches the room through glass (the caustic-covered variant).
 Depth is in path segments for both the eye and the light path (`path.maxdepth`,
 `light.maxdepth`), Russian roulette off, a one-pixel box filter (LuxCore's NONE).
 
@@ -35,6 +37,8 @@ ap.add_argument("--threads", type=int, default=0, help="0 = all cores")
 ap.add_argument("--seed", type=int, default=1)
 ap.add_argument("--lamp-half", type=float, default=0, help="0: the benchmark's own lamp")
 ap.add_argument("--lamp-scale", type=float, default=1)
+ap.add_argument("--lamp-cover", type=float, default=0,
+                help="half-side of a glass slab under the lamp (0: none); faces at z 1.95 and 1.975")
 ap.add_argument("--adaptive", action="store_true",
                 help="keep LuxCore's adaptive sampling (default: off, uniform per pixel)")
 ap.add_argument("--out", required=True)
@@ -76,6 +80,13 @@ props = pyluxcore.Properties()
 props.SetFromString("\n".join(lines))
 objs = [(n, m, P, I, None) for n, m, P, I in cs.QUADS]
 objs.append((cs.LAMP[0], "lamp", cs.LAMP[2], cs.LAMP[3], None))
+if a.lamp_cover > 0:
+    c, (z0, z1) = a.lamp_cover, (1.95, 1.975)
+    P = [(-c, -c, z0), (c, -c, z0), (c, c, z0), (-c, c, z0),
+         (-c, -c, z1), (c, -c, z1), (c, c, z1), (-c, c, z1)]
+    I = [(0, 2, 1), (0, 3, 2), (4, 5, 6), (4, 6, 7), (0, 1, 5), (0, 5, 4),
+         (3, 7, 6), (3, 6, 2), (0, 4, 7), (0, 7, 3), (1, 2, 6), (1, 6, 5)]
+    objs.append(("cover", "glass", P, I, None))
 for n, m, center, r in cs.SPHERES:
     P, I, N = cs.sphere_mesh(center, r)
     objs.append((n, m, P, I, N))

@@ -196,3 +196,36 @@ fn a_cloud_region_darkens_what_it_covers() {
     assert!(c[..4].iter().all(|v| (v - 1.0).abs() < 1e-3), "{c:?}");
     assert!(c[4..].iter().any(|v| *v < 0.8), "{c:?}");
 }
+
+/// Past `MAX_REGIONS` region volumes the rest are ignored with a located warning (every ray
+/// is clipped against each region): 256 thin absorbing slabs x in [k/256, (k + 1)/256] darken
+/// the half x > 0, and a 257th box over x < 0 is left out.
+#[test]
+fn regions_past_the_limit_are_ignored_with_a_warning() {
+    assert_eq!(luxfarm::volume::MAX_REGIONS, 256);
+    let mut text = String::new();
+    for k in 0..256 {
+        let (x0, x1) = (k as f32 / 256.0, (k + 1) as f32 / 256.0);
+        text += &format!(
+            "Volume \"homogeneous\" \"point p0\" [{x0} -1 -1] \"point p1\" [{x1} 1 1] \
+             \"color sigma_a\" [1 1 1]\n"
+        );
+    }
+    text += "Volume \"homogeneous\" \"point p0\" [-1 -1 -1] \"point p1\" [0 1 1] \
+             \"color sigma_a\" [1 1 1]\n";
+    let (c, w) = columns_with("emission", &text);
+    let extra = w
+        .iter()
+        .filter(|w| w.contains("more than 256 region volumes"))
+        .collect::<Vec<_>>();
+    assert_eq!(extra.len(), 1, "{w:?}");
+    assert!(extra[0].contains(":267:1"), "{}", extra[0]);
+    // Depth 2 of sigma_a 1 over x > 0; nothing over x < 0.
+    check("the first 256 regions", &c, |i| {
+        if i >= RES as usize / 2 {
+            (-2.0f64).exp()
+        } else {
+            1.0
+        }
+    });
+}

@@ -169,11 +169,12 @@ fn a_second_erpt_lease_on_a_worker_reuses_the_jobs_quantum() {
     });
     assert!(read_log().contains(estimated), "{}", read_log());
     // The worker stalls past the timeout: its lease is over; resumed, it asks again.
-    let signal = |sig: &str| run_ok(Command::new("kill").args([sig, &w.0.id().to_string()]));
-    signal("-STOP");
+    let pid = w.0.id() as libc::pid_t;
+    let signal = |sig: libc::c_int| assert_eq!(unsafe { libc::kill(pid, sig) }, 0);
+    signal(libc::SIGSTOP);
     let v = wait_job(&s, &id, 120, |v| v["active_leases"] == 0);
     assert_eq!(v["active_leases"], 0, "{v}");
-    signal("-CONT");
+    signal(libc::SIGCONT);
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
     while !read_log().contains(reused) && std::time::Instant::now() < deadline {
         std::thread::sleep(std::time::Duration::from_millis(200));

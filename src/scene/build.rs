@@ -106,16 +106,7 @@ impl World {
         if let Some(ms) = media.as_mut() {
             ms.index_lights(&built_lights, lights.len());
         }
-        let (mut lo, mut hi) = geometry.bounds();
-        if let Some(m) = &media {
-            let (rlo, rhi) = m.region_bounds();
-            (lo, hi) = (lo.min(rlo), hi.max(rhi));
-        }
-        let (center, radius) = if lo.cmple(hi).all() {
-            ((lo + hi) * 0.5, (hi - lo).length() * 0.5)
-        } else {
-            (glam::Vec3A::ZERO, 1.0)
-        };
+        let (center, radius) = scene_sphere(geometry.bounds(), media.as_deref());
         for l in lights.iter_mut() {
             l.preprocess(center, radius.max(1e-6));
         }
@@ -278,3 +269,41 @@ fn report_world_unused(desc: &SceneDescription, used: &[usize], w: &mut Vec<Diag
         }
     }
 }
+
+/// The sphere lights at infinity send their light from: around the geometry and the region
+/// volumes' boxes. Region boxes far larger than the geometry (past [`MAX_REGION_REACH`] times
+/// its radius) or not finite are left out, with a log line: the light would start so far out
+/// that its subpaths would rarely meet the scene.
+fn scene_sphere(
+    (lo, hi): (glam::Vec3A, glam::Vec3A),
+    media: Option<&MediaSet>,
+) -> (glam::Vec3A, f32) {
+    let sphere = |lo: glam::Vec3A, hi: glam::Vec3A| {
+        if lo.cmple(hi).all() {
+            ((lo + hi) * 0.5, (hi - lo).length() * 0.5)
+        } else {
+            (glam::Vec3A::ZERO, 1.0)
+        }
+    };
+    let geometry = sphere(lo, hi);
+    let Some(m) = media else {
+        return geometry;
+    };
+    let (rlo, rhi) = m.region_bounds();
+    let (center, radius) = sphere(lo.min(rlo), hi.max(rhi));
+    let reach = MAX_REGION_REACH * geometry.1.max(1.0);
+    if center.is_finite() && radius.is_finite() && radius <= reach {
+        (center, radius)
+    } else {
+        tracing::warn!(
+            radius,
+            "region volumes reach far beyond the geometry: lights at infinity start from the \
+             geometry's bounding sphere"
+        );
+        geometry
+    }
+}
+
+/// How far (in radii of the geometry's bounding sphere, at least 1) the region volumes may
+/// widen the sphere lights at infinity start from.
+const MAX_REGION_REACH: f32 = 1000.0;

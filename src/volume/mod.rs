@@ -499,6 +499,10 @@ fn regions(desc: &SceneDescription) -> impl Iterator<Item = &crate::lxs::VolumeD
 /// coefficients and emission add where they overlap, [`regions`]); `None` when there are
 /// none or none acts on light. The marching step defaults to the VolumeIntegrator's
 /// `stepsize`.
+/// Region volumes rendered at most: every ray is clipped against each of them, so a scene of
+/// thousands would slow every ray (the ones past it are ignored, with a located warning).
+pub const MAX_REGIONS: usize = 256;
+
 fn build_region(
     desc: &SceneDescription,
     textures: &mut TextureSet,
@@ -512,6 +516,19 @@ fn build_region(
         .unwrap_or(1.0);
     let mut built = Vec::new();
     for v in regions(desc).filter(|v| region::is_supported(&v.entity.kind)) {
+        if built.len() >= MAX_REGIONS {
+            warn(
+                warnings,
+                &v.entity.loc,
+                format!(
+                    "Volume \"{}\": more than {MAX_REGIONS} region volumes; this one and later \
+                     ones are ignored (every ray is clipped against each region)",
+                    v.entity.kind
+                ),
+            );
+            report_unused("Volume", &v.entity, warnings);
+            continue;
+        }
         if let Some(r) = Region::build(v, textures, warnings, step)? {
             built.push(r);
         }

@@ -220,7 +220,6 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     let shared = a.shared.clone().unwrap_or_else(crate::support::shared_dir);
     let (w, h, refpx) = load_image(&shared.join("scenes/cornell/luxcore-ref-2048.exr"))
         .map_err(anyhow::Error::msg)?;
-    let w_img = w;
     let reference = Reference {
         w,
         h,
@@ -266,15 +265,15 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     }
     let mut runs: Vec<Vec<Run>> = who.iter().map(|_| Vec::new()).collect();
     for i in 0..a.runs.max(1) {
-        for (k, w) in who.iter().enumerate() {
-            let r = render(w, a.spp, i as u64, &ctx, &overheads)?;
+        for (k, c) in who.iter().enumerate() {
+            let r = render(c, a.spp, i as u64, &ctx, &overheads)?;
             println!(
                 "run {i}: {:<22} {:>9.0} samples/s, {:>9.0} samples/CPU-s",
-                w.label(),
+                c.label(),
                 r.samples_per_sec,
                 r.samples_per_cpu_sec
             );
-            keep(&a, &format!("run{i}"), w, &r, (w_img, h))?;
+            keep(&a, &format!("run{i}"), c, &r, (w, h));
             runs[k].push(r);
         }
     }
@@ -294,7 +293,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
                 s.who.label(),
                 r.seconds
             );
-            keep(&a, "equal-time", &s.who, &r, (w_img, h))?;
+            keep(&a, "equal-time", &s.who, &r, (w, h));
             s.at_budget = Some((rmse, f64::from(spp), r.seconds));
         }
     }
@@ -303,19 +302,25 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Writes a render's image into `--keep`'s directory, if given.
-fn keep(a: &Args, tag: &str, who: &Who, r: &Run, (w, h): (usize, usize)) -> anyhow::Result<()> {
+/// Writes a render's image into `--keep`'s directory, if given, as rendered (luxfarm's rows
+/// sit one row above LuxCore's reference, see `row_shift`); a write that fails is reported
+/// and the benchmark goes on.
+fn keep(a: &Args, tag: &str, who: &Who, r: &Run, (w, h): (usize, usize)) {
     let Some(dir) = &a.keep else {
-        return Ok(());
+        return;
     };
-    std::fs::create_dir_all(dir)?;
     let name: String = who
         .label()
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
         .collect();
     let path = dir.join(format!("{name}-{tag}.exr"));
-    crate::image_metrics::write_rgb_exr(&path, w as u32, h as u32, &r.rgb)
+    let written = std::fs::create_dir_all(dir)
+        .map_err(anyhow::Error::from)
+        .and_then(|()| crate::image_metrics::write_rgb_exr(&path, w as u32, h as u32, &r.rgb));
+    if let Err(e) = written {
+        eprintln!("--keep: {}: {e:#}", path.display());
+    }
 }
 
 fn summarize(who: &Who, runs: &[Run], reference: &Reference) -> Summary {

@@ -56,9 +56,12 @@ impl LuxCore {
         if c.adaptive {
             cmd.arg("--adaptive");
         }
-        if let Variant::Caustic { half, scale } = variant {
+        if let Variant::Caustic { half, scale, cover } = variant {
             cmd.args(["--lamp-half", &half.to_string()])
                 .args(["--lamp-scale", &scale.to_string()]);
+            if cover > 0.0 {
+                cmd.args(["--lamp-cover", &cover.to_string()]);
+            }
         }
         let cpu0 = cpu_seconds(libc::RUSAGE_CHILDREN);
         let o = cmd

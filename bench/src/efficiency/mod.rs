@@ -9,7 +9,11 @@
 //!   the radiance (the same power): the glass sphere throws a caustic onto the floor, and every
 //!   diffuse surface sees the lamp through the glass. A path tracer finds those paths only by
 //!   hitting the small lamp after a specular bounce; light tracing finds them directly;
-//! - `caustic-small`: the same with a 0.04 × 0.04 lamp of 156.25 times the radiance.
+//! - `caustic-small`: the same with a 0.04 × 0.04 lamp of 156.25 times the radiance;
+//! - `caustic-covered`: the `caustic` lamp under a glass slab ([`COVER_Z`], half-side 0.3), so
+//!   all of its light reaches the room through glass (a small light seen through glass, as a
+//!   lamp behind a window pane): shadow rays find the lamp only past the slab's rim, at grazing
+//!   angles that carry under 1 % of its power.
 //!
 //! **Depth** is in path segments (`--maxdepth`, default 16, where the Cornell box's light has
 //! fallen below 10⁻⁴ so every integrator converges to one image): luxfarm's path `maxdepth`
@@ -51,7 +55,7 @@ pub struct Args {
     /// The shared material (default: ../shared beside the repository, else /work/shared).
     #[arg(long)]
     pub shared: Option<PathBuf>,
-    /// Scenes to run, comma-separated (cornell, caustic, caustic-small).
+    /// Scenes to run, comma-separated (cornell, caustic, caustic-small, caustic-covered).
     #[arg(long, default_value = "caustic,cornell", value_delimiter = ',')]
     pub scenes: Vec<String>,
     /// Image width and height in pixels.
@@ -104,11 +108,48 @@ pub struct Args {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Variant {
     Cornell,
-    /// Lamp half-side and radiance factor.
+    /// Lamp half-side and radiance factor, and the half-side of the glass slab under the
+    /// lamp (0: none).
     Caustic {
         half: f64,
         scale: f64,
+        cover: f64,
     },
+}
+
+/// The heights of the bottom and top faces of the `caustic-covered` glass slab (the lamp is
+/// at 1.99, the ceiling at 2).
+pub const COVER_Z: (f64, f64) = (1.95, 1.975);
+
+/// The glass slab of half-side `c`: a closed box, its triangles wound so that every normal
+/// points out, as (vertices, triangle indices).
+pub fn cover_mesh(c: f64) -> ([[f64; 3]; 8], [[u32; 3]; 12]) {
+    let (z0, z1) = COVER_Z;
+    let p = [
+        [-c, -c, z0],
+        [c, -c, z0],
+        [c, c, z0],
+        [-c, c, z0],
+        [-c, -c, z1],
+        [c, -c, z1],
+        [c, c, z1],
+        [-c, c, z1],
+    ];
+    let tris = [
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 6],
+        [4, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [3, 7, 6],
+        [3, 6, 2],
+        [0, 4, 7],
+        [0, 7, 3],
+        [1, 2, 6],
+        [1, 6, 5],
+    ];
+    (p, tris)
 }
 
 /// The caustic variant: a 0.1 × 0.1 lamp (the benchmark's is 0.5 × 0.5) of 25 times the
@@ -116,12 +157,21 @@ pub enum Variant {
 const CAUSTIC: Variant = Variant::Caustic {
     half: 0.05,
     scale: 25.0,
+    cover: 0.0,
+};
+
+/// The caustic lamp under a glass slab of half-side 0.3.
+const CAUSTIC_COVERED: Variant = Variant::Caustic {
+    half: 0.05,
+    scale: 25.0,
+    cover: 0.3,
 };
 
 /// The harder caustic variant: a 0.04 × 0.04 lamp of 156.25 times the radiance.
 const CAUSTIC_SMALL: Variant = Variant::Caustic {
     half: 0.02,
     scale: 156.25,
+    cover: 0.0,
 };
 
 impl Variant {
@@ -130,13 +180,15 @@ impl Variant {
             "cornell" => Ok(Variant::Cornell),
             "caustic" => Ok(CAUSTIC),
             "caustic-small" => Ok(CAUSTIC_SMALL),
-            other => bail!("scene {other:?}: cornell, caustic or caustic-small"),
+            "caustic-covered" => Ok(CAUSTIC_COVERED),
+            other => bail!("scene {other:?}: cornell, caustic, caustic-small or caustic-covered"),
         }
     }
 
     fn name(self) -> &'static str {
         match self {
             Variant::Cornell => "cornell",
+            Variant::Caustic { cover, .. } if cover > 0.0 => "caustic-covered",
             Variant::Caustic { half, .. } if half < 0.05 => "caustic-small",
             Variant::Caustic { .. } => "caustic",
         }
@@ -472,5 +524,37 @@ mod tests {
         ] {
             assert!(Contestant::parse(r, bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn the_cover_is_a_closed_box_with_outward_normals() {
+        let c = 0.3;
+        let (p, tris) = cover_mesh(c);
+        let center = [0.0, 0.0, (COVER_Z.0 + COVER_Z.1) / 2.0];
+        let mut area = 0.0;
+        for t in tris {
+            let [a, b, d] = t.map(|i| p[i as usize]);
+            let (u, v) = (sub(b, a), sub(d, a));
+            let n = [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ];
+            let out = sub(a, center);
+            assert!(n[0] * out[0] + n[1] * out[1] + n[2] * out[2] > 0.0, "{t:?}");
+            area += (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / 2.0;
+        }
+        let h = COVER_Z.1 - COVER_Z.0;
+        let expected = 2.0 * (2.0 * c) * (2.0 * c) + 4.0 * (2.0 * c) * h;
+        assert!((area - expected).abs() < 1e-12, "{area} vs {expected}");
+        assert_eq!(
+            Variant::parse("caustic-covered").unwrap().name(),
+            "caustic-covered"
+        );
+        assert_eq!(Variant::parse("caustic").unwrap().name(), "caustic");
+    }
+
+    fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
     }
 }

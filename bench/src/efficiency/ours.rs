@@ -3,7 +3,7 @@
 //! lines set to the contestant's, rendered in this process pass by pass until the wall-time
 //! budget is spent. Scene building is left out of the timing.
 
-use super::{Contestant, Variant};
+use super::{cover_mesh, Contestant, Variant};
 use crate::cornell::ours::render_until;
 use crate::cornell::Run;
 use anyhow::{bail, Context};
@@ -52,7 +52,7 @@ impl Ours {
                 r#"Film "fleximage" "integer xresolution" [{res}] "integer yresolution" [{res}]"#
             ),
         );
-        if let Variant::Caustic { half, scale } = variant {
+        if let Variant::Caustic { half, scale, cover } = variant {
             let l = [17.0, 12.0, 4.0].map(|c: f64| c * scale);
             text = text.replace(
                 LAMP_L,
@@ -64,6 +64,9 @@ impl Ours {
                 h = half
             );
             text = text.replace(LAMP_P, &p);
+            if cover > 0.0 {
+                text = text.replacen("WorldEnd", &cover_statement(cover), 1);
+            }
         }
         Ok(Ours {
             text,
@@ -118,4 +121,17 @@ impl Ours {
         let base = self.path.parent().unwrap_or(Path::new("."));
         render_until(&desc, base, self.threads, seed, |_, t| t >= budget)
     }
+}
+
+/// The glass slab of half-side `c` ([`cover_mesh`]) as scene statements, then `WorldEnd`.
+fn cover_statement(c: f64) -> String {
+    let (p, tris) = cover_mesh(c);
+    let points: Vec<String> = p.iter().flatten().map(f64::to_string).collect();
+    let indices: Vec<String> = tris.iter().flatten().map(u32::to_string).collect();
+    format!(
+        "AttributeBegin # glass slab under the lamp\n  NamedMaterial \"glass\"\n  \
+         Shape \"trianglemesh\" \"integer indices\" [{}] \"point P\" [{}]\nAttributeEnd\nWorldEnd",
+        indices.join(" "),
+        points.join(" ")
+    )
 }

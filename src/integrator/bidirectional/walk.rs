@@ -47,9 +47,14 @@ enum Start {
     FirstHit,
 }
 
-/// The medium light `index`'s rays start in: the one its statement named (LuxRender 1.x's
-/// exterior volume of a `LightSource`), else found from the first surface they meet.
+/// The medium light `index`'s rays start in: for a light at a finite place, the one its
+/// statement named (LuxRender 1.x's exterior volume of a `LightSource`); else, and for lights
+/// at infinity (whose rays come from outside everything, as the path tracer's shadow rays
+/// find them), the one found from the first surface they meet.
 fn light_start(ctx: &Ctx, index: u32) -> Start {
+    if ctx.light(index).is_some_and(Light::is_infinite) {
+        return Start::FirstHit;
+    }
     match ctx
         .world
         .media()
