@@ -48,9 +48,15 @@ fn light_tracing_matches_path_at_the_image_border() {
          SurfaceIntegrator \"bidirectional\" \"integer eyedepth\" [1] \"integer lightdepth\" [4]",
     );
     let (p, l) = (scene_text(&path, &here), scene_text(&light, &here));
-    let rp = runs(&p, &here, 0, 6, 2, 4);
-    let rl = runs(&l, &here, 100, 6, 2, 4);
-    assert_agree("border light/path", &rp, &rl, 4.0, 0.0);
+    // The path tracer's blocks on the wall under the panel (its light sampled by area from
+    // points a hand's width away) are heavy-tailed: their means come out a few percent low
+    // in most realizations, with a spread that a handful of runs underestimates (|z| 6.3 on
+    // one block at six runs of 16 samples; still 2.6-3.2 at ten runs of 32, with either way
+    // of picking the panel's triangle). Ten runs of 32 samples a pixel, and 3 % of a block's
+    // mean allowed beside its noise: the border loss this test guards against is 37.5 %.
+    let rp = runs(&p, &here, 0, 10, 4, 4);
+    let rl = runs(&l, &here, 100, 10, 4, 4);
+    assert_agree("border light/path", &rp, &rl, 4.0, 0.03);
 }
 
 /// The same room with a second emitting panel on the far wall, facing the camera and in
