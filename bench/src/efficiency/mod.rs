@@ -301,7 +301,11 @@ fn contestants(a: &Args, lc: &LuxCore) -> anyhow::Result<Vec<Contestant>> {
     for s in a.luxfarm.iter().filter(|s| !s.is_empty()) {
         v.push(Contestant::parse(Renderer::Luxfarm, s)?);
     }
-    let wanted: Vec<&String> = a.luxcore.iter().filter(|s| !s.is_empty()).collect();
+    let wanted: Vec<&String> = a
+        .luxcore
+        .iter()
+        .filter(|s| !s.is_empty() && !s.eq_ignore_ascii_case("none"))
+        .collect();
     if !wanted.is_empty() && !lc.available() {
         println!("LuxCore: pyluxcore not found, left out");
         return Ok(v);
