@@ -19,6 +19,24 @@ fn is_finite_number(v: &Value) -> bool {
     v.as_f64().is_some_and(f64::is_finite)
 }
 
+/// The least-squares slope of ln(estimate) against ln(secs) over the last 24 points of a
+/// history (the points the server's projection fits).
+fn recent_log_slope(h: &[Value]) -> f64 {
+    let xy: Vec<(f64, f64)> = h
+        .iter()
+        .filter_map(|p| Some((p["secs"].as_f64()?, p["estimate"].as_f64()?)))
+        .filter(|(t, v)| *t > 0.0 && *v > 0.0)
+        .map(|(t, v)| (t.ln(), v.ln()))
+        .collect();
+    let xy = &xy[xy.len().saturating_sub(24)..];
+    let n = xy.len() as f64;
+    let mx = xy.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = xy.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = xy.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = xy.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    sxy / sxx
+}
+
 /// IHDR width and height of a PNG.
 fn png_size(b: &[u8]) -> (u32, u32) {
     assert_eq!(b.get(1..4), Some(&b"PNG"[..]), "not a PNG");
@@ -105,12 +123,27 @@ fn a_jobs_error_history_grows_projects_and_survives_a_restart() {
     assert!(is_finite_number(&tp["at_secs"]), "{tp}");
     let p = &t["target_projection"];
     assert_eq!(p["metric"], "relative_error", "{p}");
-    assert_eq!(p["status"], "projected", "{t}");
-    let last = h[h.len() - 1]["secs"].as_f64().unwrap();
-    let at = p["at_secs"].as_f64().unwrap();
-    assert!(at.is_finite() && at > last, "{p}");
-    assert!(is_finite_number(&p["remaining_secs"]), "{p}");
-    assert!(p["fit"]["exponent"].as_f64() < Some(0.0), "{p}");
+    // The projection fits the most recent points. A firefly late in the render can make the
+    // relative error rise over them (seen in CI: 1.95 → 2.82 → 3.81 within the last 24
+    // points); then the honest answer is "no_trend". The test checks the server's choice
+    // against its own least-squares slope of the recent points, and the projected time when
+    // the error falls.
+    let slope = recent_log_slope(&h);
+    if slope >= -0.02 {
+        assert_eq!(p["status"], "no_trend", "slope {slope}: {t}");
+    } else {
+        assert!(
+            p["status"] == "projected" || p["status"] == "noisy",
+            "slope {slope}: {t}"
+        );
+    }
+    if p["status"] == "projected" {
+        let last = h[h.len() - 1]["secs"].as_f64().unwrap();
+        let at = p["at_secs"].as_f64().unwrap();
+        assert!(at.is_finite() && at > last, "{p}");
+        assert!(is_finite_number(&p["remaining_secs"]), "{p}");
+        assert!(p["fit"]["exponent"].as_f64() < Some(0.0), "{p}");
+    }
     eprintln!("{} points; to relative error 0.01: {p}", h.len());
 
     // A target above the latest estimate is reached; bad targets are JSON 400s.
