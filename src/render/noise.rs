@@ -3,7 +3,8 @@
 //!
 //! ```text
 //! film --every convergencestep spp: tonemap_display--> ConvergenceTest (crate::halt)
-//!   --per-pixel noise (from the second test on)--> SamplingMap::from_noise --> session / wire
+//!   --per-pixel noise (from the second test on)--> memory: max(noise, remembered × 0.85)
+//!   --> SamplingMap::from_noise --> session / wire
 //! ```
 //!
 //! The map is rebuilt whenever the film's spp has grown by `convergencestep` (the Film
@@ -12,11 +13,21 @@
 //! N = ceil(convergencestep / pixelsamples) passes (8 passes with the defaults), the first
 //! map after the second test (the first only gives the test its reference image). Until then
 //! sampling is uniform.
+//!
+//! The map is built from a memory of the tests, not from the last one alone: a pixel that
+//! changed visibly keeps its noise, fading by [`MEMORY_DECAY`] a test, so a pixel lit by
+//! rare paths is not taken for converged the first time a test finds it quiet (the bias
+//! this avoids is explained in `crate::sampler::map`).
 
 use crate::film::Film;
 use crate::halt::{ConvergenceTest, YeeParams};
-use crate::sampler::map::SamplingMap;
+use crate::sampler::map::{SamplingMap, NOISE_CAP};
 use crate::tonemap::{tonemap_display, TonemapParams};
+
+/// How much of a pixel's remembered noise is left one test later: a pixel that changed
+/// visibly keeps a raised density for a while (noise 16 fades to 1 in 17 tests) instead of
+/// dropping back the moment one test finds it unchanged.
+pub const MEMORY_DECAY: f32 = 0.85;
 
 /// The running convergence test behind a sampling map, and when it is next due.
 #[derive(Clone, Debug)]
@@ -26,6 +37,8 @@ pub struct MapBuilder {
     last_spp: f64,
     tests: u64,
     version: u64,
+    /// Per pixel, the noise the map was last built from, fading by [`MEMORY_DECAY`] a test.
+    memory: Vec<f32>,
 }
 
 impl MapBuilder {
@@ -41,6 +54,7 @@ impl MapBuilder {
             last_spp: 0.0,
             tests: 0,
             version: 0,
+            memory: Vec::new(),
         }
     }
 
@@ -58,7 +72,8 @@ impl MapBuilder {
         if self.tests < 2 {
             return None;
         }
-        let map = SamplingMap::from_noise(self.test.noise_map(), film.width(), film.height());
+        self.remember();
+        let map = SamplingMap::from_noise(&self.memory, film.width(), film.height());
         match map {
             Ok(m) => {
                 self.version += 1;
@@ -68,6 +83,26 @@ impl MapBuilder {
                 tracing::warn!("no sampling map: {e}");
                 None
             }
+        }
+    }
+
+    /// Folds the last test's noise into the memory: each pixel keeps the larger of its new
+    /// noise and its remembered noise faded by [`MEMORY_DECAY`].
+    fn remember(&mut self) {
+        let noise = self.test.noise_map();
+        let capped = noise.iter().map(|v| {
+            if v.is_nan() {
+                NOISE_CAP
+            } else {
+                v.clamp(0.0, NOISE_CAP)
+            }
+        });
+        if self.memory.len() != noise.len() {
+            self.memory = capped.collect();
+            return;
+        }
+        for (m, n) in self.memory.iter_mut().zip(capped) {
+            *m = n.max(*m * MEMORY_DECAY);
         }
     }
 
@@ -97,6 +132,43 @@ mod tests {
         }
         f.add_sample_count(f64::from(w * h) * 4.0 * f64::from(round + 1));
         f
+    }
+
+    /// A film of uniform grey with one pixel's value set.
+    fn film_with(w: u32, h: u32, at: (u32, u32), v: f32, spp: f64) -> Film {
+        let mut f = Film::new(w, h, vec![]);
+        for y in 0..h {
+            for x in 0..w {
+                let c = if (x, y) == at { v } else { 0.3 };
+                f.add_splat(0, x, y, [c, c, c], 1.0, 1.0);
+            }
+        }
+        f.add_sample_count(f64::from(w * h) * spp);
+        f
+    }
+
+    #[test]
+    fn a_pixels_noise_fades_over_tests_instead_of_vanishing() {
+        let tm = TonemapParams::default();
+        let mut b = MapBuilder::new(4.0);
+        let (w, h) = (40, 40);
+        b.update(&film_with(w, h, (20, 20), 0.3, 4.0), &tm);
+        // The pixel changes once ...
+        let changed = b.update(&film_with(w, h, (20, 20), 0.9, 8.0), &tm).unwrap();
+        let peak = changed.density(20, 20);
+        assert!(peak > 2.0, "{peak}");
+        // ... then holds still: its density stays raised, falling test by test.
+        let mut last = peak;
+        for k in 0..3 {
+            let m = b.update(
+                &film_with(w, h, (20, 20), 0.9, 12.0 + 4.0 * f64::from(k)),
+                &tm,
+            );
+            let d = m.unwrap().density(20, 20);
+            assert!(d > 1.5, "test {k}: {d}");
+            assert!(d <= last * 1.0001, "test {k}: {d} after {last}");
+            last = d;
+        }
     }
 
     #[test]
