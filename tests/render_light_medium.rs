@@ -6,6 +6,9 @@
 //! about it — and so agree with the path tracer, whose shadow rays run from the square
 //! through the fog to the light.
 //!
+//! The same holds for an area light whose shape is declared with `Exterior "fog"`: its rays
+//! leave into the shape's exterior.
+//!
 //! The square is flat and nothing else scatters, so both integrators render the same set of
 //! paths (light → square → camera) at any depth. Block means of independent runs are
 //! compared with z-scores as in `transport_bidir.rs`.
@@ -76,4 +79,27 @@ fn a_sunsky_ahead_keeps_the_point_light_in_its_medium() {
     let rp = block_runs(&scene_with(PATH, exterior, sunsky), 0, 10);
     let rb = block_runs(&scene_with(BIDIR, exterior, sunsky), 100, 10);
     assert_agree("sunsky and light in fog bidir/path", &rp, &rb, 4.0, 0.0);
+}
+
+/// A small downward-facing area lamp in place of the point light, its shape declared with
+/// `Exterior "fog"`: its light subpaths start in the fog, as the path tracer's shadow rays
+/// find it.
+#[test]
+fn an_area_light_starts_its_subpaths_in_its_shapes_exterior() {
+    let lamp = |setup: &str| {
+        scene(setup, "").replace(
+            "LightSource \"point\" \"point from\" [0 0 0.3] \"color L\" [2 2 2]",
+            "Exterior \"fog\"\nAreaLightSource \"area\" \"color L\" [12 12 12]\n\
+             Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" \
+             [-0.1 -0.1 0.3  -0.1 0.1 0.3  0.1 0.1 0.3  0.1 -0.1 0.3]",
+        )
+    };
+    let (path, bidir) = (lamp(PATH), lamp(BIDIR));
+    assert!(
+        bidir.contains("AreaLightSource"),
+        "the lamp replaced the point light"
+    );
+    let rp = block_runs(&path, 0, 6);
+    let rb = block_runs(&bidir, 100, 6);
+    assert_agree("area light in fog bidir/path", &rp, &rb, 4.0, 0.0);
 }

@@ -88,6 +88,7 @@ impl World {
         }
         portals::attach(desc, &ctx, &built_lights, &mut lights, warnings);
         let mut emitters = Vec::new();
+        let mut area_prims = Vec::with_capacity(built.pending.len());
         for pa in &built.pending {
             let area = geometry.prepare_sampling(pa.shape);
             let light = Light::build_area(
@@ -101,10 +102,11 @@ impl World {
             if let Some(pi) = prims.get_mut(pa.prim as usize) {
                 pi.light = Some(lights.len());
             }
+            area_prims.push((lights.len(), pa.prim));
             lights.push(light);
         }
         if let Some(ms) = media.as_mut() {
-            ms.index_lights(&built_lights, lights.len());
+            ms.index_lights(&built_lights, lights.len(), &area_prims);
         }
         let (center, radius) = scene_sphere(geometry.bounds(), media.as_deref());
         for l in lights.iter_mut() {

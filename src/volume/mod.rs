@@ -324,7 +324,8 @@ pub struct MediaSet {
     /// Per light (the scene description's lights, then per built light after
     /// [`Self::index_lights`]): the medium its rays start in, when its `LightSource` statement
     /// had an `Exterior` in effect (LuxRender 1.x gives a light the exterior volume current
-    /// at its statement); `None` when it had none.
+    /// at its statement), or, for an area light, its shape's exterior when the shape is a
+    /// medium boundary; `None` otherwise.
     light_start: Vec<Option<Option<MediumId>>>,
     /// Whether some medium scatters.
     pub scatters: bool,
@@ -431,13 +432,26 @@ impl MediaSet {
     }
 
     /// Re-indexes the lights' start media from the scene description's lights to the built
-    /// lights: `built[i]` are the built lights of description light i (a sunsky is two), and
-    /// the `count - …` lights after them (area lights) have no start medium of their own.
-    pub fn index_lights(&mut self, built: &[std::ops::Range<usize>], count: usize) {
+    /// lights: `built[i]` are the built lights of description light i (a sunsky is two).
+    /// `areas` are the area lights, as (built light, primitive it emits from): an area light
+    /// on a medium boundary starts its rays in the boundary's exterior, the side its emission
+    /// leaves by (LuxRender 1.x takes a light path's first medium from the emitting
+    /// primitive's volumes); one on a plain surface has no start medium of its own.
+    pub fn index_lights(
+        &mut self,
+        built: &[std::ops::Range<usize>],
+        count: usize,
+        areas: &[(usize, u32)],
+    ) {
         let mut per_light = vec![None; count];
         for (range, start) in built.iter().zip(&self.light_start) {
             for i in range.clone().filter(|&i| i < count) {
                 per_light[i] = *start;
+            }
+        }
+        for &(light, prim) in areas {
+            if let (Some(slot), Some(b)) = (per_light.get_mut(light), self.boundary(prim)) {
+                *slot = Some(b.exterior);
             }
         }
         self.light_start = per_light;

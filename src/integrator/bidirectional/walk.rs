@@ -40,15 +40,16 @@ const EXTRA_PIECES: u32 = 1 << 24;
 #[derive(Clone, Copy, Debug)]
 enum Start {
     Known(Option<MediumId>),
-    /// A light's ray whose light names no medium (an area light, or a `LightSource` with no
-    /// `Exterior` in effect): the one on the arriving side of the first surface it meets when
+    /// A light's ray whose light names no medium (an area light on a surface that is no
+    /// medium boundary, or a `LightSource` with no `Exterior` in effect): the one on the arriving side of the first surface it meets when
     /// that is a medium boundary, else the camera's (the scene's outer medium, as LuxBlend's
     /// "world").
     FirstHit,
 }
 
 /// The medium light `index`'s rays start in: for a light at a finite place, the one its
-/// statement named (LuxRender 1.x's exterior volume of a `LightSource`); else, and for lights
+/// statement named (LuxRender 1.x's exterior volume of a `LightSource`, or of an area light's
+/// shape); else, and for lights
 /// at infinity (whose rays come from outside everything, as the path tracer's shadow rays
 /// find them), the one found from the first surface they meet.
 fn light_start(ctx: &Ctx, index: u32) -> Start {
