@@ -53,6 +53,7 @@
 //! ([`super::map_warp`]) and every contribution is divided by it (`crate::render::mlt`).
 
 use super::hash::{combine, pixel_key, unit_f32};
+use super::map_filter::{blur3, dilate};
 
 /// The least density of a pixel, as a fraction of the average.
 pub const MAP_FLOOR: f32 = 0.1;
@@ -115,55 +116,6 @@ fn check_values(v: &[f32]) -> Result<(), MapError> {
         }),
         None => Ok(()),
     }
-}
-
-/// Each pixel raised to the largest value within `r` pixels of it (a square window; a
-/// separable maximum, rows then columns).
-fn dilate(v: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
-    let window_max = |get: &dyn Fn(usize) -> f32, i: usize, n: usize| -> f32 {
-        (i.saturating_sub(r)..(i + r + 1).min(n))
-            .map(get)
-            .fold(0.0, f32::max)
-    };
-    let mut rows = vec![0.0; v.len()];
-    for y in 0..h {
-        for x in 0..w {
-            let get = |xx: usize| v.get(y * w + xx).copied().unwrap_or(0.0);
-            if let Some(o) = rows.get_mut(y * w + x) {
-                *o = window_max(&get, x, w);
-            }
-        }
-    }
-    let mut out = vec![0.0; v.len()];
-    for y in 0..h {
-        for x in 0..w {
-            let get = |yy: usize| rows.get(yy * w + x).copied().unwrap_or(0.0);
-            if let Some(o) = out.get_mut(y * w + x) {
-                *o = window_max(&get, y, h);
-            }
-        }
-    }
-    out
-}
-
-/// A 3x3 box blur (borders average the pixels inside).
-fn blur3(v: &[f32], w: usize, h: usize) -> Vec<f32> {
-    let mut out = vec![0.0; v.len()];
-    for y in 0..h {
-        for x in 0..w {
-            let (mut s, mut n) = (0.0f64, 0u32);
-            for yy in y.saturating_sub(1)..(y + 2).min(h) {
-                for xx in x.saturating_sub(1)..(x + 2).min(w) {
-                    s += f64::from(v.get(yy * w + xx).copied().unwrap_or(0.0));
-                    n += 1;
-                }
-            }
-            if let Some(o) = out.get_mut(y * w + x) {
-                *o = (s / f64::from(n.max(1))) as f32;
-            }
-        }
-    }
-    out
 }
 
 impl SamplingMap {
@@ -454,30 +406,6 @@ mod tests {
         // first test (inf everywhere): uniform too
         let u = SamplingMap::from_noise(&vec![f32::INFINITY; 128], 16, 8).unwrap();
         assert!(u.densities().iter().all(|d| (*d - 1.0).abs() < 1e-5));
-    }
-
-    #[test]
-    fn dilation_raises_each_pixel_to_its_windows_maximum() {
-        // One noisy pixel at (5, 3) on a 12 x 7 map; radius 2 spreads it to a 5 x 5 square,
-        // clipped at the border.
-        let (w, h) = (12usize, 7usize);
-        let mut v = vec![0.0f32; w * h];
-        v[3 * w + 5] = 3.0;
-        v[0] = 1.0;
-        let d = dilate(&v, w, h, 2);
-        for y in 0..h {
-            for x in 0..w {
-                let want = if x.abs_diff(5) <= 2 && y.abs_diff(3) <= 2 {
-                    3.0
-                } else if x <= 2 && y <= 2 {
-                    1.0
-                } else {
-                    0.0
-                };
-                assert_eq!(d[y * w + x], want, "({x}, {y})");
-            }
-        }
-        assert_eq!(dilate(&v, w, h, 0), v);
     }
 
     #[test]

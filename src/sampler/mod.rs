@@ -43,6 +43,7 @@ pub mod erpt;
 mod hash;
 mod lowdiscrepancy;
 pub mod map;
+mod map_filter;
 pub mod map_warp;
 pub mod metropolis;
 mod random;
