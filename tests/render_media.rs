@@ -162,18 +162,34 @@ fn emission_integrator_only_attenuates() {
 
 #[test]
 fn vacuum_media_render_as_no_media() {
-    let world = r#"MakeNamedVolume "world" "clear" "float fresnel" [1] "color absorption" [0 0 0]"#;
-    let with = scene(
-        r#"VolumeIntegrator "multi""#,
-        world,
-        r#"Exterior "world""#,
-        2,
-    );
+    // Clear, homogeneous, heterogeneous and exponential media whose coefficients are all
+    // zero: no medium is built, so not even the marching of the last two costs anything.
+    let vacua = [
+        r#""clear" "float fresnel" [1] "color absorption" [0 0 0]"#,
+        r#""homogeneous" "color sigma_a" [0 0 0] "color sigma_s" [0 0 0]"#,
+        r#""heterogeneous" "color sigma_a" [0 0 0] "color sigma_s" [0 0 0] "float stepsize" [0.05]"#,
+        r#""exponential" "color sigma_a" [0 0 0] "color sigma_s" [0 0 0] "float stepsize" [0.05]"#,
+    ];
     let without = scene("", "", "", 2);
-    let (a, wa) = render_mean(&with);
     let (b, _) = render_mean(&without);
-    assert_eq!(a, b);
-    assert!(wa.is_empty(), "{wa:?}");
+    for v in vacua {
+        let world = format!(r#"MakeNamedVolume "world" {v}"#);
+        let with = scene(
+            r#"VolumeIntegrator "multi""#,
+            &world,
+            r#"Exterior "world""#,
+            2,
+        );
+        let (a, wa) = render_mean(&with);
+        assert_eq!(a, b, "{v}");
+        assert!(wa.is_empty(), "{v}: {wa:?}");
+        let r = Renderable::build(
+            &parse_text(&with, Path::new("/tmp/vacuum.lxs")),
+            Path::new("/tmp"),
+        )
+        .expect("builds");
+        assert!(r.world.media().is_none(), "{v}: a medium was built");
+    }
 }
 
 #[test]

@@ -50,7 +50,7 @@ impl std::ops::Add for Coeffs {
     }
 }
 
-/// A scalar density in space (≥ 0 and finite wherever it is evaluated).
+/// A scalar density in space (≥ 0 and at most [`DENSITY_CAP`] wherever it is evaluated).
 #[derive(Debug)]
 pub enum Field {
     /// a·e^(-b·h), h = (p - origin)·up.
@@ -74,11 +74,22 @@ impl Field {
             Field::Grid(g) => g.density(p),
             Field::Cloud(c) => c.density(p),
         };
-        if d.is_finite() {
-            d.max(0.0)
-        } else {
-            0.0
-        }
+        clean_density(d)
+    }
+}
+
+/// Densities past this count as this: dense enough to stop any ray within a step, and far
+/// from overflowing when multiplied by a coefficient or a step.
+pub const DENSITY_CAP: f32 = 1e30;
+
+/// A density or coefficient as the marcher can use it: NaN and negative values are 0, and
+/// values past [`DENSITY_CAP`] (an exponential's overflow deep below its origin: +inf) are
+/// the cap, so an overflowing medium stays opaque instead of vanishing.
+fn clean_density(d: f32) -> f32 {
+    if d.is_nan() {
+        0.0
+    } else {
+        d.clamp(0.0, DENSITY_CAP)
     }
 }
 
@@ -95,6 +106,27 @@ pub enum Density {
 }
 
 impl Density {
+    /// Whether the field neither attenuates nor emits anywhere: every coefficient is zero
+    /// (constant black textures, or black constants whatever the field).
+    pub fn is_vacuum(&self) -> bool {
+        match self {
+            Density::Textures { sigma_a, sigma_s } => {
+                is_black_const(sigma_a) && is_black_const(sigma_s)
+            }
+            Density::Scaled { c, .. } => {
+                c.sigma_a.is_black() && c.sigma_s.is_black() && c.le.is_black()
+            }
+        }
+    }
+
+    /// Whether the field can scatter light somewhere.
+    pub fn scatters(&self) -> bool {
+        match self {
+            Density::Textures { sigma_s, .. } => !is_black_const(sigma_s),
+            Density::Scaled { c, .. } => !c.sigma_s.is_black(),
+        }
+    }
+
     /// (sigma_a, sigma_s) at world point `p`.
     fn at(&self, p: Vec3A) -> (Rgb, Rgb) {
         let c = self.coeffs(p);
@@ -112,7 +144,7 @@ impl Density {
                     },
                     ..SurfaceInteraction::default()
                 };
-                let clean = |c: Rgb| c.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+                let clean = |c: Rgb| c.map(clean_density);
                 Coeffs {
                     sigma_a: clean(sigma_a.eval(&si)),
                     sigma_s: clean(sigma_s.eval(&si)),
@@ -129,6 +161,11 @@ impl Density {
             }
         }
     }
+}
+
+/// Whether a colour texture is the constant black.
+fn is_black_const(t: &ColorTex) -> bool {
+    t.as_const().is_some_and(|c| c.is_black())
 }
 
 #[derive(Debug)]
@@ -233,5 +270,29 @@ impl Heterogeneous {
             tau += st * h;
         }
         pass(tau)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_overflowing_density_stays_opaque_and_nan_is_empty() {
+        // a·exp(-b·h) overflows f32 far below the origin: the medium is densest there.
+        let f = Field::Exponential {
+            a: 1.0,
+            b: 2.0,
+            up: Vec3A::Z,
+            origin: Vec3A::ZERO,
+        };
+        assert_eq!(f.at(Vec3A::new(0.0, 0.0, -100.0)), DENSITY_CAP);
+        assert!((f.at(Vec3A::ZERO) - 1.0).abs() < 1e-6);
+        assert_eq!(f.at(Vec3A::new(0.0, 0.0, 100.0)), 0.0);
+        assert_eq!(clean_density(f32::NAN), 0.0);
+        assert_eq!(clean_density(-3.0), 0.0);
+        assert_eq!(clean_density(f32::INFINITY), DENSITY_CAP);
+        // capped coefficients times a step stay finite
+        assert!((DENSITY_CAP * 1e6 * 10.0).is_finite());
     }
 }

@@ -123,7 +123,7 @@ impl Medium {
         match self {
             Medium::Clear(c) => c.absorption.is_black(),
             Medium::Homogeneous(h) => h.sigma_a.is_black() && h.sigma_s.is_black(),
-            Medium::Marched(_) => false,
+            Medium::Marched(m) => m.density.is_vacuum(),
             // Regions::new keeps only regions that attenuate or emit.
             Medium::Region(_) => false,
         }
@@ -134,7 +134,7 @@ impl Medium {
         match self {
             Medium::Clear(_) => false,
             Medium::Homogeneous(h) => !h.sigma_s.is_black(),
-            Medium::Marched(_) => true,
+            Medium::Marched(m) => m.density.scatters(),
             Medium::Region(r) => r.scatters(),
         }
     }

@@ -152,13 +152,13 @@ impl Region {
         }
     }
 
-    /// Whether the region neither attenuates nor emits (a homogeneous one with all zero).
+    /// Whether the region neither attenuates nor emits (all its coefficients zero).
     pub fn is_vacuum(&self) -> bool {
         match &self.inner {
             Inner::Uniform { c, .. } => {
                 c.sigma_a.is_black() && c.sigma_s.is_black() && c.le.is_black()
             }
-            Inner::Marched(_) => false,
+            Inner::Marched(h) => h.density.is_vacuum(),
         }
     }
 
@@ -166,10 +166,7 @@ impl Region {
     pub fn scatters(&self) -> bool {
         match &self.inner {
             Inner::Uniform { c, .. } => !c.sigma_s.is_black(),
-            Inner::Marched(h) => match &h.density {
-                Density::Scaled { c, .. } => !c.sigma_s.is_black(),
-                Density::Textures { .. } => true,
-            },
+            Inner::Marched(h) => h.density.scatters(),
         }
     }
 

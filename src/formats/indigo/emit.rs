@@ -13,7 +13,8 @@
 //! WorldEnd
 //! ```
 //!
-//! Shapes that emit stay world shapes (LuxRender has no area lights inside objects), and so
+//! Shapes that emit stay world shapes (one emitter per placement, as an instanced area light
+//! of LuxRender 1.x would be anyway), and so
 //! do models with emission scales or IES profiles; everything else placed twice is instanced,
 //! so a scene of thousands of placements of a few meshes holds each mesh once.
 
