@@ -3,8 +3,9 @@
 //!
 //! - [`Film`]: f64 sums per light group and pixel, f64 sample counts ([`buffer`]).
 //! - [`FilmParams`]: the `Film "fleximage"` statement with LuxRender's defaults ([`params`]);
-//!   its imaging settings ([`imaging`]: tonemapping, colour space, light groups) and its image
-//!   outputs' settings ([`image_output`]) are plain data here.
+//!   its imaging settings ([`imaging`]: tonemapping, colour space, light groups; read from the
+//!   statement by `imaging_params.rs`) and its image outputs' settings ([`image_output`]) are
+//!   plain data here.
 //! - [`response`]: the `cameraresponse` curves, CRF files or LuxRender's built-in film
 //!   presets ([`crf_presets`]).
 //! - [`flm`], [`flm_header`]: LuxRender's film file; [`compare`](mod@compare): luxcomp's metrics;
@@ -22,6 +23,7 @@ pub mod effects;
 pub mod error;
 pub mod image_output;
 pub mod imaging;
+mod imaging_params;
 pub mod outlier;
 pub mod params;
 pub mod response;

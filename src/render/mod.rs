@@ -1,7 +1,8 @@
 //! Render sessions: the frame is cut into tiles rendered in parallel (rayon) into per-tile
 //! films, merged into the session film in fixed tile order, so the result depends only on
 //! (seed, stream, pass index) — never on the thread count. Every sample's randomness comes
-//! from the sampler keyed by (seed, stream, pixel, sample index).
+//! from the sampler keyed by (seed, stream, pixel, sample index). This file holds the session,
+//! its maps and its film; `pass.rs` renders a pass.
 //!
 //! Samples whose XYZ is NaN/Inf or whose Y is negative are discarded and counted, never
 //! splatted (LuxRender's rule).
@@ -39,6 +40,7 @@ pub mod erpt;
 pub mod extent;
 pub mod mlt;
 pub mod noise;
+mod pass;
 pub mod setup;
 mod tile;
 pub mod usermap;
@@ -47,9 +49,8 @@ use crate::film::{BufferType, Film, FilmParams, ZBuffer};
 use crate::lxs::SceneDescription;
 use crate::sampler::map::{MapError, SamplingMap};
 use setup::{Renderable, SetupError};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
-use std::time::Instant;
 
 pub use buffers::film_buffers;
 pub use extent::SampleExtent;
@@ -361,140 +362,6 @@ impl Session {
         self.cancel.clone()
     }
 
-    /// Renders one more pass of `pixelsamples` samples over every pixel of the sample extent
-    /// ([`extent`]) into the film.
-    pub fn render_pass(&mut self) -> PassStats {
-        if self.mlt.is_some() {
-            return self.render_pass_mlt();
-        }
-        if self.erpt.is_some() {
-            return self.render_pass_erpt();
-        }
-        if self.scene.setup.integrator.splats() {
-            return self.render_pass_splatting();
-        }
-        use rayon::prelude::*;
-        let start = Instant::now();
-        let scene = &*self.scene;
-        let fp = &scene.setup.film_params;
-        let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
-        let (buffers, map) = (self.buffers.clone(), self.map.clone());
-        let ctx = self.pass_ctx(&buffers, map.as_deref());
-        let cancel = &self.cancel;
-        let results: Vec<Option<tile::TileOut>> = self.pool.install(|| {
-            list.par_iter()
-                .map(|t| {
-                    if cancel.load(Ordering::Relaxed) {
-                        return None;
-                    }
-                    Some(tile::render_tile(scene, t, &ctx))
-                })
-                .collect()
-        });
-        if results.iter().any(Option::is_none) {
-            return PassStats {
-                seconds: start.elapsed().as_secs_f64(),
-                ..Default::default()
-            };
-        }
-        let (mut rejected, mut outliers, mut samples) = (0, 0, 0);
-        for r in results.into_iter().flatten() {
-            let (t, d) = (r.tile, r.discarded);
-            samples += r.samples;
-            // Layouts match by construction; an error here would be a bug, not input.
-            if let Err(e) = self.film.merge_at(&r.film, t.fx0, t.fy0) {
-                tracing::error!("tile merge failed: {e}");
-            }
-            if let (Some(z), Some(tz)) = (self.depth.as_mut(), r.depth.as_ref()) {
-                z.merge_at(tz, t.fx0, t.fy0);
-            }
-            rejected += d.invalid;
-            outliers += d.outliers;
-        }
-        self.finish_pass(start, samples, rejected, outliers)
-    }
-
-    /// What the tiles of the next pass share (borrowing only the buffer layout and the map,
-    /// so the pass can still write the depth buffer).
-    fn pass_ctx<'a>(
-        &self,
-        buffers: &'a [BufferType],
-        map: Option<&'a SamplingMap>,
-    ) -> tile::PassCtx<'a> {
-        tile::PassCtx {
-            pass: self.pass,
-            spp: self.scene.setup.sampler.pixel_samples().max(1),
-            seed: self.opts.seed,
-            stream: self.opts.stream,
-            buffers,
-            extent: self.scene.setup.sample_extent(),
-            map,
-            depth: self.depth.is_some(),
-        }
-    }
-
-    /// A pass of an integrator with splats: tiles in fixed batches, each batch's tile films
-    /// and then its splats (tile order) added to a pass film, merged into the session film
-    /// once the pass is complete.
-    fn render_pass_splatting(&mut self) -> PassStats {
-        use rayon::prelude::*;
-        let start = Instant::now();
-        let scene = &*self.scene;
-        let fp = &scene.setup.film_params;
-        let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
-        let (buffers, map) = (self.buffers.clone(), self.map.clone());
-        let ctx = self.pass_ctx(&buffers, map.as_deref());
-        let cancel = &self.cancel;
-        let mut pass_film = self.film.clone();
-        pass_film.clear();
-        let origin = [fp.x_pixel_start, fp.y_pixel_start];
-        // Each sample's light path lands per screen: scaled as the extent's samples are.
-        let splat_scale = ctx.extent.per_screen_scale();
-        let (mut rejected, mut outliers, mut samples) = (0, 0, 0);
-        for batch in list.chunks(SPLAT_BATCH) {
-            let results: Vec<Option<tile::TileOut>> = self.pool.install(|| {
-                batch
-                    .par_iter()
-                    .map(|t| {
-                        if cancel.load(Ordering::Relaxed) {
-                            return None;
-                        }
-                        Some(tile::render_tile(scene, t, &ctx))
-                    })
-                    .collect()
-            });
-            if results.iter().any(Option::is_none) {
-                return PassStats {
-                    seconds: start.elapsed().as_secs_f64(),
-                    ..Default::default()
-                };
-            }
-            for r in results.into_iter().flatten() {
-                samples += r.samples;
-                if let Err(e) = pass_film.merge_at(&r.film, r.tile.fx0, r.tile.fy0) {
-                    tracing::error!("tile merge failed: {e}");
-                }
-                if let (Some(z), Some(tz)) = (self.depth.as_mut(), r.depth.as_ref()) {
-                    z.merge_at(tz, r.tile.fx0, r.tile.fy0);
-                }
-                rejected += r.discarded.invalid
-                    + buffers::apply_splats(
-                        &mut pass_film,
-                        buffers::LIGHT_BUFFER,
-                        &scene.setup.filter,
-                        origin,
-                        &r.splats,
-                        splat_scale,
-                    );
-                outliers += r.discarded.outliers;
-            }
-        }
-        if let Err(e) = self.film.merge(&pass_film) {
-            tracing::error!("pass merge failed: {e}");
-        }
-        self.finish_pass(start, samples, rejected, outliers)
-    }
-
     /// Acceptance statistics of the metropolis or erpt chains (`None` for other samplers).
     pub fn chain_stats(&self) -> Option<mlt::ChainStats> {
         self.mlt
@@ -514,103 +381,6 @@ impl Session {
     pub fn set_erpt_quantum(&mut self, ed: f64) {
         if let Some(e) = self.erpt.as_mut() {
             e.set_quantum(ed);
-        }
-    }
-
-    /// A pass of the erpt sampler: seeds for about `extent pixels × pixelsamples` traces and their
-    /// chains into a pass film, merged into the session film once complete.
-    fn render_pass_erpt(&mut self) -> PassStats {
-        let start = Instant::now();
-        let Some(m) = self.scene.setup.sampler.erpt().map(|p| p.chain_length) else {
-            return PassStats::default();
-        };
-        let seeds = erpt::seeds_per_pass(self.traces_per_pass(), m);
-        let samples = seeds.saturating_mul(erpt::samples_per_seed(m));
-        let mut pass_film = self.empty_pass_film();
-        let Some(state) = self.erpt.as_mut() else {
-            return PassStats::default();
-        };
-        let invalid = state.run_pass(&self.scene, &self.pool, &self.cancel, seeds, &mut pass_film);
-        self.merge_chain_pass(start, samples, invalid.map(|i| (pass_film, i)))
-    }
-
-    /// A pass of the metropolis sampler: `extent pixels × pixelsamples` chain steps into a pass
-    /// film, merged into the session film once complete.
-    fn render_pass_mlt(&mut self) -> PassStats {
-        let start = Instant::now();
-        let steps = self.traces_per_pass();
-        let mut pass_film = self.empty_pass_film();
-        let map = self.map.clone();
-        let Some(state) = self.mlt.as_mut() else {
-            return PassStats::default();
-        };
-        let invalid = state.run_pass(
-            &self.scene,
-            &self.pool,
-            &self.cancel,
-            steps,
-            &mut pass_film,
-            map.as_ref(),
-        );
-        self.merge_chain_pass(start, steps, invalid.map(|i| (pass_film, i)))
-    }
-
-    /// Samples traced per pass of a chain sampler: `extent pixels × pixelsamples`, as many
-    /// as a pass of the pixel samplers draws ([`extent`]).
-    fn traces_per_pass(&self) -> u64 {
-        let spp = self.scene.setup.sampler.pixel_samples().max(1);
-        self.scene.setup.sample_extent().pass_samples(spp)
-    }
-
-    /// A cleared film of the session's layout for one chain pass.
-    fn empty_pass_film(&self) -> Film {
-        let mut f = self.film.clone();
-        f.clear();
-        f
-    }
-
-    /// Merges a chain sampler's complete pass (its film and invalid count) into the session
-    /// film and counts its `samples`; a cancelled pass (`None`) is discarded.
-    fn merge_chain_pass(
-        &mut self,
-        start: Instant,
-        samples: u64,
-        pass: Option<(Film, u64)>,
-    ) -> PassStats {
-        let Some((pass_film, invalid)) = pass else {
-            return PassStats {
-                seconds: start.elapsed().as_secs_f64(),
-                ..Default::default()
-            };
-        };
-        if let Err(e) = self.film.merge(&pass_film) {
-            tracing::error!("pass merge failed: {e}");
-        }
-        self.finish_pass(start, samples, invalid, 0)
-    }
-
-    /// Counts a completed pass: its samples in the film, its discarded samples; then the
-    /// sampling map is rebuilt when due.
-    fn finish_pass(
-        &mut self,
-        start: Instant,
-        samples: u64,
-        rejected: u64,
-        outliers: u64,
-    ) -> PassStats {
-        self.film.add_sample_count(samples as f64);
-        // The film's count (kept in FLM deltas) covers both kinds, as LuxRender's does.
-        self.film.add_rejected(rejected + outliers);
-        self.rejected += rejected;
-        self.outliers += outliers;
-        self.pass += 1;
-        self.update_map();
-        PassStats {
-            samples,
-            rejected,
-            outliers,
-            seconds: start.elapsed().as_secs_f64(),
-            complete: true,
         }
     }
 }

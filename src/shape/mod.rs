@@ -4,8 +4,9 @@
 //! (world space for world shapes, the object's definition space for shapes inside
 //! `ObjectBegin`). Triangle meshes are stored with their vertices already transformed (as
 //! LuxRender does); quadrics keep their own object space and are intersected analytically in
-//! f64. Parameter names and defaults follow LuxRender's `shapes/*.cpp`. Mesh shapes that ask
-//! for subdivision go through [`loopsubdiv`] (the Loop scheme itself is in [`subdiv`]).
+//! f64 ([`quadric`], the intersection in `quadric_hit.rs`). Parameter names and defaults
+//! follow LuxRender's `shapes/*.cpp`. Mesh shapes that ask for subdivision go through
+//! [`loopsubdiv`] (the Loop scheme itself is in [`subdiv`]).
 
 pub mod cone;
 pub mod cylinder;
@@ -19,6 +20,7 @@ pub mod microdisplace;
 pub mod paraboloid;
 pub mod plymesh;
 pub mod quadric;
+mod quadric_hit;
 pub mod sphere;
 pub mod stlmesh;
 pub mod subdiv;
@@ -182,6 +184,8 @@ impl Build<'_> {
     }
 }
 
+#[cfg(test)]
+mod loopsubdiv_tests;
 #[cfg(test)]
 pub(crate) mod test_util;
 

@@ -11,14 +11,17 @@
 //!
 //! - [`link`]: the connection to the master (register, heartbeats, uploads with retry).
 //! - [`cache`]: scene bundles cached by content hash, checked again before each use.
-//! - [`job`]: rendering one lease.
+//! - [`job`]: rendering one lease; `flags.rs` holds the state its render thread, uploader
+//!   and heartbeats share, `upload.rs` the uploads and their queues until durable.
 //! - [`map`]: noise-aware sampling maps the master sends with its acknowledgements.
 
 pub mod cache;
+mod flags;
 pub mod job;
 pub mod link;
 pub mod map;
 pub mod quanta;
+mod upload;
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};

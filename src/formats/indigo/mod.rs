@@ -11,8 +11,9 @@
 //! One file per concern: [`xml`] (reading with locations), [`node`] (typed element
 //! accessors, duplicate and unused-element reports), [`ctx`] (paths, confinement, budget,
 //! missing files), [`load`] (includes), [`scene`] (dialects and dispatch), [`settings`],
-//! [`camera`], [`material`], [`texture`], [`spectrum`], [`medium`], [`lights`],
-//! [`geometry`] (meshes and models), [`mesh`], [`igmesh`], [`obj`], [`emit`].
+//! [`camera`], [`material`] (its parameter readers in `material_conv.rs`), [`texture`],
+//! [`spectrum`], [`medium`], [`lights`], [`geometry`] (meshes and models), [`mesh`],
+//! [`igmesh`], [`obj`], [`emit`].
 //!
 //! Every diagnostic names file:line:column of the XML element. The external files the scene
 //! reads (includes, meshes) are listed in `SceneDescription::files`; textures, nk data and IES
@@ -30,6 +31,7 @@ pub mod igmesh;
 pub mod lights;
 pub mod load;
 pub mod material;
+mod material_conv;
 pub mod medium;
 pub mod mesh;
 pub mod node;

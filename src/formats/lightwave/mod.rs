@@ -3,7 +3,8 @@
 //! file gives.
 //!
 //! ```text
-//! .lws --text.rs (numbered lines)--> scene.rs (items, globals; envelope.rs) --> items.rs Scene
+//! .lws --text.rs (numbered lines)--> scene.rs (globals; items: scene_items.rs; envelope.rs)
+//!      --> items.rs Scene
 //!   objects --paths.rs (content directory, confinement)--> library.rs
 //!          --object.rs: lwo2.rs (+ surf2.rs) | lwob.rs--> model.rs Model
 //!   frame --motion.rs (coords.rs)--> placements
@@ -39,6 +40,7 @@ mod object;
 mod paths;
 mod projection;
 mod scene;
+mod scene_items;
 mod surf2;
 mod text;
 mod triangulate;

@@ -3,8 +3,8 @@
 //!
 //! ```text
 //! render "root" "camera instance" "options"
-//!   root instgroup --walk (world→local matrices compose parent first; materials inherit
-//!                          downwards; instance `hide` drops a branch)-->
+//!   root instgroup --walk.rs (world→local matrices compose parent first; materials inherit
+//!                             downwards; instance `hide` drops a branch)-->
 //!   placements: geometry (instance, object, matrix, materials), lights, cameras
 //!   --> Camera + Film (camera.rs), PixelFilter + path integrator + haltspp (options.rs),
 //!       materials (shaders.rs; a name that is not a `material` but a shader is that shader
@@ -22,13 +22,15 @@
 
 use super::camera;
 use super::cursor::MiResult;
-use super::instances::{InstMaterial, MiInstance};
-use super::lights::{self, LightOut, MiLight};
+use super::instances::InstMaterial;
+use super::lights::{self, LightOut};
 use super::objects::{self, MeshPart, PolyMat};
 use super::options::{self, Options};
 use super::params::{ShaderParams, ShaderRef};
 use super::parse::{MiScene, RenderStmt};
 use super::shaders;
+pub use super::walk::MAX_DEPTH;
+use super::walk::{local_to_world, undefined, Geometry, Walk};
 use crate::lxs::{
     AreaLightDesc, CameraDesc, Diagnostic, Entity, InstanceDesc, LightDesc, Loc, LxsError,
     LxsErrorKind, MaterialDesc, ObjectDesc, Param, ParamSet, ParamValue, SceneDescription,
@@ -36,149 +38,6 @@ use crate::lxs::{
 };
 use glam::{DMat4, DVec3, DVec4};
 use std::collections::HashMap;
-
-/// Deepest nesting of instances and instgroups.
-pub const MAX_DEPTH: usize = 64;
-
-/// An object placed in the world.
-struct Geometry<'s> {
-    inst: &'s MiInstance,
-    object: &'s str,
-    world_to_local: DMat4,
-    material: InstMaterial,
-}
-
-/// A light or camera placed in the world.
-struct Placed<'s, T> {
-    inst: &'s MiInstance,
-    item: &'s T,
-    world_to_local: DMat4,
-}
-
-#[derive(Default)]
-struct Walk<'s> {
-    geometry: Vec<Geometry<'s>>,
-    lights: Vec<Placed<'s, MiLight>>,
-    cameras: Vec<Placed<'s, super::camera::MiCamera>>,
-    stack: Vec<&'s str>,
-}
-
-fn undefined(loc: &Loc, msg: String) -> LxsError {
-    LxsError::new(LxsErrorKind::Undefined, loc.clone(), msg)
-}
-
-impl<'s> Walk<'s> {
-    fn count(&self) -> usize {
-        self.geometry.len() + self.lights.len() + self.cameras.len()
-    }
-
-    /// Visits the instgroup or instance `name` under a parent's world→local matrix.
-    fn visit(
-        &mut self,
-        s: &'s MiScene,
-        name: &'s str,
-        loc: &Loc,
-        parent: DMat4,
-        inherited: &InstMaterial,
-        max: usize,
-    ) -> MiResult<()> {
-        if self.stack.len() >= MAX_DEPTH {
-            return Err(LxsError::new(
-                LxsErrorKind::InputTooLarge,
-                loc.clone(),
-                format!("instances nested deeper than {MAX_DEPTH}"),
-            ));
-        }
-        if self.stack.contains(&name) {
-            return Err(LxsError::new(
-                LxsErrorKind::IncludeCycle,
-                loc.clone(),
-                format!("\"{name}\" contains itself"),
-            ));
-        }
-        if self.count() > max {
-            return Err(LxsError::new(
-                LxsErrorKind::ArrayTooLong,
-                loc.clone(),
-                format!("more than {max} placements (ParseOptions::max_array_len)"),
-            ));
-        }
-        self.stack.push(name);
-        let r = self.visit_inner(s, name, loc, parent, inherited, max);
-        self.stack.pop();
-        r
-    }
-
-    fn visit_inner(
-        &mut self,
-        s: &'s MiScene,
-        name: &'s str,
-        loc: &Loc,
-        parent: DMat4,
-        inherited: &InstMaterial,
-        max: usize,
-    ) -> MiResult<()> {
-        if let Some(g) = s.instgroups.get(name) {
-            for (m, at) in &g.members {
-                self.visit(s, m, at, parent, inherited, max)?;
-            }
-            return Ok(());
-        }
-        let Some(inst) = s.instances.get(name) else {
-            return Err(undefined(
-                loc,
-                format!("\"{name}\" is neither an instance nor an instgroup"),
-            ));
-        };
-        if inst.hide {
-            return Ok(());
-        }
-        let w2l = inst.transform.map_or(parent, |m| m * parent);
-        let material = match &inst.material {
-            InstMaterial::None => inherited.clone(),
-            own => own.clone(),
-        };
-        let item = inst.item.as_str();
-        if let Some(g) = s.instgroups.get(item) {
-            for (m, at) in &g.members {
-                self.visit(s, m, at, w2l, &material, max)?;
-            }
-        } else if s.objects.contains_key(item) {
-            self.geometry.push(Geometry {
-                inst,
-                object: item,
-                world_to_local: w2l,
-                material,
-            });
-        } else if let Some(l) = s.lights.get(item) {
-            self.lights.push(Placed {
-                inst,
-                item: l,
-                world_to_local: w2l,
-            });
-        } else if let Some(cam) = s.cameras.get(item) {
-            self.cameras.push(Placed {
-                inst,
-                item: cam,
-                world_to_local: w2l,
-            });
-        } else {
-            return Err(undefined(
-                &inst.item_loc,
-                format!(
-                    "instance \"{}\" places \"{item}\", which is not defined",
-                    inst.name
-                ),
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// The inverse of a world→local matrix (already checked invertible where read).
-fn local_to_world(m: DMat4) -> DMat4 {
-    m.inverse()
-}
 
 /// A shader reference resolved to its type and parameters.
 fn resolve_shader<'s>(

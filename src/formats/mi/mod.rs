@@ -11,8 +11,9 @@
 //! (shader parameter lists), [`options`], [`camera`], [`objects`] (polygon groups, with
 //! [`triangulate`]), [`instances`] (instances and instgroups, world→local matrices),
 //! [`lights`] (mental ray's `miLight`: point, spot, directional, the area primitives and
-//! object lights, onto luxfarm's light model), [`shaders`] (shaders and materials onto
-//! luxfarm materials), [`parse`] (the statement loop) and [`assemble`].
+//! object lights, onto luxfarm's light model; the block itself is read in `light_block.rs`),
+//! [`shaders`] (shaders and materials onto luxfarm materials), [`parse`] (the statement loop)
+//! and [`assemble`] (with `walk.rs`, the walk of the scene graph from the render root).
 //!
 //! What a scene cannot say in luxfarm's terms is a located warning in
 //! `SceneDescription::warnings`; what is malformed is a located error. [`ParseOptions`]
@@ -24,6 +25,7 @@ pub mod camera;
 pub mod cursor;
 pub mod instances;
 pub mod lexer;
+mod light_block;
 pub mod lights;
 pub mod objects;
 pub mod options;
@@ -31,6 +33,7 @@ pub mod params;
 pub mod parse;
 pub mod shaders;
 pub mod triangulate;
+mod walk;
 
 use crate::lxs::{LxsError, ParseOptions, SceneDescription};
 use std::path::Path;

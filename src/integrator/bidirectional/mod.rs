@@ -10,7 +10,8 @@
 //! included when it lies on an area light, as LuxRender joins it). The last ones land at
 //! other film positions: they are returned as splats, which the render session adds to the
 //! film's per-screen "light" buffer; the others go to the sample's own position ("eye"
-//! buffer). Weights follow [`mis`].
+//! buffer). Weights follow [`mis`]; each strategy's path densities are gathered in
+//! `weight.rs`.
 //!
 //! Participating media: both subpaths carry the medium they are in; see [`walk`] (medium
 //! vertices, distance sampling), [`vertex`] (their densities) and [`strategies`]
@@ -30,6 +31,7 @@ pub mod mis;
 pub mod strategies;
 pub mod vertex;
 pub mod walk;
+mod weight;
 
 use super::{DirectSettings, SampleOut, VolumeIntegrator};
 use crate::camera::Camera;

@@ -1,6 +1,6 @@
 //! The `blender_*` textures (float): LuxRender 1.x's emulation of Blender's procedural
-//! textures (one file per texture, the noise library in [`noiselib`] with its tables in
-//! [`tables`]).
+//! textures (one file per texture, the noise library in [`noiselib`] with its bases in
+//! [`noise_bases`] and its tables in [`tables`]).
 //!
 //! ```text
 //! hit --3D mapping--> P --<texture>::eval (Blender's texlib: intensity, maybe RGB)-->
@@ -22,6 +22,7 @@ pub mod magic;
 pub mod marble;
 pub mod musgrave;
 pub mod noise;
+pub mod noise_bases;
 pub mod noiselib;
 pub mod stucci;
 pub mod tables;
