@@ -36,6 +36,7 @@
 //! it as its external map and has no user map of its own.
 
 pub mod buffers;
+pub mod counts;
 pub mod erpt;
 pub mod extent;
 pub mod mlt;
@@ -129,6 +130,9 @@ pub struct Session {
     user_map: Option<Arc<SamplingMap>>,
     /// Rebuilds the map from this session's film (local renders of a noise-aware sampler).
     map_builder: Option<noise::MapBuilder>,
+    /// Each pixel's next sample index, from the first pass that follows a map on
+    /// ([`counts`]).
+    counts: Option<counts::SampleCounts>,
 }
 
 impl Session {
@@ -189,6 +193,7 @@ impl Session {
             noise_map: None,
             user_map: None,
             map_builder,
+            counts: None,
         })
     }
 

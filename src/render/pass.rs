@@ -1,8 +1,10 @@
 //! How a session renders one pass: the pixel samplers' tiles in parallel (in fixed batches
 //! with their splats when the integrator splats), or the metropolis and erpt chains into a
-//! pass film; then the pass is counted and the sampling map rebuilt when due. The session
+//! pass film; then the pass is counted (under a map, each pixel's samples too:
+//! `super::counts`) and the sampling map rebuilt when due. The session
 //! itself, its maps and its film are in `mod.rs`.
 
+use super::counts::SampleCounts;
 use super::{buffers, erpt, tile, tiles, PassStats, Session, SPLAT_BATCH};
 use crate::film::{BufferType, Film};
 use crate::sampler::map::SamplingMap;
@@ -24,11 +26,12 @@ impl Session {
         }
         use rayon::prelude::*;
         let start = Instant::now();
+        self.start_counts();
         let scene = &*self.scene;
         let fp = &scene.setup.film_params;
         let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
         let (buffers, map) = (self.buffers.clone(), self.map.clone());
-        let ctx = self.pass_ctx(&buffers, map.as_deref());
+        let ctx = self.pass_ctx(&buffers, map.as_deref(), self.counts.as_ref());
         let cancel = &self.cancel;
         let results: Vec<Option<tile::TileOut>> = self.pool.install(|| {
             list.par_iter()
@@ -69,6 +72,7 @@ impl Session {
         &self,
         buffers: &'a [BufferType],
         map: Option<&'a SamplingMap>,
+        counts: Option<&'a SampleCounts>,
     ) -> tile::PassCtx<'a> {
         tile::PassCtx {
             pass: self.pass,
@@ -78,8 +82,33 @@ impl Session {
             buffers,
             extent: self.scene.setup.sample_extent(),
             map,
+            counts,
             depth: self.depth.is_some(),
         }
+    }
+
+    /// Starts each pixel's sample count when the passes first follow a map: every pixel has
+    /// taken `pixelsamples` a pass so far (`super::counts`).
+    fn start_counts(&mut self) {
+        if self.map.is_some() && self.counts.is_none() {
+            let spp = u64::from(self.scene.setup.sampler.pixel_samples().max(1));
+            self.counts = Some(SampleCounts::new(
+                self.scene.setup.sample_extent(),
+                self.pass * spp,
+            ));
+        }
+    }
+
+    /// Adds a complete pass's samples to each pixel's count (with the map the pass used).
+    fn advance_counts(&mut self) {
+        let Some(mut counts) = self.counts.take() else {
+            return;
+        };
+        let map = self.map.clone();
+        let ctx = self.pass_ctx(&[], map.as_deref(), None);
+        let fp = &self.scene.setup.film_params;
+        counts.advance(|px, py| ctx.plan_at(fp, px, py));
+        self.counts = Some(counts);
     }
 
     /// A pass of an integrator with splats: tiles in fixed batches, each batch's tile films
@@ -88,11 +117,12 @@ impl Session {
     fn render_pass_splatting(&mut self) -> PassStats {
         use rayon::prelude::*;
         let start = Instant::now();
+        self.start_counts();
         let scene = &*self.scene;
         let fp = &scene.setup.film_params;
         let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
         let (buffers, map) = (self.buffers.clone(), self.map.clone());
-        let ctx = self.pass_ctx(&buffers, map.as_deref());
+        let ctx = self.pass_ctx(&buffers, map.as_deref(), self.counts.as_ref());
         let cancel = &self.cancel;
         let mut pass_film = self.film.clone();
         pass_film.clear();
@@ -230,6 +260,7 @@ impl Session {
         self.film.add_rejected(rejected + outliers);
         self.rejected += rejected;
         self.outliers += outliers;
+        self.advance_counts();
         self.pass += 1;
         self.update_map();
         PassStats {

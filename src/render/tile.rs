@@ -9,14 +9,16 @@
 //! and the tile reports every sample it drew.
 //!
 //! Under a sampling map (noise-aware sampling) each pixel takes the map's count of samples
-//! for the pass instead of `pixelsamples` (`crate::sampler::map`), with sample indices of
-//! their own; the tile reports the samples it took.
+//! for the pass instead of `pixelsamples` (`crate::sampler::map`), at the next indices of its
+//! own sequence (`super::counts`); the tile reports the samples it took.
 
+use super::counts::SampleCounts;
 use super::extent::SampleExtent;
 use super::setup::{RenderSetup, Renderable};
+use crate::film::FilmParams;
 use crate::film::{BufferType, Film, OutlierRejector, ZBuffer};
 use crate::integrator::{SampleOut, Splat};
-use crate::sampler::map::{map_sample_index, PassKey, SamplingMap};
+use crate::sampler::map::{PassKey, SamplingMap};
 use crate::spectrum::rgb_to_xyz;
 
 pub const TILE_SIZE: u32 = 32;
@@ -94,6 +96,8 @@ pub struct PassCtx<'a> {
     pub buffers: &'a [BufferType],
     pub extent: SampleExtent,
     pub map: Option<&'a SamplingMap>,
+    /// Each pixel's next sample index, once a map has been used (`super::counts`).
+    pub counts: Option<&'a SampleCounts>,
     /// Whether tiles record depths (the session keeps a Z buffer).
     pub depth: bool,
 }
@@ -120,11 +124,20 @@ impl PassCtx<'_> {
         }
     }
 
-    /// The sample index of a pixel's `k`-th sample in this pass.
-    fn sample_index(&self, k: u32) -> u64 {
-        match self.map {
+    /// Samples of raster pixel (`px`, `py`) in this pass, its margin pixels taking the
+    /// nearest buffer pixel's count (as the tiles draw them).
+    pub fn plan_at(&self, fp: &FilmParams, px: i32, py: i32) -> u32 {
+        let bx = clamp_to(px, fp.x_pixel_start, fp.x_pixel_count);
+        let by = clamp_to(py, fp.y_pixel_start, fp.y_pixel_count);
+        self.pixel_plan(bx, by, px, py)
+    }
+
+    /// The sample index of raster pixel (`px`, `py`)'s `k`-th sample in this pass: the next
+    /// of its own sequence under counts, else `pass × spp + k`.
+    fn sample_index(&self, px: i32, py: i32, k: u32) -> u64 {
+        match self.counts.and_then(|c| c.next(px, py)) {
+            Some(next) => next + u64::from(k),
             None => self.pass * u64::from(self.spp) + u64::from(k),
-            Some(_) => map_sample_index(self.pass, self.spp, k),
         }
     }
 }
@@ -170,7 +183,7 @@ pub fn render_tile(scene: &Renderable, t: &Tile, ctx: &PassCtx) -> TileOut {
             let n = ctx.pixel_plan(bx, by, px, py);
             samples += u64::from(n);
             for k in 0..n {
-                let index = ctx.sample_index(k);
+                let index = ctx.sample_index(px, py, k);
                 let mut st = setup.sampler.start_at(seed, stream, px, py, index);
                 let cs = st.camera_sample();
                 let Some((ray, w)) = setup.camera.generate_ray(&cs) else {
