@@ -12,7 +12,9 @@
 
 use super::history::{Metric, TradePoint};
 
-/// The fit uses at most this many of the most recent points.
+/// The fit uses this many of the most recent points, or more when those span less than
+/// [`MIN_TIME_SPAN`] (a history not thinned yet holds a point every half second, so 24 points
+/// late in a long render cover too short a span to fit).
 pub const FIT_POINTS: usize = 24;
 /// Fewer usable points than this are "not enough data".
 pub const MIN_FIT_POINTS: usize = 5;
@@ -78,7 +80,8 @@ pub struct Projection {
     pub fit: Option<PowerFit>,
 }
 
-/// The recent points usable in log–log space (time and value above 0).
+/// The recent points usable in log–log space (time and value above 0): the last
+/// [`FIT_POINTS`], and earlier ones as far back as it takes to span [`MIN_TIME_SPAN`].
 fn usable(points: &[TradePoint], metric: Metric) -> Vec<(f64, f64)> {
     let usable: Vec<(f64, f64)> = points
         .iter()
@@ -86,7 +89,16 @@ fn usable(points: &[TradePoint], metric: Metric) -> Vec<(f64, f64)> {
         .filter(|(t, v)| *t > 0.0 && *v > 0.0)
         .map(|(t, v)| (t.ln(), v.ln()))
         .collect();
-    let from = usable.len().saturating_sub(FIT_POINTS);
+    let mut from = usable.len().saturating_sub(FIT_POINTS);
+    if let Some(&(last, _)) = usable.last() {
+        while from > 0
+            && usable
+                .get(from)
+                .is_some_and(|p| last - p.0 < MIN_TIME_SPAN.ln())
+        {
+            from -= 1;
+        }
+    }
     usable.get(from..).map(<[_]>::to_vec).unwrap_or_default()
 }
 
@@ -202,6 +214,27 @@ mod tests {
         (1..=n)
             .map(|i| pt(i as f64, c / (i as f64).sqrt()))
             .collect()
+    }
+
+    #[test]
+    fn a_long_dense_history_still_projects() {
+        // A point every half second for 83 s (a history not thinned yet): the last 24 points
+        // span 71.5..83 s, too short alone, so the fit reaches back to span 1.2.
+        let pts: Vec<TradePoint> = (1..=166)
+            .map(|i| {
+                let t = i as f64 * 0.5;
+                pt(t, 0.5 / t.sqrt())
+            })
+            .collect();
+        let f = fit(&pts, REL).expect("a fit");
+        assert!((f.coefficient - 0.5).abs() < 1e-9, "{f:?}");
+        assert!(f.points > FIT_POINTS, "{f:?}");
+        let first = pts[pts.len() - f.points].secs;
+        assert!(83.0 / first >= MIN_TIME_SPAN, "{first}");
+        assert!(
+            83.0 / (first + 0.5) < MIN_TIME_SPAN,
+            "no more points than the span needs"
+        );
     }
 
     #[test]
