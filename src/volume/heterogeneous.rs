@@ -78,13 +78,15 @@ impl Field {
     }
 }
 
-/// Densities past this count as this: dense enough to stop any ray within a step, and far
-/// from overflowing when multiplied by a coefficient or a step.
+/// Densities and coefficients past this count as this: an absorbing or scattering medium that
+/// dense stops any ray within a step (an emitting one emits that much: the field says so).
+/// The coefficients at a point (constant × density) are capped too, so nothing the marcher
+/// multiplies them by (a step of at most a few metres) reaches infinity.
 pub const DENSITY_CAP: f32 = 1e30;
 
 /// A density or coefficient as the marcher can use it: NaN and negative values are 0, and
 /// values past [`DENSITY_CAP`] (an exponential's overflow deep below its origin: +inf) are
-/// the cap, so an overflowing medium stays opaque instead of vanishing.
+/// the cap, so an overflowing medium stays dense instead of vanishing.
 fn clean_density(d: f32) -> f32 {
     if d.is_nan() {
         0.0
@@ -154,9 +156,9 @@ impl Density {
             Density::Scaled { c, field } => {
                 let d = field.at(p);
                 Coeffs {
-                    sigma_a: c.sigma_a * d,
-                    sigma_s: c.sigma_s * d,
-                    le: c.le * d,
+                    sigma_a: (c.sigma_a * d).map(clean_density),
+                    sigma_s: (c.sigma_s * d).map(clean_density),
+                    le: (c.le * d).map(clean_density),
                 }
             }
         }
@@ -294,5 +296,17 @@ mod tests {
         assert_eq!(clean_density(f32::INFINITY), DENSITY_CAP);
         // capped coefficients times a step stay finite
         assert!((DENSITY_CAP * 1e6 * 10.0).is_finite());
+        // so do a huge constant times a capped density
+        let d = Density::Scaled {
+            c: Coeffs {
+                sigma_a: Rgb::splat(1e20),
+                sigma_s: Rgb::splat(0.5),
+                le: Rgb::BLACK,
+            },
+            field: f,
+        };
+        let c = d.coeffs(Vec3A::new(0.0, 0.0, -100.0));
+        assert_eq!(c.sigma_a.r, DENSITY_CAP);
+        assert_eq!(c.sigma_s.r, 0.5 * DENSITY_CAP);
     }
 }

@@ -324,9 +324,11 @@ pub struct MediaSet {
     /// Per light (the scene description's lights, then per built light after
     /// [`Self::index_lights`]): the medium its rays start in, when its `LightSource` statement
     /// had an `Exterior` in effect (LuxRender 1.x gives a light the exterior volume current
-    /// at its statement), or, for an area light, its shape's exterior when the shape is a
-    /// medium boundary; `None` otherwise.
+    /// at its statement); `None` when it had none.
     light_start: Vec<Option<Option<MediumId>>>,
+    /// Per built light: the primitive an area light emits from, when that primitive is a
+    /// medium boundary ([`Self::area_light_side`]).
+    area_prims: Vec<Option<u32>>,
     /// Whether some medium scatters.
     pub scatters: bool,
 }
@@ -427,6 +429,7 @@ impl MediaSet {
             boundaries,
             camera,
             light_start,
+            area_prims: Vec::new(),
             scatters,
         }))
     }
@@ -434,9 +437,10 @@ impl MediaSet {
     /// Re-indexes the lights' start media from the scene description's lights to the built
     /// lights: `built[i]` are the built lights of description light i (a sunsky is two).
     /// `areas` are the area lights, as (built light, primitive it emits from): an area light
-    /// on a medium boundary starts its rays in the boundary's exterior, the side its emission
-    /// leaves by (LuxRender 1.x takes a light path's first medium from the emitting
-    /// primitive's volumes); one on a plain surface has no start medium of its own.
+    /// on a medium boundary starts each ray on the side it leaves by, the exterior along the
+    /// shape's normal and the interior against it (an IES profile emits on both sides), as
+    /// LuxRender 1.x takes a light path's first medium from the emitting primitive's
+    /// volumes; one on a plain surface has no start medium of its own.
     pub fn index_lights(
         &mut self,
         built: &[std::ops::Range<usize>],
@@ -449,12 +453,22 @@ impl MediaSet {
                 per_light[i] = *start;
             }
         }
+        self.light_start = per_light;
+        self.area_prims = vec![None; count];
         for &(light, prim) in areas {
-            if let (Some(slot), Some(b)) = (per_light.get_mut(light), self.boundary(prim)) {
-                *slot = Some(b.exterior);
+            if self.boundary(prim).is_some() {
+                if let Some(slot) = self.area_prims.get_mut(light) {
+                    *slot = Some(prim);
+                }
             }
         }
-        self.light_start = per_light;
+    }
+
+    /// The medium a ray leaving area light `i` at a point of normal `n` in direction `d`
+    /// starts in, when the light's shape is a medium boundary (`None` otherwise).
+    pub fn area_light_side(&self, i: usize, n: Vec3A, d: Vec3A) -> Option<Option<MediumId>> {
+        let prim = self.area_prims.get(i).copied().flatten()?;
+        Some(self.after(prim, n, d, None))
     }
 
     /// The medium built light `i`'s rays start in, when its statement named one (`Some(None)`:

@@ -132,6 +132,9 @@ impl Vertex {
             (Kind::Surface { .. }, Some(ms)) => {
                 ms.after(self.si.prim, self.si.it.n, d, self.medium)
             }
+            (Kind::LightPoint(i), Some(ms)) => ms
+                .area_light_side(i as usize, self.si.it.n, d)
+                .unwrap_or(self.medium),
             _ => self.medium,
         }
     }

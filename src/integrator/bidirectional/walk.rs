@@ -47,20 +47,23 @@ enum Start {
     FirstHit,
 }
 
-/// The medium light `index`'s rays start in: for a light at a finite place, the one its
-/// statement named (LuxRender 1.x's exterior volume of a `LightSource`, or of an area light's
-/// shape); else, and for lights
+/// The medium light `index`'s rays start in, for a ray leaving `origin` in direction `d`:
+/// for an area light on a medium boundary, the side the ray leaves by (its shape's exterior
+/// along the normal, interior against it); for a light at a finite place, the one its
+/// statement named (LuxRender 1.x's exterior volume of a `LightSource`); else, and for lights
 /// at infinity (whose rays come from outside everything, as the path tracer's shadow rays
 /// find them), the one found from the first surface they meet.
-fn light_start(ctx: &Ctx, index: u32) -> Start {
+fn light_start(ctx: &Ctx, index: u32, origin: &Vertex, d: Vec3A) -> Start {
     if ctx.light(index).is_some_and(Light::is_infinite) {
         return Start::FirstHit;
     }
-    match ctx
-        .world
-        .media()
-        .and_then(|ms| ms.light_start(index as usize))
-    {
+    let Some(ms) = ctx.world.media() else {
+        return Start::FirstHit;
+    };
+    let own = ms
+        .area_light_side(index as usize, origin.si.it.n, d)
+        .or_else(|| ms.light_start(index as usize));
+    match own {
         Some(m) => Start::Known(m),
         None => Start::FirstHit,
     }
@@ -541,7 +544,7 @@ pub fn light_walk(
         }
         let n = path.len();
         let start = if n == 1 {
-            light_start(ctx, index)
+            light_start(ctx, index, &path[0], ray.d)
         } else {
             Start::Known(path[n - 1].medium_toward(ctx.world, ray.d))
         };
