@@ -102,6 +102,10 @@ pub struct Args {
     /// Python interpreter with pyluxcore.
     #[arg(long, default_value = "python3")]
     pub python: String,
+    /// Write every run's linear RGB image here as PFM (`SCENE-CONTESTANT-ROUND.pfm`, rows
+    /// top to bottom as rendered), to look at where a run's error lies.
+    #[arg(long)]
+    pub save_images: Option<PathBuf>,
 }
 
 /// Which scene: the benchmark scene, or its small-lamp caustic variant.
@@ -286,6 +290,25 @@ fn root_mean_square(v: impl Iterator<Item = f64>) -> f64 {
     }
 }
 
+/// Writes a square `res` × `res` RGB image as a little-endian PFM (PFM stores rows bottom
+/// first, so they are written in reverse).
+fn write_pfm(path: &std::path::Path, res: u32, rgb: &[[f32; 3]]) -> anyhow::Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let mut out = format!("PF\n{res} {res}\n-1.0\n").into_bytes();
+    let width = res as usize;
+    for row in rgb.chunks(width.max(1)).rev() {
+        for px in row {
+            for c in px {
+                out.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(path, out)?;
+    Ok(())
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
@@ -370,6 +393,10 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
                     Renderer::LuxCore => lc.run(variant, c, a.budget, seed, tmp.path())?,
                 };
                 let m = reference.measure(&r.rgb, c.row_shift(), &mask);
+                if let Some(dir) = &a.save_images {
+                    let name = format!("{}-{}-{i}.pfm", variant.name(), c.label());
+                    write_pfm(&dir.join(name.replace(['+', ' ', ':'], "_")), a.res, &r.rgb)?;
+                }
                 println!(
                     "{} run {i}: {:<36} {:>9.0} samples/s, {:>7.1} spp in {:.1} s, RMSE {:.5}",
                     variant.name(),
