@@ -352,16 +352,81 @@ fn a_light_written_inside_motion_begin_stays_at_its_first_key() {
     let first = film(&point_light_scene("", "", "", true), 0);
     assert!(normalized_xyz(&first).iter().any(|p| p[1] > 0.0));
     assert!(rms(&keyed, &first) < 1e-9, "rms {}", rms(&keyed, &first));
-    // A light at infinity in an object instanced with motion keeps the instance's first key
-    // too (with a warning): only lights with a position move.
-    let sun = |placement: &str| {
-        point_light_scene("", "", placement, false).replace(
-            r#"LightSource "point" "point from" [0.5 0.3 2.5]"#,
-            r#"LightSource "distant" "point from" [0.5 0.3 2.5] "point to" [0 0 0]"#,
+}
+
+/// A turn about the vertical axis through the origin, from `from` to `to` degrees.
+fn turn(from: f64, to: f64) -> String {
+    format!("MotionBegin [0 1]\nRotate {from} 0 0 1\nRotate {to} 0 0 1\nMotionEnd")
+}
+
+/// The floor and ball of [`point_light_scene`] lit by `light` (a `LightSource` statement)
+/// defined in an object and instanced under `placement`, rendered by `integrator`.
+fn sky_scene(light: &str, placement: &str, integrator: &str) -> String {
+    point_light_scene("", "", placement, false)
+        .replace(
+            r#"LightSource "point" "point from" [0.5 0.3 2.5] "color L" [8 8 8]"#,
+            light,
         )
-    };
-    let turning = "MotionBegin [0 1]\nRotate 0 0 1 0\nRotate 80 0 1 0\nMotionEnd";
-    let (keyed, first) = (film(&sun(turning), 0), film(&sun(""), 0));
-    assert!(normalized_xyz(&first).iter().any(|p| p[1] > 0.0));
-    assert!(rms(&keyed, &first) < 1e-9, "rms {}", rms(&keyed, &first));
+        .replace(
+            r#"SurfaceIntegrator "path""#,
+            &format!(r#"SurfaceIntegrator "{integrator}""#),
+        )
+}
+
+#[test]
+fn a_light_at_infinity_in_a_moving_instance_is_turned_by_it() {
+    // LuxRender 1.x wraps every instanced light in a MotionLight: a sun, sky or distant light
+    // defined in an object instanced with motion is turned by the instance at each ray's
+    // time. Keys 70° and 70.001° apart render as the static instance turned by 70° (sampled
+    // directions, their densities and the radiance of escaping rays all turned), with the
+    // path tracer and with light subpaths; the first key alone (no turn) differs.
+    let lights = [
+        r#"LightSource "distant" "point from" [1.5 0.6 0.8] "point to" [0 0 0] "color L" [3 3 3]"#,
+        r#"LightSource "sunsky" "vector sundir" [0.6 0.2 0.5] "float gain" [0.05]"#,
+    ];
+    for light in lights {
+        for integrator in ["path", "bidirectional"] {
+            let what = format!("{light} with {integrator}");
+            let still = sky_scene(light, "Rotate 70 0 0 1", integrator);
+            let (a, a2) = (film(&still, 0), film(&still, 1));
+            let keyed = film(&sky_scene(light, &turn(70.0, 70.001), integrator), 2);
+            films_within_noise(&a, &a2, &keyed, &format!("{what}: keys 70° and 70.001°"));
+            let unturned = film(&sky_scene(light, "", integrator), 2);
+            let (ba, ba2) = (block_means(&a, 4), block_means(&a2, 4));
+            let apart = rmse(&ba, &block_means(&unturned, 4));
+            assert!(
+                apart > 3.0 * rmse(&ba, &ba2),
+                "{what}: unturned {apart} noise {}",
+                rmse(&ba, &ba2)
+            );
+        }
+    }
+}
+
+#[test]
+fn a_light_turning_over_the_shutter_averages_its_directions() {
+    // A soft distant light (theta 15°) turning from 0° to 60° over the shutter lights the
+    // floor and ball as the mean of the light held at 12 angles across that turn.
+    let light = r#"LightSource "distant" "point from" [1.5 0.6 0.8] "point to" [0 0 0] "color L" [3 3 3] "float theta" [15]"#;
+    let turning = sky_scene(light, &turn(0.0, 60.0), "path");
+    let (a, a2) = (film(&turning, 0), film(&turning, 1));
+    let n = 12;
+    let held: Vec<Vec<f64>> = (0..n)
+        .map(|k| {
+            let deg = 60.0 * (k as f64 + 0.5) / n as f64;
+            let placement = format!("Rotate {deg} 0 0 1");
+            block_means(
+                &film(&sky_scene(light, &placement, "path"), 2 + k as u64),
+                4,
+            )
+        })
+        .collect();
+    let mean: Vec<f64> = (0..held[0].len())
+        .map(|i| held.iter().map(|h| h[i]).sum::<f64>() / n as f64)
+        .collect();
+    let (ba, ba2) = (block_means(&a, 4), block_means(&a2, 4));
+    assert_within_noise(&ba, &ba2, &mean, "turning light vs the mean of held angles");
+    // The light held at its first key alone is far from it.
+    let first = block_means(&film(&sky_scene(light, "", "path"), 2), 4);
+    assert!(rmse(&ba, &first) > 3.0 * rmse(&ba, &ba2));
 }

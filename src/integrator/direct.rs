@@ -265,7 +265,7 @@ pub fn escaped(scene: &World, ray: &Ray, beta: Rgb, l: &mut [Rgb], weight: impl 
     let dir = ray.d.normalize_or_zero();
     for &i in scene.infinite_lights() {
         let light = &scene.lights()[i];
-        let le = light.le(dir);
+        let le = light.le(dir, ray.time);
         if !le.is_black() {
             add_group(l, light.group(), beta * le * weight(i));
         }

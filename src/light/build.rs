@@ -30,8 +30,8 @@ pub const KINDS: &str =
 
 impl Light {
     /// Builds the light(s) of a `LightSource` statement; `group` is its film light group.
-    /// A light placed by a moving object instance moves with it when it has a position
-    /// ([`MovingLight`]); a light at infinity or an area primitive stays at the instance's
+    /// A light placed by a moving object instance moves with it ([`MovingLight`]: lights
+    /// with a position and lights at infinity); an area primitive stays at the instance's
     /// first key, with a warning.
     pub fn build(
         ld: &LightDesc,
@@ -69,8 +69,8 @@ impl Light {
         let lights = Light::build_at(ld, l2w.as_mat4(), group, textures, files)?;
         if !lights.iter().all(MovingLight::can_move) {
             tracing::warn!(
-                "{}: LightSource \"{}\" in an object instanced with motion: only point, spot, \
-                 goniometric and projection lights move; using the instance's first key",
+                "{}: LightSource \"{}\" in an object instanced with motion: area primitives \
+                 (rectangle, disc, sphere, cylinder) do not move; using the instance's first key",
                 e.loc,
                 e.kind
             );

@@ -60,12 +60,20 @@ pub struct LightRay {
 impl Light {
     /// True for lights whose emitting point is fixed (point, spot).
     pub fn is_delta_position(&self) -> bool {
-        matches!(self, Light::Point(_) | Light::Spot(_) | Light::Moving(_))
+        match self {
+            Light::Point(_) | Light::Spot(_) => true,
+            Light::Moving(l) => !l.at_infinity(),
+            _ => false,
+        }
     }
 
     /// True for lights with a single emitted direction (a sharp distant light).
     pub fn is_delta_direction(&self) -> bool {
-        matches!(self, Light::Distant(l) if l.is_delta())
+        match self {
+            Light::Distant(l) => l.is_delta(),
+            Light::Moving(l) => l.inner().is_delta_direction(),
+            _ => false,
+        }
     }
 
     /// Samples a ray leaving the light: `u_pos` (and `u_pick` for meshes and portals) the origin,
@@ -83,12 +91,17 @@ impl Light {
             Light::Area(l) => l.sample_le(u_pos, u_dir, u_pick, time, shapes),
             Light::Point(l) => l.sample_le(u_dir, time),
             Light::Spot(l) => l.sample_le(u_dir, time),
-            Light::Moving(l) => l.sample_le(u_pos, u_dir, u_pick, time, shapes, sphere),
+            Light::Moving(l) if !l.at_infinity() => {
+                l.sample_le(u_pos, u_dir, u_pick, time, shapes, sphere)
+            }
             Light::Distant(_)
             | Light::Infinite(_)
             | Light::Sun(_)
             | Light::Sky(_)
-            | Light::Sky2(_) => self.sample_le_infinite(u_pos, u_dir, u_pick, time, sphere),
+            | Light::Sky2(_)
+            | Light::Moving(_) => {
+                self.sample_le_infinite(u_pos, u_dir, u_pick, time, shapes, sphere)
+            }
             // Not emitted by light subpaths: bidirectional refuses scenes with them
             // (`Light::physical`).
             Light::Primitive(_) => None,
@@ -112,6 +125,7 @@ impl Light {
         u_dir: Vec2,
         u_pick: f32,
         time: f32,
+        shapes: &dyn ShapeSampler,
         sphere: BoundingSphere,
     ) -> Option<LightRay> {
         let at = Interaction {
@@ -125,6 +139,7 @@ impl Light {
             Light::Sun(l) => l.sample_li(&at, u_dir),
             Light::Sky(l) => l.sample_li(&at, u_dir),
             Light::Sky2(l) => l.sample_li(&at, u_dir),
+            Light::Moving(l) if l.at_infinity() => l.sample_li(&at, u_dir, u_pick, shapes),
             Light::Area(_)
             | Light::Point(_)
             | Light::Spot(_)
@@ -219,7 +234,8 @@ impl Light {
     pub fn area_density(&self) -> f32 {
         match self {
             Light::Area(l) if l.area > 0.0 => 1.0 / l.area,
-            Light::Point(_) | Light::Spot(_) | Light::Moving(_) => 1.0,
+            Light::Point(_) | Light::Spot(_) => 1.0,
+            Light::Moving(l) if !l.at_infinity() => 1.0,
             _ => 0.0,
         }
     }

@@ -38,7 +38,8 @@
 //!   ([`portal`]) by path and direct lighting; bidirectional ignores them.
 //!
 //! - **moving**: a point, spot, goniometric or projection light defined in an object that is
-//!   instanced with motion moves with the instance at each ray's time ([`moving`]).
+//!   instanced with motion moves with the instance at each ray's time, and a light at
+//!   infinity turns with it ([`moving`]).
 //!
 //! Every light's `nsamples` (1) is the number of shadow rays per direct-lighting estimate;
 //! `lownsamples` replaces it from path depth `lowlevel` on (0: never), as mental ray's
@@ -344,10 +345,15 @@ impl Light {
 
     /// True for lights at infinity, seen by rays that leave the scene.
     pub fn is_infinite(&self) -> bool {
-        matches!(
-            self,
-            Light::Infinite(_) | Light::Distant(_) | Light::Sun(_) | Light::Sky(_) | Light::Sky2(_)
-        )
+        match self {
+            Light::Infinite(_)
+            | Light::Distant(_)
+            | Light::Sun(_)
+            | Light::Sky(_)
+            | Light::Sky2(_) => true,
+            Light::Moving(l) => l.at_infinity(),
+            Light::Point(_) | Light::Spot(_) | Light::Area(_) | Light::Primitive(_) => false,
+        }
     }
 
     /// Called once the scene bounds are known (distant and infinite lights need them).
@@ -358,11 +364,8 @@ impl Light {
             Light::Sun(l) => l.world_radius = radius,
             Light::Sky(l) => l.world_radius = radius,
             Light::Sky2(l) => l.world_radius = radius,
-            Light::Moving(_)
-            | Light::Point(_)
-            | Light::Spot(_)
-            | Light::Area(_)
-            | Light::Primitive(_) => {}
+            Light::Moving(l) => l.preprocess(center, radius),
+            Light::Point(_) | Light::Spot(_) | Light::Area(_) | Light::Primitive(_) => {}
         }
         let _ = center;
     }
@@ -409,13 +412,8 @@ impl Light {
             self.sample_li_ignoring_portals(r, u, u_own, shapes)?.wi
         };
         let pdf = self.pdf_li(r, wi, None);
-        let radius = match self {
-            Light::Infinite(l) => l.world_radius,
-            Light::Sky(l) => l.world_radius,
-            Light::Sky2(l) => l.world_radius,
-            _ => 1.0,
-        };
-        let s = LightSample::from_infinity(r, wi, self.le(wi), pdf, false, radius);
+        let s =
+            LightSample::from_infinity(r, wi, self.le(wi, r.time), pdf, false, self.world_radius());
         (s.pdf > 0.0 && s.pdf.is_finite() && s.li.is_finite() && !s.li.is_black()).then_some(s)
     }
 
@@ -438,7 +436,7 @@ impl Light {
             Light::Sun(l) => l.sample_li(r, u),
             Light::Sky(l) => l.sample_li(r, u),
             Light::Sky2(l) => l.sample_li(r, u),
-            Light::Moving(l) => l.sample_li(r),
+            Light::Moving(l) => l.sample_li(r, u, u_pick, shapes),
         }?;
         (s.pdf > 0.0 && s.pdf.is_finite() && s.li.is_finite() && !s.li.is_black()).then_some(s)
     }
@@ -462,7 +460,8 @@ impl Light {
         hit: Option<&SurfaceInteraction>,
     ) -> f32 {
         match self {
-            Light::Point(_) | Light::Spot(_) | Light::Moving(_) => 0.0,
+            Light::Point(_) | Light::Spot(_) => 0.0,
+            Light::Moving(l) => l.pdf_li(r, wi),
             Light::Distant(l) => l.pdf_li(wi),
             Light::Infinite(l) => l.pdf_li(wi),
             Light::Area(l) => hit.map_or(0.0, |h| l.pdf_li(r, h)),
@@ -473,16 +472,32 @@ impl Light {
         }
     }
 
-    /// Radiance reaching a ray that escapes the scene in direction `dir` (infinite lights, sun,
-    /// sky and wide distant lights).
-    pub fn le(&self, dir: Vec3A) -> Rgb {
+    /// Radiance reaching a ray that escapes the scene in direction `dir` at shutter time
+    /// `time` (infinite lights, sun, sky and wide distant lights; `time` turns those that
+    /// move with an object instance).
+    pub fn le(&self, dir: Vec3A, time: f32) -> Rgb {
         match self {
             Light::Infinite(l) => l.le(dir),
             Light::Distant(l) => l.le(dir),
             Light::Sun(l) => l.le(dir),
             Light::Sky(l) => l.le(dir),
             Light::Sky2(l) => l.le(dir),
+            Light::Moving(l) => l.le(dir, time),
             _ => Rgb::BLACK,
+        }
+    }
+
+    /// The scene radius a light at infinity was given ([`Self::preprocess`]): its shadow rays
+    /// run twice that far; 1 for the other lights.
+    pub fn world_radius(&self) -> f32 {
+        match self {
+            Light::Infinite(l) => l.world_radius,
+            Light::Distant(l) => l.world_radius,
+            Light::Sun(l) => l.world_radius,
+            Light::Sky(l) => l.world_radius,
+            Light::Sky2(l) => l.world_radius,
+            Light::Moving(l) => l.inner().world_radius(),
+            _ => 1.0,
         }
     }
 

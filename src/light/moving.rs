@@ -6,13 +6,18 @@
 //!
 //! LuxRender places a `LightSource` written directly inside `MotionBegin` at its first key
 //! (the light's static transform), and so does luxfarm (`build`); only instancing moves a
-//! light. Lights with a position (point, spot, goniometric, projection) move. Lights at
-//! infinity and the area primitives stay at the instance's first key, with a located warning
-//! (`build`): a moving sky or sun is not something LuxRender scenes use.
+//! light. Lights with a position (point, spot, goniometric, projection) move with the
+//! instance; lights at infinity (infinite, distant, sun, sky, sky2) turn with its linear part
+//! (a translation does not move what is infinitely far). luxfarm's area primitives
+//! (rectangle, disc, sphere, cylinder, the mental ray importer's, which reads no motion) stay
+//! at the instance's first key, with a located warning (`build`).
 //!
 //! Distances are measured in world space, so a motion key with scale places the light where a
-//! static instance with that key would, with the same falloff over world distance; directions
-//! leaving the light carry the solid-angle change of the key's linear part.
+//! static instance with that key would, with the same falloff over world distance. A world
+//! direction w is the light's local direction B w / |B w| (B: world to instance at the ray's
+//! time), and densities over directions carry the solid-angle change |det B| / |B w|³ of
+//! that map (1 for rotations and uniform scale), whether the directions leave a point light
+//! or arrive from a light at infinity. Lights at infinity that move have no portals.
 
 use super::{distance_falloff, Light, LightCommon, LightRay, LightSample, ShapeSampler};
 use crate::geometry::motion::MotionTransform;
@@ -20,7 +25,7 @@ use crate::geometry::{Interaction, Ray, Transform};
 use crate::spectrum::Rgb;
 use glam::{Vec2, Vec3A};
 
-/// A point-like light moved by its instance's motion.
+/// A point-like light or a light at infinity moved by its instance's motion.
 #[derive(Debug)]
 pub struct MovingLight {
     /// The light in the instance's space.
@@ -29,14 +34,15 @@ pub struct MovingLight {
 }
 
 impl MovingLight {
-    /// Whether a light of this kind moves with its instance (the lights with a position:
-    /// point, spot, goniometric, projection).
+    /// Whether a light of this kind moves with its instance: the lights with a position
+    /// (point, spot, goniometric, projection) and the lights at infinity (infinite,
+    /// distant, sun, sky, sky2).
     pub fn can_move(light: &Light) -> bool {
-        matches!(light, Light::Point(_) | Light::Spot(_))
+        matches!(light, Light::Point(_) | Light::Spot(_)) || light.is_infinite()
     }
 
     /// Wraps a light built in the instance's space; `None` when its kind does not move
-    /// (lights at infinity, area primitives).
+    /// (area primitives).
     pub fn new(inner: Light, motion: MotionTransform) -> Option<MovingLight> {
         MovingLight::can_move(&inner).then_some(MovingLight { inner, motion })
     }
@@ -47,6 +53,16 @@ impl MovingLight {
 
     pub fn common(&self) -> &LightCommon {
         self.inner.common()
+    }
+
+    /// True when the light is at infinity (it turns with the instance, it has no position).
+    pub fn at_infinity(&self) -> bool {
+        self.inner.is_infinite()
+    }
+
+    /// Gives a light at infinity the scene's bounds.
+    pub fn preprocess(&mut self, center: Vec3A, radius: f32) {
+        self.inner.preprocess(center, radius);
     }
 
     /// Instance-to-world at `time` (with its inverse); `None` where the interpolated
@@ -83,9 +99,24 @@ impl MovingLight {
             .emitted(&Interaction::default(), Vec2::ZERO, local)
     }
 
-    /// The direction toward the light from `r` at the ray's time, with the intensity that
-    /// reaches `r` over the world distance.
-    pub fn sample_li(&self, r: &Interaction) -> Option<LightSample> {
+    /// A direction toward the light from `r` at the ray's time: toward a point light's
+    /// position, with the intensity that reaches `r` over the world distance, or for a light
+    /// at infinity a direction it draws in its own space (`u`, `u_pick`), turned to world
+    /// space.
+    pub fn sample_li(
+        &self,
+        r: &Interaction,
+        u: Vec2,
+        u_pick: f32,
+        shapes: &dyn ShapeSampler,
+    ) -> Option<LightSample> {
+        if self.at_infinity() {
+            return self.sample_li_at_infinity(r, u, u_pick, shapes);
+        }
+        self.sample_li_point(r)
+    }
+
+    fn sample_li_point(&self, r: &Interaction) -> Option<LightSample> {
         let t = self.at(r.time)?;
         let pos = self.position(&t);
         let d = pos - r.p;
@@ -107,6 +138,66 @@ impl MovingLight {
             delta: true,
             infinite: false,
         })
+    }
+
+    /// A light at infinity's [`Self::sample_li`]: the local sample's direction in world
+    /// space, its density over world directions.
+    fn sample_li_at_infinity(
+        &self,
+        r: &Interaction,
+        u: Vec2,
+        u_pick: f32,
+        shapes: &dyn ShapeSampler,
+    ) -> Option<LightSample> {
+        let t = self.at(r.time)?;
+        let local = Interaction {
+            p: t.inverse().point_f32(r.p),
+            ..*r
+        };
+        let s = self
+            .inner
+            .sample_li_ignoring_portals(&local, u, u_pick, shapes)?;
+        let w = t.vector_f32(s.wi).normalize_or_zero();
+        if w == Vec3A::ZERO {
+            return None;
+        }
+        let pdf = if s.delta {
+            s.pdf
+        } else {
+            s.pdf * direction_jacobian(&t, w)?.1
+        };
+        let radius = self.inner.world_radius();
+        Some(LightSample::from_infinity(r, w, s.li, pdf, s.delta, radius))
+    }
+
+    /// Radiance arriving from the light at infinity along world direction `-dir` (a ray
+    /// escaping in direction `dir`) at `time`.
+    pub fn le(&self, dir: Vec3A, time: f32) -> Rgb {
+        if !self.at_infinity() {
+            return Rgb::BLACK;
+        }
+        self.at(time)
+            .and_then(|t| direction_jacobian(&t, dir))
+            .map_or(Rgb::BLACK, |(local, _)| self.inner.le(local, time))
+    }
+
+    /// Density with which [`Self::sample_li`] draws world direction `wi` from `r` (0 for
+    /// point-like lights, which are delta).
+    pub fn pdf_li(&self, r: &Interaction, wi: Vec3A) -> f32 {
+        if !self.at_infinity() {
+            return 0.0;
+        }
+        let Some(t) = self.at(r.time) else {
+            return 0.0;
+        };
+        let Some((local, jacobian)) = direction_jacobian(&t, wi) else {
+            return 0.0;
+        };
+        let at = Interaction {
+            p: t.inverse().point_f32(r.p),
+            ..*r
+        };
+        self.inner.pdf_li_ignoring_portals(&at, local, None) * jacobian
     }
 
     /// A ray leaving the light at `time` (light subpaths): drawn in the instance's space and
@@ -145,27 +236,43 @@ impl MovingLight {
     /// comes from, times the change of solid angle `|det B| / |B w|³` of the world-to-instance
     /// map `B` (1 for rotations and uniform scale).
     fn pdf_dir_at(&self, t: &Transform, w: Vec3A) -> f32 {
-        let b = t.inverse();
-        let v = b.vector(crate::geometry::transform::to_f64(w));
-        let len = v.length();
-        if len <= 0.0 || !len.is_finite() {
-            return 0.0;
-        }
-        let jacobian = glam::DMat3::from_mat4(b.m).determinant().abs() / (len * len * len);
-        let local = (v / len).as_vec3a();
-        self.inner.pdf_dir_from(&Interaction::default(), local) * jacobian as f32
+        direction_jacobian(t, w).map_or(0.0, |(local, jacobian)| {
+            self.inner.pdf_dir_from(&Interaction::default(), local) * jacobian
+        })
     }
 
-    /// Direction density of leaving the light toward world direction `w` at `from.time`.
+    /// Direction density of leaving the light toward world direction `w` at `from.time`
+    /// (0 for a light at infinity, whose directions `pdf_li` answers).
     pub fn pdf_dir_from(&self, from: &Interaction, w: Vec3A) -> f32 {
+        if self.at_infinity() {
+            return 0.0;
+        }
         self.at(from.time).map_or(0.0, |t| self.pdf_dir_at(&t, w))
     }
 
-    /// Intensity sent toward world direction `w` at `from.time`.
+    /// Intensity sent toward world direction `w` at `from.time` (black for a light at
+    /// infinity).
     pub fn emitted(&self, from: &Interaction, w: Vec3A) -> Rgb {
+        if self.at_infinity() {
+            return Rgb::BLACK;
+        }
         self.at(from.time)
             .map_or(Rgb::BLACK, |t| self.intensity_toward(&t, w))
     }
+}
+
+/// World direction `w` (unit) in the instance's space at placement `t` (B w / |B w|, B the
+/// world-to-instance map), with the change of solid angle |det B| / |B w|³ of that map;
+/// `None` where B w vanishes or is not finite.
+fn direction_jacobian(t: &Transform, w: Vec3A) -> Option<(Vec3A, f32)> {
+    let b = t.inverse();
+    let v = b.vector(crate::geometry::transform::to_f64(w));
+    let len = v.length();
+    if len <= 0.0 || !len.is_finite() {
+        return None;
+    }
+    let jacobian = glam::DMat3::from_mat4(b.m).determinant().abs() / (len * len * len);
+    Some(((v / len).as_vec3a(), jacobian as f32))
 }
 
 #[cfg(test)]
@@ -214,9 +321,9 @@ mod tests {
     fn a_point_light_is_where_its_instance_is_at_the_rays_time() {
         let l = MovingLight::new(point(), slide(4.0)).unwrap();
         // From (2, 0, -1): at time 0 the light is at the origin, at time 0.5 straight above.
-        let s0 = l.sample_li(&at([2.0, 0.0, -1.0], 0.0)).unwrap();
-        let s5 = l.sample_li(&at([2.0, 0.0, -1.0], 0.5)).unwrap();
-        let s1 = l.sample_li(&at([2.0, 0.0, -1.0], 1.0)).unwrap();
+        let s0 = l.sample_li_point(&at([2.0, 0.0, -1.0], 0.0)).unwrap();
+        let s5 = l.sample_li_point(&at([2.0, 0.0, -1.0], 0.5)).unwrap();
+        let s1 = l.sample_li_point(&at([2.0, 0.0, -1.0], 1.0)).unwrap();
         assert!((s0.p_light.p - Vec3A::ZERO).length() < 1e-5);
         assert!((s5.p_light.p - Vec3A::new(2.0, 0.0, 0.0)).length() < 1e-5);
         assert!((s1.p_light.p - Vec3A::new(4.0, 0.0, 0.0)).length() < 1e-5);
@@ -246,7 +353,7 @@ mod tests {
             let got = (0..n)
                 .map(|k| {
                     let t = (k as f32 + 0.5) / n as f32;
-                    let s = l.sample_li(&at([x0 as f32, 0.0, 0.0], t)).unwrap();
+                    let s = l.sample_li_point(&at([x0 as f32, 0.0, 0.0], t)).unwrap();
                     f64::from(s.li.g * s.wi.z)
                 })
                 .sum::<f64>()
@@ -308,11 +415,11 @@ mod tests {
         let l = MovingLight::new(spot, turn).unwrap();
         let on_z = at([0.0, 0.0, 3.0], 0.0);
         let on_x = at([3.0, 0.0, 0.0], 0.0);
-        assert!(l.sample_li(&on_z).unwrap().li.g > 0.0);
-        assert_eq!(l.sample_li(&on_x).unwrap().li.g, 0.0);
+        assert!(l.sample_li_point(&on_z).unwrap().li.g > 0.0);
+        assert_eq!(l.sample_li_point(&on_x).unwrap().li.g, 0.0);
         let (on_z, on_x) = (at([0.0, 0.0, 3.0], 1.0), at([3.0, 0.0, 0.0], 1.0));
-        assert_eq!(l.sample_li(&on_z).unwrap().li.g, 0.0);
-        assert!(l.sample_li(&on_x).unwrap().li.g > 0.0);
+        assert_eq!(l.sample_li_point(&on_z).unwrap().li.g, 0.0);
+        assert!(l.sample_li_point(&on_x).unwrap().li.g > 0.0);
         // Light subpaths leave along the turned axis at time 1.
         let sphere = crate::light::BoundingSphere {
             center: Vec3A::ZERO,
@@ -326,15 +433,58 @@ mod tests {
     }
 
     #[test]
-    fn lights_at_infinity_do_not_move() {
+    fn a_light_at_infinity_turns_with_its_instance() {
+        // A soft distant light from +z (theta 10°), turned a quarter about y by time 1: from
+        // +x then. Sampled directions, their density and the radiance of escaping rays turn.
         let mut ps = ParamSet::new();
         ps.add("from", ParamValue::Point(vec![[0.0, 0.0, 1.0]]));
-        let d = Light::Distant(crate::light::DistantLight::new(
+        ps.add("theta", ParamValue::Float(vec![10.0]));
+        let mut d = Light::Distant(crate::light::DistantLight::new(
             &ps,
             Mat4::IDENTITY,
             &color(),
             LightCommon::single(0),
         ));
-        assert!(MovingLight::new(d, slide(1.0)).is_none());
+        d.preprocess(Vec3A::ZERO, 10.0);
+        let turn = MotionTransform::new(&[
+            (0.0, DAffine3::IDENTITY),
+            (1.0, DAffine3::from_rotation_y(std::f64::consts::FRAC_PI_2)),
+        ])
+        .unwrap();
+        let l = MovingLight::new(d, turn).unwrap();
+        assert!(l.at_infinity());
+        for (time, axis) in [(0.0, Vec3A::Z), (1.0, Vec3A::X)] {
+            let r = at([0.3, -0.2, 0.1], time);
+            let s = l
+                .sample_li(&r, Vec2::new(0.3, 0.7), 0.5, &NoShapes)
+                .unwrap();
+            assert!(
+                s.infinite && s.wi.dot(axis) > 0.98,
+                "time {time}: {:?}",
+                s.wi
+            );
+            let back = l.pdf_li(&r, s.wi);
+            assert!((back / s.pdf - 1.0).abs() < 1e-3, "{back} vs {}", s.pdf);
+            assert!(l.le(s.wi, time).g > 0.0);
+            assert!(l.le(s.wi, 1.0 - time).is_black());
+        }
+        // Light subpaths leave from the turned direction (toward -x at time 1).
+        let sphere = crate::light::BoundingSphere {
+            center: Vec3A::ZERO,
+            radius: 10.0,
+        };
+        let m = Light::Moving(Box::new(l));
+        let lr = m
+            .sample_le(
+                Vec2::new(0.5, 0.5),
+                Vec2::new(0.3, 0.7),
+                0.5,
+                1.0,
+                &NoShapes,
+                sphere,
+            )
+            .unwrap();
+        assert!(lr.ray.d.x < -0.98, "{:?}", lr.ray.d);
+        assert!(!m.is_delta_position() && m.is_infinite());
     }
 }

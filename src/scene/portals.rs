@@ -142,7 +142,7 @@ fn give(
         warn(
             warnings,
             &g.loc,
-            "portals ignored: only infinite, sky, sky2, sunsky and sunsky2 lights are sampled through portals",
+            "portals ignored: only infinite, sky, sky2, sunsky and sunsky2 lights are sampled through portals, and not when they move with an object instance",
         );
     } else {
         tracing::info!(

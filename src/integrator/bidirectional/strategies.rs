@@ -59,7 +59,7 @@ pub fn emission(
                 let Some(l) = lights.get(i) else {
                     continue;
                 };
-                let le = l.le(v.dir);
+                let le = l.le(v.dir, ctx.time);
                 if le.is_black() {
                     continue;
                 }

@@ -385,7 +385,10 @@ impl Ctx<'_> {
                 .map(|(i, l)| count(i) * l.pdf_li(&f.si.it, dir, None))
                 .sum(),
             None => {
-                let at = Interaction::default();
+                let at = Interaction {
+                    time: self.time,
+                    ..Default::default()
+                };
                 lights_at_infinity
                     .map(|(i, l)| count(i) * l.pdf_li_ignoring_portals(&at, dir, None))
                     .sum()
@@ -401,7 +404,10 @@ impl Ctx<'_> {
     pub fn sky_line_density(&self, p: Vec3A, dir: Vec3A) -> f32 {
         let lights = self.world.lights();
         let sphere = self.world.bounding_sphere();
-        let at = Interaction::default();
+        let at = Interaction {
+            time: self.time,
+            ..Default::default()
+        };
         let (mut num, mut den) = (0.0f32, 0.0f32);
         for &i in self.world.infinite_lights() {
             let Some(l) = lights.get(i) else {
