@@ -93,9 +93,10 @@ impl PathDensities {
         self.medium.iter().filter(|&&m| m).count()
     }
 
-    /// [`Self::valid`] with the path's count of medium vertices already known (the weight
-    /// asks for every strategy of one path: counting once keeps it linear in the path).
-    #[inline]
+    /// [`Self::valid`] with the path's count of medium vertices already known: every
+    /// condition spelled out, against which the tests check the weight's faster split into
+    /// [`Self::allowed`] and [`Self::joinable`].
+    #[cfg(test)]
     fn valid_given(&self, s: usize, lim: &Limits, scatters: usize) -> bool {
         let k = self.k();
         if s >= k {
@@ -127,6 +128,30 @@ impl PathDensities {
         light <= max && eye <= max
     }
 
+    /// The range of strategies the depth limits and the camera allow: s ≤ `max_light`,
+    /// t = k − s ≤ `max_eye`, t ≥ 1 (t = 1 only when the camera can be joined).
+    fn allowed(&self, lim: &Limits) -> std::ops::RangeInclusive<usize> {
+        let k = self.k();
+        let last = if lim.camera {
+            k - 1
+        } else {
+            k.saturating_sub(2)
+        };
+        k.saturating_sub(lim.max_eye)..=last.min(lim.max_light)
+    }
+
+    /// [`Self::valid_given`] for a strategy inside [`Self::allowed`]: what is left to check
+    /// is the vertices the strategy joins and the medium limit (`pl0_ok`: pl₀ > 0).
+    #[inline]
+    fn joinable(&self, s: usize, lim: &Limits, scatters: usize, pl0_ok: bool) -> bool {
+        let joins = match s {
+            0 => !self.light_delta,
+            1 => self.pdir0 > 0.0 && !self.delta[1] && (self.k() > 2 || self.area_origin),
+            _ => pl0_ok && !self.delta[s - 1] && !self.delta[s],
+        };
+        joins && (scatters <= lim.max_scatters || self.within_scatter_limit(s, lim.max_scatters))
+    }
+
     /// The power-heuristic weight of strategy `s`.
     pub fn weight(&self, s: usize, lim: &Limits) -> f32 {
         let k = self.k();
@@ -135,29 +160,31 @@ impl PathDensities {
         }
         let (pl, pe) = (&self.pl, &self.pe);
         let scatters = self.scatters();
+        let allowed = self.allowed(lim);
+        let pl0_ok = pl[0] > 0.0;
         let mut sum = 1.0f64;
         // Fewer light vertices: x_j moves to the camera side.
         let mut r = 1.0f64;
-        for j in (0..s).rev() {
+        for j in (*allowed.start()..s).rev() {
             let den = if j == 0 { self.pdir0 } else { pl[j] };
             r *= f64::from(remap0(pe[j])) / f64::from(remap0(den));
             if j == 1 {
                 r *= f64::from(remap0(self.pdir0)) / f64::from(remap0(pl[0]));
             }
-            if self.valid_given(j, lim, scatters) {
+            if self.joinable(j, lim, scatters, pl0_ok) {
                 sum += r * r;
             }
         }
         // More light vertices: x_{s'-1} moves to the light side.
         let mut r = 1.0f64;
-        for sp in s + 1..k {
+        for sp in s + 1..=*allowed.end() {
             let j = sp - 1;
             let num = if j == 0 { self.pdir0 } else { pl[j] };
             r *= f64::from(remap0(num)) / f64::from(remap0(pe[j]));
             if sp == 2 {
                 r *= f64::from(remap0(pl[0])) / f64::from(remap0(self.pdir0));
             }
-            if self.valid_given(sp, lim, scatters) {
+            if self.joinable(sp, lim, scatters, pl0_ok) {
                 sum += r * r;
             }
         }
@@ -223,12 +250,20 @@ mod tests {
 
     #[test]
     fn weights_match_explicit_products_and_sum_to_one() {
-        let lim = Limits {
-            max_light: 4,
-            max_eye: 5,
-            camera: true,
-            max_scatters: usize::MAX,
-        };
+        for (camera, max_scatters) in [(true, usize::MAX), (false, usize::MAX), (true, 1)] {
+            let lim = Limits {
+                max_light: 4,
+                max_eye: 5,
+                camera,
+                max_scatters,
+            };
+            weights_match(&lim);
+        }
+    }
+
+    /// Random densities, delta vertices, medium vertices and origins under `lim`.
+    fn weights_match(lim: &Limits) {
+        let lim = *lim;
         for k in 2..=9 {
             for seed in 1..20 {
                 let mut d = densities(k, seed * 31 + k as u32);
@@ -236,6 +271,12 @@ mod tests {
                     d.delta[k / 2] = true;
                     d.pl[k / 2 + 1] = 0.0;
                     d.pe[k / 2 - 1] = 0.0;
+                }
+                d.light_delta = seed % 5 == 0;
+                d.area_origin = seed % 2 == 0;
+                if seed % 4 == 1 && k > 4 {
+                    d.medium[1] = true;
+                    d.medium[k - 2] = true;
                 }
                 let mut total = 0.0f64;
                 for s in 0..k {
