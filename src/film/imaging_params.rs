@@ -160,21 +160,9 @@ pub(super) fn effects(ps: &ParamSet) -> Effects {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::film::params::tests::film;
     use crate::film::params::FilmParams;
     use crate::lxs::{Entity, ParamValue};
-
-    fn film(params: &[(&str, ParamValue)]) -> Result<FilmParams, FilmError> {
-        let mut ps = ParamSet::new();
-        for (n, v) in params {
-            ps.add(n, v.clone());
-        }
-        FilmParams::from_entity(Some(&Entity {
-            kind: "fleximage".into(),
-            params: ps,
-            loc: Loc::default(),
-        }))
-    }
-
     #[test]
     fn multiimage_tonemapper_is_honoured() {
         let mut ps = ParamSet::new();

@@ -325,12 +325,13 @@ pub fn pixel_bounds(res: u32, c0: f32, c1: f32) -> (u32, u32) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::film::imaging::{ClampMethod, ColorSpaceParams, Kernel};
     use crate::lxs::ParamValue;
 
-    fn film(params: &[(&str, ParamValue)]) -> Result<FilmParams, FilmError> {
+    /// A `fleximage` film statement with `params` (shared with the imaging tests).
+    pub(crate) fn film(params: &[(&str, ParamValue)]) -> Result<FilmParams, FilmError> {
         let mut ps = ParamSet::new();
         for (n, v) in params {
             ps.add(n, v.clone());

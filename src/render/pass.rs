@@ -5,10 +5,12 @@
 //! itself, its maps and its film are in `mod.rs`.
 
 use super::counts::SampleCounts;
+use super::setup::Renderable;
+use super::tile::Tile;
 use super::{buffers, erpt, tile, tiles, PassStats, Session, SPLAT_BATCH};
-use crate::film::{BufferType, Film};
+use crate::film::{BufferType, Film, ZBuffer};
 use crate::sampler::map::SamplingMap;
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 impl Session {
@@ -24,7 +26,6 @@ impl Session {
         if self.scene.setup.integrator.splats() {
             return self.render_pass_splatting();
         }
-        use rayon::prelude::*;
         let start = Instant::now();
         self.start_counts();
         let scene = &*self.scene;
@@ -32,36 +33,15 @@ impl Session {
         let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
         let (buffers, map) = (self.buffers.clone(), self.map.clone());
         let ctx = self.pass_ctx(&buffers, map.as_deref(), self.counts.as_ref());
-        let cancel = &self.cancel;
-        let results: Vec<Option<tile::TileOut>> = self.pool.install(|| {
-            list.par_iter()
-                .map(|t| {
-                    if cancel.load(Ordering::Relaxed) {
-                        return None;
-                    }
-                    Some(tile::render_tile(scene, t, &ctx))
-                })
-                .collect()
-        });
-        if results.iter().any(Option::is_none) {
-            return PassStats {
-                seconds: start.elapsed().as_secs_f64(),
-                ..Default::default()
-            };
-        }
+        let Some(results) = render_tiles(&self.pool, scene, &list, &ctx, &self.cancel) else {
+            return cancelled(start);
+        };
         let (mut rejected, mut outliers, mut samples) = (0, 0, 0);
-        for r in results.into_iter().flatten() {
-            let (t, d) = (r.tile, r.discarded);
+        for r in &results {
             samples += r.samples;
-            // Layouts match by construction; an error here would be a bug, not input.
-            if let Err(e) = self.film.merge_at(&r.film, t.fx0, t.fy0) {
-                tracing::error!("tile merge failed: {e}");
-            }
-            if let (Some(z), Some(tz)) = (self.depth.as_mut(), r.depth.as_ref()) {
-                z.merge_at(tz, t.fx0, t.fy0);
-            }
-            rejected += d.invalid;
-            outliers += d.outliers;
+            merge_tile(&mut self.film, self.depth.as_mut(), r);
+            rejected += r.discarded.invalid;
+            outliers += r.discarded.outliers;
         }
         self.finish_pass(start, samples, rejected, outliers)
     }
@@ -115,7 +95,6 @@ impl Session {
     /// and then its splats (tile order) added to a pass film, merged into the session film
     /// once the pass is complete.
     fn render_pass_splatting(&mut self) -> PassStats {
-        use rayon::prelude::*;
         let start = Instant::now();
         self.start_counts();
         let scene = &*self.scene;
@@ -123,7 +102,6 @@ impl Session {
         let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
         let (buffers, map) = (self.buffers.clone(), self.map.clone());
         let ctx = self.pass_ctx(&buffers, map.as_deref(), self.counts.as_ref());
-        let cancel = &self.cancel;
         let mut pass_film = self.film.clone();
         pass_film.clear();
         let origin = [fp.x_pixel_start, fp.y_pixel_start];
@@ -131,31 +109,12 @@ impl Session {
         let splat_scale = ctx.extent.per_screen_scale();
         let (mut rejected, mut outliers, mut samples) = (0, 0, 0);
         for batch in list.chunks(SPLAT_BATCH) {
-            let results: Vec<Option<tile::TileOut>> = self.pool.install(|| {
-                batch
-                    .par_iter()
-                    .map(|t| {
-                        if cancel.load(Ordering::Relaxed) {
-                            return None;
-                        }
-                        Some(tile::render_tile(scene, t, &ctx))
-                    })
-                    .collect()
-            });
-            if results.iter().any(Option::is_none) {
-                return PassStats {
-                    seconds: start.elapsed().as_secs_f64(),
-                    ..Default::default()
-                };
-            }
-            for r in results.into_iter().flatten() {
+            let Some(results) = render_tiles(&self.pool, scene, batch, &ctx, &self.cancel) else {
+                return cancelled(start);
+            };
+            for r in &results {
                 samples += r.samples;
-                if let Err(e) = pass_film.merge_at(&r.film, r.tile.fx0, r.tile.fy0) {
-                    tracing::error!("tile merge failed: {e}");
-                }
-                if let (Some(z), Some(tz)) = (self.depth.as_mut(), r.depth.as_ref()) {
-                    z.merge_at(tz, r.tile.fx0, r.tile.fy0);
-                }
+                merge_tile(&mut pass_film, self.depth.as_mut(), r);
                 rejected += r.discarded.invalid
                     + buffers::apply_splats(
                         &mut pass_film,
@@ -235,10 +194,7 @@ impl Session {
         pass: Option<(Film, u64)>,
     ) -> PassStats {
         let Some((pass_film, invalid)) = pass else {
-            return PassStats {
-                seconds: start.elapsed().as_secs_f64(),
-                ..Default::default()
-            };
+            return cancelled(start);
         };
         if let Err(e) = self.film.merge(&pass_film) {
             tracing::error!("pass merge failed: {e}");
@@ -270,5 +226,48 @@ impl Session {
             seconds: start.elapsed().as_secs_f64(),
             complete: true,
         }
+    }
+}
+
+/// Renders `list` on the pool; `None` when the pass was cancelled meanwhile (the tiles
+/// rendered are then dropped: a pass counts only whole).
+fn render_tiles(
+    pool: &rayon::ThreadPool,
+    scene: &Renderable,
+    list: &[Tile],
+    ctx: &tile::PassCtx,
+    cancel: &AtomicBool,
+) -> Option<Vec<tile::TileOut>> {
+    use rayon::prelude::*;
+    let results: Vec<Option<tile::TileOut>> = pool.install(|| {
+        list.par_iter()
+            .map(|t| {
+                if cancel.load(Ordering::Relaxed) {
+                    return None;
+                }
+                Some(tile::render_tile(scene, t, ctx))
+            })
+            .collect()
+    });
+    results.into_iter().collect()
+}
+
+/// Adds a tile's film (and depth) at its place.
+fn merge_tile(film: &mut Film, depth: Option<&mut ZBuffer>, r: &tile::TileOut) {
+    let t = &r.tile;
+    // Layouts match by construction; an error here would be a bug, not input.
+    if let Err(e) = film.merge_at(&r.film, t.fx0, t.fy0) {
+        tracing::error!("tile merge failed: {e}");
+    }
+    if let (Some(z), Some(tz)) = (depth, r.depth.as_ref()) {
+        z.merge_at(tz, t.fx0, t.fy0);
+    }
+}
+
+/// The stats of a cancelled pass: its time only.
+fn cancelled(start: Instant) -> PassStats {
+    PassStats {
+        seconds: start.elapsed().as_secs_f64(),
+        ..Default::default()
     }
 }
