@@ -433,6 +433,38 @@ mod tests {
     }
 
     #[test]
+    fn a_stretched_light_at_infinity_keeps_its_densities() {
+        // A constant infinite light (radiance 1) under a key stretching x by 3 and z by 1/2:
+        // its directions, drawn uniformly in the light's space, crowd toward ±x in the world,
+        // and their density carries the change of solid angle. The irradiance on a floor
+        // facing +z, the mean of le·cos/pdf over stratified draws, is π whatever the stretch.
+        let inf = Light::Infinite(Box::new(crate::light::InfiniteLight::with_map(
+            Rgb::WHITE,
+            Mat4::IDENTITY,
+            None,
+            LightCommon::single(0),
+        )));
+        let key = DAffine3::from_scale(DVec3::new(3.0, 1.0, 0.5));
+        let stretch = MotionTransform::new(&[(0.0, key), (1.0, key)]).unwrap();
+        let l = MovingLight::new(inf, stretch).unwrap();
+        let r = at([0.0; 3], 0.5);
+        let n = 300;
+        let mut sum = 0.0f64;
+        for a in 0..n {
+            for b in 0..n {
+                let u = Vec2::new((a as f32 + 0.5) / n as f32, (b as f32 + 0.5) / n as f32);
+                let s = l.sample_li(&r, u, 0.5, &NoShapes).unwrap();
+                let back = l.pdf_li(&r, s.wi);
+                assert!((back / s.pdf - 1.0).abs() < 1e-3, "{back} vs {}", s.pdf);
+                assert_eq!(l.le(s.wi, 0.5), s.li);
+                sum += f64::from(s.li.g * s.wi.z.max(0.0)) / f64::from(s.pdf);
+            }
+        }
+        let e = sum / f64::from(n * n);
+        assert!((e / std::f64::consts::PI - 1.0).abs() < 5e-3, "{e}");
+    }
+
+    #[test]
     fn a_light_at_infinity_turns_with_its_instance() {
         // A soft distant light from +z (theta 10°), turned a quarter about y by time 1: from
         // +x then. Sampled directions, their density and the radiance of escaping rays turn.

@@ -171,7 +171,7 @@ impl PathDensities {
             if j == 1 {
                 r *= f64::from(remap0(self.pdir0)) / f64::from(remap0(pl[0]));
             }
-            if self.joinable(j, lim, scatters, pl0_ok) {
+            if j <= *allowed.end() && self.joinable(j, lim, scatters, pl0_ok) {
                 sum += r * r;
             }
         }
@@ -184,7 +184,7 @@ impl PathDensities {
             if sp == 2 {
                 r *= f64::from(remap0(pl[0])) / f64::from(remap0(self.pdir0));
             }
-            if self.joinable(sp, lim, scatters, pl0_ok) {
+            if sp >= *allowed.start() && self.joinable(sp, lim, scatters, pl0_ok) {
                 sum += r * r;
             }
         }
@@ -280,16 +280,17 @@ mod tests {
                 }
                 let mut total = 0.0f64;
                 for s in 0..k {
-                    if !d.valid(s, &lim) {
-                        continue;
-                    }
+                    // Every strategy's weight against the spelled-out sum (an invalid one's
+                    // too: the weight must not depend on its own validity).
                     let w = d.weight(s, &lim);
                     let b = brute(&d, s, &lim);
                     assert!(
                         (w - b).abs() < 1e-4 * b.max(1e-3),
                         "k {k} s {s}: {w} vs {b}"
                     );
-                    total += f64::from(w);
+                    if d.valid(s, &lim) {
+                        total += f64::from(w);
+                    }
                 }
                 let any = (0..k).any(|s| d.valid(s, &lim));
                 if any {
