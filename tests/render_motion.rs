@@ -430,3 +430,44 @@ fn a_light_turning_over_the_shutter_averages_its_directions() {
     let first = block_means(&film(&sky_scene(light, "", "path"), 2), 4);
     assert!(rmse(&ba, &first) > 3.0 * rmse(&ba, &ba2));
 }
+
+#[test]
+fn an_area_primitive_in_a_moving_instance_moves_with_it() {
+    // luxfarm's rectangle light (a shape of its own, not scene geometry) defined in an object
+    // instanced with motion: keys 1.2 and 1.2001 apart render as the static instance moved
+    // by 1.2, and sliding from 0 to 1.5 over the shutter renders as the mean of the lamp
+    // held at 12 places along the way. The lamp at its first key alone differs from both.
+    let light = r#"LightSource "rectangle" "point from" [0.5 0.3 2.5] "vector edgeu" [0 0.8 0] "vector edgev" [0.8 0 0] "color L" [4 4 4]"#;
+    let still = sky_scene(light, "Translate 1.2 0 0", "path");
+    let (a, a2) = (film(&still, 0), film(&still, 1));
+    let keyed = film(&sky_scene(light, &slide(1.2, 1.2001), "path"), 2);
+    films_within_noise(&a, &a2, &keyed, "rectangle: keys 1.2 and 1.2001");
+    let (ba, ba2) = (block_means(&a, 4), block_means(&a2, 4));
+    let unmoved = block_means(&film(&sky_scene(light, "", "path"), 2), 4);
+    assert!(rmse(&ba, &unmoved) > 3.0 * rmse(&ba, &ba2));
+
+    let sliding = sky_scene(light, &slide(0.0, 1.5), "path");
+    let (s, s2) = (film(&sliding, 0), film(&sliding, 1));
+    let n = 12;
+    let held: Vec<Vec<f64>> = (0..n)
+        .map(|k| {
+            let x = 1.5 * (k as f64 + 0.5) / n as f64;
+            let placement = format!("Translate {x} 0 0");
+            block_means(
+                &film(&sky_scene(light, &placement, "path"), 2 + k as u64),
+                4,
+            )
+        })
+        .collect();
+    let mean: Vec<f64> = (0..held[0].len())
+        .map(|i| held.iter().map(|h| h[i]).sum::<f64>() / n as f64)
+        .collect();
+    let (bs, bs2) = (block_means(&s, 4), block_means(&s2, 4));
+    assert_within_noise(
+        &bs,
+        &bs2,
+        &mean,
+        "sliding rectangle vs the mean of held places",
+    );
+    assert!(rmse(&bs, &unmoved) > 3.0 * rmse(&bs, &bs2));
+}

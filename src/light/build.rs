@@ -13,7 +13,7 @@
 use super::gonio::Goniometric;
 use super::{
     sunsky, AreaLight, DistantLight, Emission, EmissionProfile, InfiniteLight, Light, LightColor,
-    LightCommon, MovingLight, PointLight, PrimShape, PrimitiveLight, SpotLight,
+    LightCommon, MovingLight, PointLight, PrimShape, PrimitiveLight, SpotLight, PRIMITIVE_KINDS,
 };
 use crate::fileio::SceneFiles;
 use crate::geometry::motion::MotionTransform;
@@ -30,9 +30,9 @@ pub const KINDS: &str =
 
 impl Light {
     /// Builds the light(s) of a `LightSource` statement; `group` is its film light group.
-    /// A light placed by a moving object instance moves with it ([`MovingLight`]: lights
-    /// with a position and lights at infinity); an area primitive stays at the instance's
-    /// first key, with a warning.
+    /// A light placed by a moving object instance moves with it: lights with a position and
+    /// lights at infinity through [`MovingLight`], area primitives by rebuilding their shape
+    /// at each time ([`PrimitiveLight::with_motion`]).
     pub fn build(
         ld: &LightDesc,
         group: usize,
@@ -66,16 +66,21 @@ impl Light {
             );
             return Light::build_at(ld, (keys.start() * l2w).as_mat4(), group, textures, files);
         };
-        let lights = Light::build_at(ld, l2w.as_mat4(), group, textures, files)?;
-        if !lights.iter().all(MovingLight::can_move) {
-            tracing::warn!(
-                "{}: LightSource \"{}\" in an object instanced with motion: area primitives \
-                 (rectangle, disc, sphere, cylinder) do not move; using the instance's first key",
-                e.loc,
-                e.kind
-            );
-            return Light::build_at(ld, (keys.start() * l2w).as_mat4(), group, textures, files);
+        if PRIMITIVE_KINDS.contains(&e.kind.as_str()) {
+            // An area primitive: built at the first key, its shape rebuilt at each time.
+            let first =
+                Light::build_at(ld, (keys.start() * l2w).as_mat4(), group, textures, files)?;
+            return Ok(first
+                .into_iter()
+                .map(|l| match l {
+                    Light::Primitive(p) => {
+                        Light::Primitive(p.with_motion(&e.kind, &e.params, l2w, motion.clone()))
+                    }
+                    other => other,
+                })
+                .collect());
         }
+        let lights = Light::build_at(ld, l2w.as_mat4(), group, textures, files)?;
         Ok(lights
             .into_iter()
             .filter_map(|l| MovingLight::new(l, motion.clone()))

@@ -39,7 +39,8 @@
 //!
 //! - **moving**: a point, spot, goniometric or projection light defined in an object that is
 //!   instanced with motion moves with the instance at each ray's time, and a light at
-//!   infinity turns with it ([`moving`]).
+//!   infinity turns with it ([`moving`]); an area primitive's shape is rebuilt where the
+//!   instance puts it ([`primitive`]).
 //!
 //! Every light's `nsamples` (1) is the number of shadow rays per direct-lighting estimate;
 //! `lownsamples` replaces it from path depth `lowlevel` on (0: never), as mental ray's

@@ -9,8 +9,8 @@
 //! light. Lights with a position (point, spot, goniometric, projection) move with the
 //! instance; lights at infinity (infinite, distant, sun, sky, sky2) turn with its linear part
 //! (a translation does not move what is infinitely far). luxfarm's area primitives
-//! (rectangle, disc, sphere, cylinder, the mental ray importer's, which reads no motion) stay
-//! at the instance's first key, with a located warning (`build`).
+//! (rectangle, disc, sphere, cylinder) move by rebuilding their shape at each time
+//! ([`super::PrimitiveLight::with_motion`]).
 //!
 //! Distances are measured in world space, so a motion key with scale places the light where a
 //! static instance with that key would, with the same falloff over world distance. A world
@@ -41,8 +41,8 @@ impl MovingLight {
         matches!(light, Light::Point(_) | Light::Spot(_)) || light.is_infinite()
     }
 
-    /// Wraps a light built in the instance's space; `None` when its kind does not move
-    /// (area primitives).
+    /// Wraps a light built in the instance's space; `None` for the kinds it does not carry
+    /// (area primitives move on their own).
     pub fn new(inner: Light, motion: MotionTransform) -> Option<MovingLight> {
         MovingLight::can_move(&inner).then_some(MovingLight { inner, motion })
     }

@@ -16,6 +16,11 @@
 //! unlike `area`'s 100 W × 17 lm/W) is positive, L is scaled so the light emits that many
 //! lumens. `nsamples` shadow rays per estimate (and `lownsamples` from path depth
 //! `lowlevel` on; see [`super::LightCommon`]).
+//!
+//! Defined in an object instanced with motion, a primitive moves with the instance: at each
+//! query its shape is built again where the instance puts it at the ray's time
+//! ([`PrimitiveLight::with_motion`]). Its radiance keeps the power normalisation of the first
+//! key (a key that scales the shape changes its power, as a scaled area light's does).
 
 use super::cylinder::{self, Cylinder};
 use super::disc::{self, Disc};
@@ -24,10 +29,11 @@ use super::primshape::{LightShape, PrimPoint};
 use super::rectangle::{self, Rectangle};
 use super::sphere::{self, Sphere};
 use super::{power_gain, LightColor, LightCommon, LightSample};
+use crate::geometry::motion::MotionTransform;
 use crate::geometry::{Interaction, Ray, SurfaceInteraction};
 use crate::lxs::ParamSet;
 use crate::spectrum::Rgb;
-use glam::{Mat4, Vec2, Vec3A};
+use glam::{DMat4, Mat4, Vec2, Vec3A};
 
 /// The geometry of an area primitive.
 #[derive(Clone, Copy, Debug)]
@@ -69,8 +75,21 @@ pub struct PrimitiveLight {
     pub profile: EmissionProfile,
     /// Radiance L × gain × power normalisation.
     pub l: Rgb,
+    /// The shape (at the first key of a moving instance).
     pub shape: PrimShape,
     y: f32,
+    motion: Option<Box<PrimMotion>>,
+}
+
+/// What a primitive carried by a moving instance is rebuilt from at each time.
+#[derive(Debug)]
+struct PrimMotion {
+    kind: String,
+    params: ParamSet,
+    /// Light to instance space (the light's own transform inside the object).
+    l2i: DMat4,
+    /// Instance to world over the shutter.
+    keys: MotionTransform,
 }
 
 impl PrimitiveLight {
@@ -93,7 +112,37 @@ impl PrimitiveLight {
             l,
             shape,
             y: color.y * scale,
+            motion: None,
         })
+    }
+
+    /// Makes the light move with an instance: `kind` and `params` are its statement's, `l2i`
+    /// its transform in the instance's space, `keys` the instance's motion.
+    pub fn with_motion(
+        mut self,
+        kind: &str,
+        params: &ParamSet,
+        l2i: DMat4,
+        keys: MotionTransform,
+    ) -> PrimitiveLight {
+        self.motion = Some(Box::new(PrimMotion {
+            kind: kind.to_string(),
+            params: params.clone(),
+            l2i,
+            keys,
+        }));
+        self
+    }
+
+    /// The shape at shutter time `time`; `None` where a moving instance's transform is
+    /// singular there.
+    fn shape_at(&self, time: f32) -> Option<PrimShape> {
+        let Some(m) = &self.motion else {
+            return Some(self.shape);
+        };
+        let t = m.keys.transform_at(time)?;
+        let l2w = (t.m * m.l2i).as_mat4();
+        PrimShape::build(&m.kind, &m.params, l2w)?.ok()
     }
 
     /// Radiance leaving `q` toward the unit direction `w`, toward a point at squared
@@ -108,7 +157,8 @@ impl PrimitiveLight {
     }
 
     pub fn sample_li(&self, r: &Interaction, u: Vec2) -> Option<LightSample> {
-        let (q, pdf) = self.shape.shape().sample(r.p, u)?;
+        let shape = self.shape_at(r.time)?;
+        let (q, pdf) = shape.shape().sample(r.p, u)?;
         let d = q.p - r.p;
         let d2 = d.length_squared();
         if d2 <= 0.0 {
@@ -136,23 +186,26 @@ impl PrimitiveLight {
             p: hit.it.p,
             n: hit.it.n,
         };
-        self.shape.shape().pdf(r.p, &q)
+        self.shape_at(r.time)
+            .map_or(0.0, |s| s.shape().pdf(r.p, &q))
     }
 
     /// The density of the first point along `wi` from `r` (when no crossing is given).
     pub fn pdf_li(&self, r: &Interaction, wi: Vec3A) -> f32 {
-        let c = self.shape.shape().intersect(r.p, wi, f32::INFINITY);
-        c.first()
-            .map_or(0.0, |(_, q)| self.shape.shape().pdf(r.p, q))
+        let Some(shape) = self.shape_at(r.time) else {
+            return 0.0;
+        };
+        let c = shape.shape().intersect(r.p, wi, f32::INFINITY);
+        c.first().map_or(0.0, |(_, q)| shape.shape().pdf(r.p, q))
     }
 
     /// Calls `f` with each point where `ray` (0 < t < `t_max`) crosses the light, as a
     /// surface interaction whose `wo` points back along the ray.
     pub fn crossings(&self, ray: &Ray, t_max: f32, f: &mut dyn FnMut(&SurfaceInteraction)) {
-        let c = self
-            .shape
-            .shape()
-            .intersect(ray.o, ray.d, t_max.min(ray.t_max));
+        let Some(shape) = self.shape_at(ray.time) else {
+            return;
+        };
+        let c = shape.shape().intersect(ray.o, ray.d, t_max.min(ray.t_max));
         let wo = -ray.d.normalize_or_zero();
         for &(t, q) in c.iter() {
             let si = SurfaceInteraction {
