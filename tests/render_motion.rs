@@ -471,3 +471,19 @@ fn an_area_primitive_in_a_moving_instance_moves_with_it() {
     );
     assert!(rmse(&bs, &unmoved) > 3.0 * rmse(&bs, &bs2));
 }
+
+#[test]
+fn an_area_primitive_placed_inside_its_object_turns_about_the_instance_origin() {
+    // The lamp sits 1 to the side of its object's origin (its own transform inside
+    // ObjectBegin) and the instance turns by 40° and 40.001°: it renders as the static
+    // instance turned by 40°, the lamp's offset turned with it (instance × light, not
+    // light × instance).
+    let light = "AttributeBegin\nTranslate 1 0 0\nLightSource \"disc\" \"point from\" [0 0 2.5] \"normal normal\" [0 0 -1] \"float radius\" [0.4] \"color L\" [4 4 4]\nAttributeEnd";
+    let still = sky_scene(light, "Rotate 40 0 0 1", "path");
+    let (a, a2) = (film(&still, 0), film(&still, 1));
+    let keyed = film(&sky_scene(light, &turn(40.0, 40.001), "path"), 2);
+    films_within_noise(&a, &a2, &keyed, "disc: keys 40° and 40.001°");
+    let unturned = block_means(&film(&sky_scene(light, "", "path"), 2), 4);
+    let (ba, ba2) = (block_means(&a, 4), block_means(&a2, 4));
+    assert!(rmse(&ba, &unturned) > 3.0 * rmse(&ba, &ba2));
+}

@@ -81,6 +81,15 @@ impl Light {
                 .collect());
         }
         let lights = Light::build_at(ld, l2w.as_mat4(), group, textures, files)?;
+        if !lights.iter().all(MovingLight::can_move) {
+            tracing::warn!(
+                "{}: LightSource \"{}\" in an object instanced with motion does not move: using \
+                 the instance's first key",
+                e.loc,
+                e.kind
+            );
+            return Light::build_at(ld, (keys.start() * l2w).as_mat4(), group, textures, files);
+        }
         Ok(lights
             .into_iter()
             .filter_map(|l| MovingLight::new(l, motion.clone()))

@@ -19,8 +19,10 @@
 //!
 //! Defined in an object instanced with motion, a primitive moves with the instance: at each
 //! query its shape is built again where the instance puts it at the ray's time
-//! ([`PrimitiveLight::with_motion`]). Its radiance keeps the power normalisation of the first
-//! key (a key that scales the shape changes its power, as a scaled area light's does).
+//! ([`PrimitiveLight::with_motion`]), which costs a few parameter look-ups and a matrix
+//! interpolation per query (static primitives pay nothing). Its radiance and the power the
+//! light strategies weigh it by keep the first key's size (a key that scales the shape
+//! changes its power, as a scaled area light's does).
 
 use super::cylinder::{self, Cylinder};
 use super::disc::{self, Disc};

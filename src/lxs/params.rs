@@ -182,8 +182,13 @@ impl Param {
         self.used.load(Ordering::Relaxed)
     }
 
+    /// Marks the parameter read. Only the first read writes: a light or texture that reads
+    /// its parameters at render time (a moving area primitive) must not make every render
+    /// thread write the same cache line.
     fn mark_used(&self) {
-        self.used.store(true, Ordering::Relaxed);
+        if !self.used.load(Ordering::Relaxed) {
+            self.used.store(true, Ordering::Relaxed);
+        }
     }
 }
 
