@@ -13,7 +13,6 @@ use luxfarm::render::SessionOptions;
 use luxfarm::spectrum::{illuminant_y, Rgb};
 use render_util::*;
 use std::fmt::Write as _;
-use std::path::Path;
 
 const RES: u32 = 128;
 const BLOCK: u32 = 32;
