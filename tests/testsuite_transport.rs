@@ -1,7 +1,7 @@
 //! Every LuxRender TestSuite scene (`../shared/scenes/testsuite`) builds its own Sampler and
 //! SurfaceIntegrator: none that asks for metropolis, erpt or bidirectional logs a fallback
-//! or a refusal for them (issue 14). The scenes are found on disk, so a scene added to the
-//! suite is checked too.
+//! or a refusal for them (issue 14), and none logs a warning about its volumes (issue 16).
+//! The scenes are found on disk, so a scene added to the suite is checked too.
 
 mod render_util;
 
@@ -100,4 +100,37 @@ fn no_testsuite_scene_falls_back_from_metropolis_erpt_or_bidirectional() {
         asked >= 5,
         "scenes asking for metropolis, erpt or bidirectional: {asked}"
     );
+}
+
+/// No TestSuite scene logs a warning about its volumes (issue 16): every `MakeNamedVolume`,
+/// `Interior`, `Exterior` and `VolumeIntegrator` it writes is built. Both the description's
+/// warnings and the scene build's are read.
+#[test]
+fn no_testsuite_scene_warns_about_its_volumes() {
+    let all = scenes(&scene_path("testsuite"));
+    assert!(all.len() >= 10, "TestSuite scenes found: {}", all.len());
+    let mut built = 0;
+    for path in &all {
+        let desc = match parse_file(path, &ParseOptions::default()) {
+            Ok(d) => d,
+            Err(e) if e.kind == LxsErrorKind::MissingInclude => continue,
+            Err(e) => panic!("{}: {e}", path.display()),
+        };
+        let dir = path.parent().expect("scene directory");
+        let r = Renderable::build(&desc, dir).expect("scene builds");
+        built += 1;
+        let bad: Vec<String> = desc
+            .warnings
+            .iter()
+            .chain(&r.warnings)
+            .map(|w| w.message.to_lowercase())
+            .filter(|m| {
+                ["volume", "medium", "media", "interior", "exterior"]
+                    .iter()
+                    .any(|k| m.contains(k))
+            })
+            .collect();
+        assert!(bad.is_empty(), "{}: {bad:?}", path.display());
+    }
+    assert!(built >= 10, "TestSuite scenes built: {built}");
 }
