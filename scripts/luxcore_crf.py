@@ -11,8 +11,9 @@ one line per preset: its name and the mapped R G B at each square's centre, in L
 import os
 import sys
 
-import numpy as np
 import pyluxcore
+
+from luxcore_common import render_rgb
 
 LEVELS = [(0.02, 0.02, 0.02), (0.1, 0.1, 0.1), (0.3, 0.3, 0.3), (0.6, 0.6, 0.6),
           (1.0, 1.0, 1.0), (0.5, 0.2, 0.05), (0.05, 0.3, 0.6), (2.0, 2.0, 2.0)]
@@ -44,14 +45,7 @@ def render(stages):
         cfg += ["film.imagepipelines.0.%d.%s = %s" % (i, k, v) for k, v in stage.items()]
     props = pyluxcore.Properties()
     props.SetFromString("\n".join(cfg))
-    session = pyluxcore.RenderSession(pyluxcore.RenderConfig(props, scene))
-    session.Start()
-    while not session.HasDone():
-        session.UpdateStats()
-    session.Stop()
-    buf = np.zeros(width * height * 3, dtype=np.float32)
-    session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB_IMAGEPIPELINE, buf)
-    img = buf.reshape(height, width, 3)
+    img = render_rgb(props, scene, width, height, pyluxcore.FilmOutputType.RGB_IMAGEPIPELINE)
     return [img[SIDE // 2, SIDE * k + SIDE // 2] for k in range(len(LEVELS))]
 
 

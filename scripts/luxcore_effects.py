@@ -31,6 +31,8 @@ import os
 import numpy as np
 import pyluxcore
 
+from luxcore_common import render_rgb
+
 RES = 128
 QUADS = [  # (x0, y0, x1, y1, z, radiance)
     (-1.1, 0.9, -0.9, 1.1, 0.0, 50.0),
@@ -63,14 +65,7 @@ def render(stages):
         cfg += ["film.imagepipelines.0.%d.%s = %s" % (i, k, v) for k, v in stage.items()]
     props = pyluxcore.Properties()
     props.SetFromString("\n".join(cfg))
-    session = pyluxcore.RenderSession(pyluxcore.RenderConfig(props, scene))
-    session.Start()
-    while not session.HasDone():
-        session.UpdateStats()
-    session.Stop()
-    buf = np.zeros(RES * RES * 3, dtype=np.float32)
-    session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB_IMAGEPIPELINE, buf)
-    return buf.reshape(RES, RES, 3)
+    return render_rgb(props, scene, RES, RES, pyluxcore.FilmOutputType.RGB_IMAGEPIPELINE)
 
 
 def top_first_y(img):

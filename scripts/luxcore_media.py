@@ -31,6 +31,8 @@ import os
 import numpy as np
 import pyluxcore
 
+from luxcore_common import block_means, luminance, render_rgb
+
 RES, BLOCK = 128, 32
 SEG, RINGS = 48, 24
 CENTRE, RADIUS = (0.0, 0.0, 1.0), 0.8
@@ -102,27 +104,8 @@ def render(spp):
         "batch.haltspp = %d" % spp,
         'film.imagepipelines.0.0.type = "TONEMAP_LINEAR"', "film.imagepipelines.0.0.scale = 1",
     ]))
-    session = pyluxcore.RenderSession(pyluxcore.RenderConfig(cfg, scene))
-    session.Start()
-    while not session.HasDone():
-        session.UpdateStats()
-    session.Stop()
-    buf = np.zeros(RES * RES * 3, dtype=np.float32)
-    session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB, buf)
-    img = buf.reshape(RES, RES, 3)[::-1]
-    return img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
-
-
-def blocks(y):
-    """Means of 32-pixel blocks over LuxCore's rows 1..127 (see the module documentation)."""
-    y = y[1:]
-    n = RES // BLOCK
-    out = []
-    for by in range(n):
-        rows = y[by * BLOCK:min((by + 1) * BLOCK, RES - 1)]
-        for bx in range(n):
-            out.append(rows[:, bx * BLOCK:(bx + 1) * BLOCK].mean())
-    return out
+    img = render_rgb(cfg, scene, RES, RES)[::-1]
+    return luminance(img)
 
 
 ap = argparse.ArgumentParser()
@@ -133,5 +116,5 @@ pyluxcore.Init(lambda s: None)
 y = render(a.spp)
 if a.save:
     np.save(a.save, y)
-print("media " + " ".join("%.5g" % v for v in blocks(y)))
+print("media " + " ".join("%.5g" % v for v in block_means(y, RES, BLOCK)))
 os._exit(0)

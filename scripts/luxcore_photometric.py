@@ -44,6 +44,8 @@ import OpenEXR
 import Imath
 import pyluxcore
 
+from luxcore_common import block_means, luminance, render_rgb
+
 RES, BLOCK = 128, 32
 IES = """IESNA:LM-63-2002
 [TEST] asymmetric downlight
@@ -118,27 +120,8 @@ def render(light_lines, spp):
         "batch.haltspp = %d" % spp,
         'film.imagepipelines.0.0.type = "TONEMAP_LINEAR"', "film.imagepipelines.0.0.scale = 1",
     ]))
-    session = pyluxcore.RenderSession(pyluxcore.RenderConfig(cfg, scene))
-    session.Start()
-    while not session.HasDone():
-        session.UpdateStats()
-    session.Stop()
-    buf = np.zeros(RES * RES * 3, dtype=np.float32)
-    session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB, buf)
-    img = buf.reshape(RES, RES, 3)[::-1]
-    return img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
-
-
-def blocks(y):
-    """Means of 32-pixel blocks over LuxCore's rows 1..127 (see the module documentation)."""
-    y = y[1:]
-    n = RES // BLOCK
-    out = []
-    for by in range(n):
-        rows = y[by * BLOCK:min((by + 1) * BLOCK, RES - 1)]
-        for bx in range(n):
-            out.append(rows[:, bx * BLOCK:(bx + 1) * BLOCK].mean())
-    return out
+    img = render_rgb(cfg, scene, RES, RES)[::-1]
+    return luminance(img)
 
 
 ap = argparse.ArgumentParser()
@@ -157,7 +140,7 @@ with tempfile.TemporaryDirectory() as d:
         "scene.lights.l.power = 100",
         "scene.lights.l.efficency = 10",
     ], a.spp)
-    print("ies " + " ".join("%.5g" % (4 * math.pi * v) for v in blocks(y)))
+    print("ies " + " ".join("%.5g" % (4 * math.pi * v) for v in block_means(y, RES, BLOCK)))
     slide_path = os.path.join(d, "slide.exr")
     write_exr(slide_path, luxcore_slide(slide()))
     y = render([
@@ -170,5 +153,5 @@ with tempfile.TemporaryDirectory() as d:
         # A quarter turn about z (column-major), then the projector's place.
         "scene.lights.l.transformation = 0 1 0 0 -1 0 0 0 0 0 1 0 0.2 0.1 1.5 1",
     ], a.spp)
-    print("projection " + " ".join("%.5g" % v for v in blocks(y)))
+    print("projection " + " ".join("%.5g" % v for v in block_means(y, RES, BLOCK)))
 os._exit(0)

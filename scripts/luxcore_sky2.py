@@ -10,8 +10,9 @@ LuxCore wants geometry), and prints the mean linear RGB of the film, which is th
 in that direction (LuxCore: 683 x the Hosek-Wilkie RGB tables x gain, gain 1, ground albedo 0).
 """
 import math, os, sys
-import numpy as np
 import pyluxcore
+
+from luxcore_common import render_rgb
 
 CASES = [(30.0, 3.0), (10.0, 6.0), (60.0, 2.0)]
 VIEWS = [(90.0, 0.0), (45.0, 180.0), (20.0, 90.0), (5.0, 135.0), (35.0, 10.0)]
@@ -54,14 +55,7 @@ def render(sun, turbidity, view):
         "native.threads.count = 1",
         'film.imagepipelines.0.0.type = "TONEMAP_LINEAR"', "film.imagepipelines.0.0.scale = 1",
     ]))
-    session = pyluxcore.RenderSession(pyluxcore.RenderConfig(cfg, scene))
-    session.Start()
-    while not session.HasDone():
-        session.UpdateStats()
-    session.Stop()
-    buf = np.zeros(4 * 4 * 3, dtype=np.float32)
-    session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB, buf)
-    return buf.reshape(-1, 3).mean(axis=0)
+    return render_rgb(cfg, scene, 4, 4).reshape(-1, 3).mean(axis=0)
 
 
 def main():

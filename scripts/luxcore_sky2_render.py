@@ -10,8 +10,9 @@ azimuth 0, turbidity 3, gain 1; no sun disc. Prints the luminance (0.2126 R + 0.
 0.0722 B of LuxCore's linear film) of each 32x32 block, row by row from the top.
 """
 import argparse, math, os
-import numpy as np
 import pyluxcore
+
+from luxcore_common import luminance, render_rgb
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--spp", type=int, default=256)
@@ -50,15 +51,7 @@ cfg.SetFromString("\n".join([
     "batch.haltspp = %d" % a.spp,
     'film.imagepipelines.0.0.type = "TONEMAP_LINEAR"', "film.imagepipelines.0.0.scale = 1",
 ]))
-session = pyluxcore.RenderSession(pyluxcore.RenderConfig(cfg, scene))
-session.Start()
-while not session.HasDone():
-    session.UpdateStats()
-session.Stop()
-buf = np.zeros(RES * RES * 3, dtype=np.float32)
-session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB, buf)
-img = buf.reshape(RES, RES, 3)
-y = img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
+y = luminance(render_rgb(cfg, scene, RES, RES))
 # LuxCore's film rows start at the bottom of the image.
 y = y[::-1]
 n = RES // BLOCK

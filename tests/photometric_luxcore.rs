@@ -67,40 +67,7 @@ fn blocks(text: &str, dir: &Path) -> Vec<f64> {
         stream: 0,
     };
     let film = render(&desc, dir, opts, 1);
-    let xyz = normalized_xyz(&film);
-    let n = RES / BLOCK;
-    let mut out = vec![0.0; (n * n) as usize];
-    for by in 0..n {
-        let rows = by * BLOCK..((by + 1) * BLOCK).min(RES - 1);
-        let count = f64::from(rows.len() as u32 * BLOCK);
-        for y in rows {
-            for x in 0..RES {
-                out[(by * n + x / BLOCK) as usize] += xyz[(y * RES + x) as usize][1] / count;
-            }
-        }
-    }
-    out
-}
-
-fn compare(what: &str, ours: &[f64], luxcore: &[f64]) {
-    let max = luxcore.iter().cloned().fold(0.0, f64::max);
-    for (i, (a, b)) in ours.iter().zip(luxcore).enumerate() {
-        eprintln!(
-            "{what} block {i}: luxfarm {a:.5} LuxCore {b:.5} ({:+.2} %)",
-            if *b > 0.0 { 100.0 * (a / b - 1.0) } else { 0.0 }
-        );
-        if *b == 0.0 {
-            assert!(
-                *a <= 1e-6 * max,
-                "{what} block {i}: {a} where LuxCore is dark"
-            );
-        } else {
-            assert!(
-                (a - b).abs() <= 0.03 * b,
-                "{what} block {i}: {a} vs LuxCore {b}"
-            );
-        }
-    }
+    luxcore_blocks(&film, BLOCK)
 }
 
 /// LuxCore's block means (256 spp) of the IES scene, rows from the top.
@@ -130,7 +97,7 @@ fn an_ies_point_light_matches_luxcore_block_means() {
     let light = "Translate 0.3 0.2 1\nLightSource \"point\" \"string iesname\" [\"lamp.ies\"] \
                  \"bool flipz\" [\"true\"] \"float power\" [100] \"float efficacy\" [10]";
     let ours = blocks(&scene(light), dir.path());
-    compare("ies", &ours, &LUXCORE_IES);
+    assert_blocks_match_luxcore("ies", &ours, &LUXCORE_IES);
 }
 
 /// A projected slide: its orientation on the floor, its even spread (LuxRender's
@@ -151,5 +118,5 @@ fn a_projection_light_matches_luxcore_block_means() {
         .iter()
         .map(|v| v / white)
         .collect();
-    compare("projection", &ours, &LUXCORE_PROJECTION);
+    assert_blocks_match_luxcore("projection", &ours, &LUXCORE_PROJECTION);
 }

@@ -403,6 +403,22 @@ fn a_light_at_infinity_in_a_moving_instance_is_turned_by_it() {
     }
 }
 
+/// The 4-pixel block means of `light`'s sky scene averaged over 12 static placements, the
+/// placement at shutter fraction t (the middle of each twelfth) given by `placement(t)`: what a
+/// light moving through those placements over the shutter should render as.
+fn mean_of_held(light: &str, placement: impl Fn(f64) -> String) -> Vec<f64> {
+    let n = 12;
+    let held: Vec<Vec<f64>> = (0..n)
+        .map(|k| {
+            let at = placement((k as f64 + 0.5) / n as f64);
+            block_means(&film(&sky_scene(light, &at, "path"), 2 + k as u64), 4)
+        })
+        .collect();
+    (0..held[0].len())
+        .map(|i| held.iter().map(|h| h[i]).sum::<f64>() / n as f64)
+        .collect()
+}
+
 #[test]
 fn a_light_turning_over_the_shutter_averages_its_directions() {
     // A soft distant light (theta 15°) turning from 0° to 60° over the shutter lights the
@@ -410,20 +426,7 @@ fn a_light_turning_over_the_shutter_averages_its_directions() {
     let light = r#"LightSource "distant" "point from" [1.5 0.6 0.8] "point to" [0 0 0] "color L" [3 3 3] "float theta" [15]"#;
     let turning = sky_scene(light, &turn(0.0, 60.0), "path");
     let (a, a2) = (film(&turning, 0), film(&turning, 1));
-    let n = 12;
-    let held: Vec<Vec<f64>> = (0..n)
-        .map(|k| {
-            let deg = 60.0 * (k as f64 + 0.5) / n as f64;
-            let placement = format!("Rotate {deg} 0 0 1");
-            block_means(
-                &film(&sky_scene(light, &placement, "path"), 2 + k as u64),
-                4,
-            )
-        })
-        .collect();
-    let mean: Vec<f64> = (0..held[0].len())
-        .map(|i| held.iter().map(|h| h[i]).sum::<f64>() / n as f64)
-        .collect();
+    let mean = mean_of_held(light, |t| format!("Rotate {} 0 0 1", 60.0 * t));
     let (ba, ba2) = (block_means(&a, 4), block_means(&a2, 4));
     assert_within_noise(&ba, &ba2, &mean, "turning light vs the mean of held angles");
     // The light held at its first key alone is far from it.
@@ -448,20 +451,7 @@ fn an_area_primitive_in_a_moving_instance_moves_with_it() {
 
     let sliding = sky_scene(light, &slide(0.0, 1.5), "path");
     let (s, s2) = (film(&sliding, 0), film(&sliding, 1));
-    let n = 12;
-    let held: Vec<Vec<f64>> = (0..n)
-        .map(|k| {
-            let x = 1.5 * (k as f64 + 0.5) / n as f64;
-            let placement = format!("Translate {x} 0 0");
-            block_means(
-                &film(&sky_scene(light, &placement, "path"), 2 + k as u64),
-                4,
-            )
-        })
-        .collect();
-    let mean: Vec<f64> = (0..held[0].len())
-        .map(|i| held.iter().map(|h| h[i]).sum::<f64>() / n as f64)
-        .collect();
+    let mean = mean_of_held(light, |t| format!("Translate {} 0 0", 1.5 * t));
     let (bs, bs2) = (block_means(&s, 4), block_means(&s2, 4));
     assert_within_noise(
         &bs,

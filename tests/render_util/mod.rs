@@ -86,6 +86,52 @@ pub fn block_means(f: &Film, block: u32) -> Vec<f64> {
     out
 }
 
+/// Y averaged over `block`-pixel blocks of a square film's rows 0..size-1, the last block row
+/// one row short: the blocks LuxCore's film is compared with, one row down (its film lies one
+/// row below the scene's pixel centres; see scripts/luxcore_common.py). Rows from the top.
+pub fn luxcore_blocks(f: &Film, block: u32) -> Vec<f64> {
+    let xyz = normalized_xyz(f);
+    let size = f.width();
+    let n = size / block;
+    let mut out = vec![0.0; (n * n) as usize];
+    for by in 0..n {
+        let rows = by * block..((by + 1) * block).min(size - 1);
+        let count = f64::from(rows.len() as u32 * block);
+        for y in rows {
+            for x in 0..n * block {
+                out[(by * n + x / block) as usize] += xyz[(y * size + x) as usize][1] / count;
+            }
+        }
+    }
+    out
+}
+
+/// Asserts that every block LuxCore renders lit is within 3 % of LuxCore's figure and every
+/// block it renders dark is dark here too (at most 1e-6 of LuxCore's brightest), printing
+/// each pair first.
+pub fn assert_blocks_match_luxcore(what: &str, ours: &[f64], luxcore: &[f64]) {
+    let max = luxcore.iter().cloned().fold(0.0, f64::max);
+    for (i, (a, b)) in ours.iter().zip(luxcore).enumerate() {
+        eprintln!(
+            "{what} block {i}: luxfarm {a:.5} LuxCore {b:.5} ({:+.2} %)",
+            if *b > 0.0 { 100.0 * (a / b - 1.0) } else { 0.0 }
+        );
+    }
+    for (i, (a, b)) in ours.iter().zip(luxcore).enumerate() {
+        if *b == 0.0 {
+            assert!(
+                *a <= 1e-6 * max,
+                "{what} block {i}: {a} where LuxCore is dark"
+            );
+        } else {
+            assert!(
+                (a - b).abs() <= 0.03 * b,
+                "{what} block {i}: {a} vs LuxCore {b}"
+            );
+        }
+    }
+}
+
 /// Asserts that the block means `other` match `a` about as well as `a2` (the same scene as
 /// `a` on another sample stream) do: their RMS difference is at most 1.6 times the
 /// stream-to-stream noise plus 1 % of the mean, and the image is not black.
