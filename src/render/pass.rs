@@ -229,8 +229,12 @@ impl Session {
     }
 }
 
-/// Renders `list` on the pool; `None` when the pass was cancelled meanwhile (the tiles
-/// rendered are then dropped: a pass counts only whole).
+/// Renders `list` on the pool, results in `list`'s order; `None` when the pass was cancelled
+/// meanwhile (the tiles rendered are then dropped: a pass counts only whole).
+///
+/// Each tile is a job of its own, started in [`schedule`] order, so that under a sampling
+/// map a tile holding many of the pass's samples does not start last and leave the other
+/// threads idle while it finishes.
 fn render_tiles(
     pool: &rayon::ThreadPool,
     scene: &Renderable,
@@ -239,17 +243,43 @@ fn render_tiles(
     cancel: &AtomicBool,
 ) -> Option<Vec<tile::TileOut>> {
     use rayon::prelude::*;
-    let results: Vec<Option<tile::TileOut>> = pool.install(|| {
-        list.par_iter()
-            .map(|t| {
+    let fp = &scene.setup.film_params;
+    let work: Option<Vec<u64>> = ctx
+        .map
+        .map(|_| list.iter().map(|t| ctx.tile_samples(fp, t)).collect());
+    let order = schedule(list.len(), work.as_deref());
+    let mut results: Vec<(usize, Option<tile::TileOut>)> = pool.install(|| {
+        order
+            .par_iter()
+            .with_max_len(1)
+            .map(|&i| {
                 if cancel.load(Ordering::Relaxed) {
-                    return None;
+                    return (i, None);
                 }
-                Some(tile::render_tile(scene, t, ctx))
+                (i, Some(tile::render_tile(scene, &list[i], ctx)))
             })
             .collect()
     });
-    results.into_iter().collect()
+    results.sort_unstable_by_key(|r| r.0);
+    if let Some(w) = &work {
+        for (i, r) in &results {
+            debug_assert!(
+                r.as_ref().is_none_or(|r| r.samples == w[*i]),
+                "tile {i}'s plan"
+            );
+        }
+    }
+    results.into_iter().map(|r| r.1).collect()
+}
+
+/// The order in which to start `n` tiles: the most samples first when their samples differ
+/// (`work`, per tile, under a sampling map; ties in list order), else list order.
+fn schedule(n: usize, work: Option<&[u64]>) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..n).collect();
+    if let Some(w) = work {
+        order.sort_by_key(|&i| std::cmp::Reverse(w[i]));
+    }
+    order
 }
 
 /// Adds a tile's film (and depth) at its place.
@@ -269,5 +299,19 @@ fn cancelled(start: Instant) -> PassStats {
     PassStats {
         seconds: start.elapsed().as_secs_f64(),
         ..Default::default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::schedule;
+
+    #[test]
+    fn tiles_with_more_samples_start_first() {
+        assert_eq!(schedule(4, None), vec![0, 1, 2, 3]);
+        assert_eq!(
+            schedule(5, Some(&[10, 40, 10, 90, 40])),
+            vec![3, 1, 4, 0, 2]
+        );
     }
 }

@@ -132,6 +132,21 @@ impl PassCtx<'_> {
         self.pixel_plan(bx, by, px, py)
     }
 
+    /// The samples this pass plans for tile `t` (the pixels it samples, margins included):
+    /// its work, for scheduling.
+    pub fn tile_samples(&self, fp: &FilmParams, t: &Tile) -> u64 {
+        let (bw, bh) = (fp.x_pixel_count, fp.y_pixel_count);
+        let [px0, px1, py0, py1] =
+            sampled_pixels(t, self.extent, fp.x_pixel_start, fp.y_pixel_start, bw, bh);
+        let mut n = 0;
+        for py in py0..py1 {
+            for px in px0..px1 {
+                n += u64::from(self.plan_at(fp, px, py));
+            }
+        }
+        n
+    }
+
     /// The sample index of raster pixel (`px`, `py`)'s `k`-th sample in this pass: the next
     /// of its own sequence under counts, else `pass × spp + k`.
     fn sample_index(&self, px: i32, py: i32, k: u32) -> u64 {

@@ -4,7 +4,9 @@
 //! alternating runs. It reports samples per wall second and per CPU second, RMSE against
 //! LuxCore's 2048-spp reference at equal samples, the mean ratio to the reference outside the
 //! lamp (bias), and RMSE at equal wall time: each renderer given the same budget, as the spp
-//! its measured speed reaches in it. The load average is printed before and after.
+//! its measured speed reaches in it, its RMSE carried to exactly that budget by the
+//! 1/sqrt(time) law when the render took longer or shorter ([`at_exactly`]). The load average
+//! is printed before and after.
 //!
 //! **Path depth.** `--maxdepth D` counts path segments, as LuxCore's `pathdepth.total` and
 //! Mitsuba's `max_depth` do. LuxRender 1.x's `maxdepth` samples lights at path vertices
@@ -46,8 +48,13 @@ pub struct Args {
     /// Path depth in segments (LuxCore `pathdepth.total`, Mitsuba `max_depth`).
     #[arg(long, default_value_t = 8)]
     pub maxdepth: u32,
-    /// luxfarm's samplers to run, comma-separated (random, lowdiscrepancy, sobol, metropolis).
-    #[arg(long, default_value = "random,sobol", value_delimiter = ',')]
+    /// luxfarm's samplers to run, comma-separated (random, lowdiscrepancy, sobol, metropolis;
+    /// `NAME:noiseaware` for LuxRender's noise-aware sampling).
+    #[arg(
+        long,
+        default_value = "random,sobol,sobol:noiseaware",
+        value_delimiter = ','
+    )]
     pub samplers: Vec<String>,
     /// Wall-time budget of the equal-time renders, in seconds (0: leave them out).
     #[arg(long, default_value_t = 10.0)]
@@ -98,7 +105,7 @@ enum Who {
 impl Who {
     fn label(&self) -> String {
         match self {
-            Who::Luxfarm(s) => format!("luxfarm path+{s}"),
+            Who::Luxfarm(s) => format!("luxfarm path+{}", s.replace(':', "+")),
             Who::Other(r) => r.name().to_string(),
         }
     }
@@ -339,6 +346,19 @@ fn summarize(who: &Who, runs: &[Run], reference: &Reference) -> Summary {
 }
 
 /// The table of medians, and luxfarm's best sampler against each other renderer.
+/// An equal-time render's RMSE `rmse` after `seconds`, carried to exactly `budget` seconds
+/// by the 1/sqrt(time) law of unbiased Monte Carlo error: a render's spp is set from its
+/// speed at the equal-samples runs, and one that then runs slower or faster (noise-aware
+/// sampling spends more samples where paths are long) would otherwise be judged on more or
+/// less time than the others.
+fn at_exactly(rmse: f64, seconds: f64, budget: f64) -> f64 {
+    if seconds > 0.0 && budget > 0.0 {
+        rmse * (seconds / budget).sqrt()
+    } else {
+        rmse
+    }
+}
+
 fn report(sums: &[Summary], spp: u32, budget: f64) -> String {
     let mut out = String::new();
     let _ = writeln!(
@@ -348,7 +368,10 @@ fn report(sums: &[Summary], spp: u32, budget: f64) -> String {
     let _ = writeln!(out, "|---|---|---|---|---|---|");
     for s in sums {
         let at = s.at_budget.map_or("-".to_string(), |(e, n, t)| {
-            format!("{e:.5} ({n} spp, {t:.1} s)")
+            format!(
+                "{:.5} ({n} spp in {t:.1} s, RMSE {e:.5})",
+                at_exactly(e, t, budget)
+            )
         });
         let _ = writeln!(
             out,
@@ -362,10 +385,8 @@ fn report(sums: &[Summary], spp: u32, budget: f64) -> String {
     }
     let ours = sums.iter().filter(|s| matches!(s.who, Who::Luxfarm(_)));
     let fastest = ours.clone().max_by(|x, y| x.rate.total_cmp(&y.rate));
-    let best = ours.min_by(|x, y| {
-        let e = |s: &Summary| s.at_budget.map_or(s.rmse, |b| b.0);
-        e(x).total_cmp(&e(y))
-    });
+    let e = |s: &Summary| s.at_budget.map_or(s.rmse, |b| at_exactly(b.0, b.2, budget));
+    let best = ours.min_by(|x, y| e(x).total_cmp(&e(y)));
     for other in sums.iter().filter(|s| matches!(s.who, Who::Other(_))) {
         if let Some(f) = fastest {
             let _ = writeln!(
@@ -389,17 +410,30 @@ fn report(sums: &[Summary], spp: u32, budget: f64) -> String {
                 b.rmse / other.rmse * (other.cpu_rate / b.cpu_rate).sqrt()
             );
         }
-        if let (Some(b), Some((eo, _, _))) = (best, other.at_budget) {
-            if let Some((eb, _, _)) = b.at_budget {
+        if let (Some(b), Some(_)) = (best, other.at_budget) {
+            if b.at_budget.is_some() {
                 let _ = writeln!(
                     out,
                     "{} / {}: RMSE at equal time {:.3}",
                     b.who.label(),
                     other.who.label(),
-                    eb / eo
+                    e(b) / e(other)
                 );
             }
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::at_exactly;
+
+    #[test]
+    fn equal_time_error_follows_the_square_root_of_time() {
+        // Twice the budget's time: the error it would have had at the budget is √2 larger.
+        assert!((at_exactly(0.01, 20.0, 10.0) - 0.01 * 2f64.sqrt()).abs() < 1e-12);
+        assert!((at_exactly(0.02, 2.5, 10.0) - 0.01).abs() < 1e-12);
+        assert_eq!(at_exactly(0.01, 0.0, 10.0), 0.01);
+    }
 }

@@ -40,12 +40,10 @@ impl Ours {
         })
     }
 
-    /// Renders `spp` samples per pixel with `sampler`, on stream `seed`.
-    pub fn run(&self, sampler: &str, spp: u32, seed: u64) -> anyhow::Result<Run> {
-        let text = self.text.replace(
-            SAMPLER,
-            &format!(r#"Sampler "{sampler}" "integer pixelsamples" [1]"#),
-        );
+    /// Renders `spp` samples per pixel (on average, with noise-aware sampling) with the
+    /// sampler `spec` (see [`sampler_statement`]), on stream `seed`.
+    pub fn run(&self, spec: &str, spp: u32, seed: u64) -> anyhow::Result<Run> {
+        let text = self.text.replace(SAMPLER, &sampler_statement(spec)?);
         let desc = parse_str(
             &text,
             &self.path.to_string_lossy(),
@@ -56,6 +54,21 @@ impl Ours {
             s.film().spp() >= f64::from(spp)
         })
     }
+}
+
+/// The Sampler statement of a sampler spec `name` or `name:noiseaware` (LuxRender's
+/// `"bool noiseaware"`: each pass spreads its samples by the film's noise map).
+pub fn sampler_statement(spec: &str) -> anyhow::Result<String> {
+    let (name, noise_aware) = match spec.split_once(':') {
+        None => (spec, false),
+        Some((name, "noiseaware")) => (name, true),
+        Some((_, other)) => bail!("sampler {spec}: unknown option {other} (noiseaware)"),
+    };
+    let mut line = format!(r#"Sampler "{name}" "integer pixelsamples" [1]"#);
+    if noise_aware {
+        line.push_str(r#" "bool noiseaware" ["true"]"#);
+    }
+    Ok(line)
 }
 
 /// Renders `desc` in this process pass by pass on stream `seed` until `done(session,
@@ -93,4 +106,22 @@ pub fn render_until(
         spp: s.film().spp(),
         rgb: film_rgb(s.film()).iter().map(|c| c.to_array()).collect(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sampler_statement;
+
+    #[test]
+    fn sampler_specs_become_statements() {
+        assert_eq!(
+            sampler_statement("sobol").unwrap(),
+            r#"Sampler "sobol" "integer pixelsamples" [1]"#
+        );
+        assert_eq!(
+            sampler_statement("sobol:noiseaware").unwrap(),
+            r#"Sampler "sobol" "integer pixelsamples" [1] "bool noiseaware" ["true"]"#
+        );
+        assert!(sampler_statement("sobol:adaptive").is_err());
+    }
 }
