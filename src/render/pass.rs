@@ -10,7 +10,7 @@ use super::tile::Tile;
 use super::{buffers, erpt, tile, tiles, PassStats, Session, SPLAT_BATCH};
 use crate::film::{BufferType, Film, ZBuffer};
 use crate::sampler::map::SamplingMap;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 impl Session {
@@ -232,9 +232,9 @@ impl Session {
 /// Renders `list` on the pool, results in `list`'s order; `None` when the pass was cancelled
 /// meanwhile (the tiles rendered are then dropped: a pass counts only whole).
 ///
-/// Each tile is a job of its own, started in [`schedule`] order, so that under a sampling
-/// map a tile holding many of the pass's samples does not start last and leave the other
-/// threads idle while it finishes.
+/// Every pool thread takes the next tile of the [`schedule`] from a shared counter until none
+/// is left (greedy, longest first): under a sampling map a tile holding many of the pass's
+/// samples starts early rather than last, where it would leave the other threads idle.
 fn render_tiles(
     pool: &rayon::ThreadPool,
     scene: &Renderable,
@@ -246,20 +246,20 @@ fn render_tiles(
     let fp = &scene.setup.film_params;
     let work: Option<Vec<u64>> = ctx
         .map
-        .map(|_| list.iter().map(|t| ctx.tile_samples(fp, t)).collect());
+        .map(|_| pool.install(|| list.par_iter().map(|t| ctx.tile_samples(fp, t)).collect()));
     let order = schedule(list.len(), work.as_deref());
-    let mut results: Vec<(usize, Option<tile::TileOut>)> = pool.install(|| {
-        order
-            .par_iter()
-            .with_max_len(1)
-            .map(|&i| {
-                if cancel.load(Ordering::Relaxed) {
-                    return (i, None);
-                }
-                (i, Some(tile::render_tile(scene, &list[i], ctx)))
-            })
-            .collect()
+    let next = AtomicUsize::new(0);
+    let per_thread: Vec<Vec<(usize, Option<tile::TileOut>)>> = pool.broadcast(|_| {
+        let mut done = Vec::new();
+        while let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+            let out =
+                (!cancel.load(Ordering::Relaxed)).then(|| tile::render_tile(scene, &list[i], ctx));
+            done.push((i, out));
+        }
+        done
     });
+    let mut results: Vec<(usize, Option<tile::TileOut>)> =
+        per_thread.into_iter().flatten().collect();
     results.sort_unstable_by_key(|r| r.0);
     if let Some(w) = &work {
         for (i, r) in &results {

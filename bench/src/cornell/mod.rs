@@ -224,6 +224,9 @@ struct Context {
 }
 
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
+    for spec in &a.samplers {
+        ours::sampler_statement(spec)?;
+    }
     let shared = a.shared.clone().unwrap_or_else(crate::support::shared_dir);
     let (w, h, refpx) = load_image(&shared.join("scenes/cornell/luxcore-ref-2048.exr"))
         .map_err(anyhow::Error::msg)?;
@@ -345,7 +348,6 @@ fn summarize(who: &Who, runs: &[Run], reference: &Reference) -> Summary {
     }
 }
 
-/// The table of medians, and luxfarm's best sampler against each other renderer.
 /// An equal-time render's RMSE `rmse` after `seconds`, carried to exactly `budget` seconds
 /// by the 1/sqrt(time) law of unbiased Monte Carlo error: a render's spp is set from its
 /// speed at the equal-samples runs, and one that then runs slower or faster (noise-aware
@@ -359,6 +361,7 @@ fn at_exactly(rmse: f64, seconds: f64, budget: f64) -> f64 {
     }
 }
 
+/// The table of medians, and luxfarm's best sampler against each other renderer.
 fn report(sums: &[Summary], spp: u32, budget: f64) -> String {
     let mut out = String::new();
     let _ = writeln!(
