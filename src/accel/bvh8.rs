@@ -200,19 +200,32 @@ impl Bvh8 {
             };
             let node = &self.nodes[ni as usize];
             let (t0, mut mask) = node.test(&slab, t_max);
-            // Leaves first (they may shrink t_max), then inner children far to near.
+            // Leaves first, nearest first, each skipped once a nearer hit lies before its
+            // box (a ray through a closed mesh crosses the boxes of its far side too); then
+            // inner children far to near.
             let mut inner = [(0u32, 0f32); WIDTH];
             let mut n_inner = 0;
+            let mut leaves = [(0u32, 0f32); WIDTH];
+            let mut n_leaves = 0;
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
-                let count = node.count[lane];
-                if count == 0 {
+                if node.count[lane] == 0 {
                     inner[n_inner] = (node.child[lane], t0[lane]);
                     n_inner += 1;
-                    continue;
+                } else {
+                    leaves[n_leaves] = (lane as u32, t0[lane]);
+                    n_leaves += 1;
                 }
-                if let Some(hit) = leaf(node.child[lane] as usize, count as usize, t_max) {
+            }
+            let leaves = &mut leaves[..n_leaves];
+            sort_far_to_near(leaves);
+            for &(lane, t_in) in leaves.iter().rev() {
+                if t_in > t_max {
+                    break;
+                }
+                let (first, count) = (node.child[lane as usize], node.count[lane as usize]);
+                if let Some(hit) = leaf(first as usize, count as usize, t_max) {
                     t_max = hit.1;
                     best = Some(hit);
                 }
@@ -221,14 +234,7 @@ impl Bvh8 {
                 continue;
             }
             let inner = &mut inner[..n_inner];
-            // Far to near (insertion sort: usually two or three entries).
-            for i in 1..inner.len() {
-                let mut j = i;
-                while j > 0 && inner[j - 1].1 < inner[j].1 {
-                    inner.swap(j - 1, j);
-                    j -= 1;
-                }
-            }
+            sort_far_to_near(inner);
             let (nearest, t_near) = inner[n_inner - 1];
             for &(c, t) in &inner[..n_inner - 1] {
                 // In bounds: at most 7 entries per level are left behind (see `stack`).
@@ -308,6 +314,19 @@ impl Bvh8 {
             }
         }
         false
+    }
+}
+
+/// Sorts (child, entry distance) pairs far to near (insertion sort: a node's hit children
+/// are usually two or three).
+#[inline(always)]
+fn sort_far_to_near(v: &mut [(u32, f32)]) {
+    for i in 1..v.len() {
+        let mut j = i;
+        while j > 0 && v[j - 1].1 < v[j].1 {
+            v.swap(j - 1, j);
+            j -= 1;
+        }
     }
 }
 
