@@ -286,8 +286,9 @@ impl Blas {
         match self.items.get(hit.slot as usize)? {
             Item::Tri { shape, index } => {
                 // Barycentrics from the traversal; re-intersect only if they were not kept.
+                // The vertices are the tested packet's (in cache), the mesh's bit for bit.
+                let v = self.tri_vertices(hit.slot as usize);
                 let b = if hit.b[0].is_nan() {
-                    let v = self.tri_vertices(hit.slot as usize);
                     triangle::intersect(&v, o, dn, tm)?.b
                 } else {
                     hit.b
@@ -295,7 +296,7 @@ impl Blas {
                 let Shape::Mesh(m) = &self.shapes[*shape as usize] else {
                     return None;
                 };
-                Some((m.geometry(*index as usize, b), self.prims[*shape as usize]))
+                Some((m.geometry_of(*index as usize, v, b), self.prims[*shape as usize]))
             }
             Item::Empty => None,
             Item::Quadric { shape } => {

@@ -162,13 +162,18 @@ impl TriangleMesh {
     /// Point, its error bound, oriented geometric normal and shading normal at barycentric
     /// coordinates `b` of triangle `i` (what light sampling needs of a point).
     pub fn surface(&self, i: usize, b: [f32; 3]) -> MeshPoint {
-        let [p0, p1, p2] = self.vertices(i);
-        let idx = self.tris[i];
+        self.surface_of(i, self.vertices(i), b)
+    }
+
+    /// [`Self::surface`] with triangle `i`'s vertices given (a BVH packet that was just
+    /// tested holds them: reading them there spares two dependent loads from the mesh).
+    pub fn surface_of(&self, i: usize, [p0, p1, p2]: [Vec3A; 3], b: [f32; 3]) -> MeshPoint {
         let p = b[0] * p0 + b[1] * p1 + b[2] * p2;
         let p_abs_sum = (b[0] * p0).abs() + (b[1] * p1).abs() + (b[2] * p2).abs();
         let p_error = error_floor(p, gamma(7) * p_abs_sum);
         let mut n = self.face_n[i];
         let ns = self.n.as_ref().and_then(|vn| {
+            let idx = self.tris[i];
             let s = b[0] * vn[idx[0] as usize]
                 + b[1] * vn[idx[1] as usize]
                 + b[2] * vn[idx[2] as usize];
@@ -185,8 +190,13 @@ impl TriangleMesh {
 
     /// Local geometry at barycentric coordinates `b` of triangle `i`.
     pub fn geometry(&self, i: usize, b: [f32; 3]) -> LocalGeometry {
-        let MeshPoint { p, p_error, n, ns } = self.surface(i, b);
-        let [p0, p1, p2] = self.vertices(i);
+        self.geometry_of(i, self.vertices(i), b)
+    }
+
+    /// [`Self::geometry`] with triangle `i`'s vertices given (see [`Self::surface_of`]).
+    pub fn geometry_of(&self, i: usize, v: [Vec3A; 3], b: [f32; 3]) -> LocalGeometry {
+        let MeshPoint { p, p_error, n, ns } = self.surface_of(i, v, b);
+        let [p0, p1, p2] = v;
         let uv = self.vertex_uv(i);
         let (dp02, dp12) = (p0 - p2, p1 - p2);
         let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
