@@ -296,7 +296,10 @@ impl Blas {
                 let Shape::Mesh(m) = &self.shapes[*shape as usize] else {
                     return None;
                 };
-                Some((m.geometry_of(*index as usize, v, b), self.prims[*shape as usize]))
+                Some((
+                    m.geometry_of(*index as usize, v, b),
+                    self.prims[*shape as usize],
+                ))
             }
             Item::Empty => None,
             Item::Quadric { shape } => {
