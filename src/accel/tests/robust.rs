@@ -335,3 +335,71 @@ fn packets_mixing_triangles_and_quadrics_find_the_closest() {
         }
     }
 }
+
+/// A mesh hit is described from the BVH packet's copy of the triangle's vertices
+/// (`Blas::hit_geometry`); the description must be the mesh's own, bit for bit, on a mesh with
+/// vertex normals and uvs and triangles of every orientation.
+#[test]
+fn mesh_hits_are_described_as_the_mesh_describes_them() {
+    use crate::accel::blas::Blas;
+    use crate::accel::bvh::BvhOptions;
+    use crate::shape::mesh::TriangleMesh;
+    use crate::shape::{triangle, Shape};
+    use fixtures::Rng;
+
+    let mut rng = Rng::new(11);
+    let nv = 600;
+    let p: Vec<Vec3A> = (0..nv)
+        .map(|_| rng.in_box(Vec3A::splat(-1.0), Vec3A::splat(1.0)))
+        .collect();
+    let tris: Vec<[u32; 3]> = (0..nv as u32 / 3)
+        .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+        .collect();
+    let face_n = tris
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|k| p[k as usize]);
+            (a - c).cross(b - c).normalize()
+        })
+        .collect();
+    let mesh = TriangleMesh {
+        n: Some((0..nv).map(|_| rng.direction()).collect()),
+        uv: Some((0..nv).map(|_| Vec2::new(rng.f32(), rng.f32())).collect()),
+        cols: None,
+        alphas: None,
+        p,
+        tris,
+        face_n,
+        flip: false,
+    };
+    let blas = Blas::build(
+        vec![Shape::Mesh(mesh.clone())],
+        vec![7],
+        BvhOptions::default(),
+    );
+    let mut hits = 0;
+    for _ in 0..2000 {
+        let o = rng.in_box(Vec3A::splat(-2.0), Vec3A::splat(2.0));
+        let d = rng.direction();
+        let Some(h) = blas.closest(o, d, f32::INFINITY) else {
+            continue;
+        };
+        let (g, prim) = blas.hit_geometry(h, o, d, f32::INFINITY).unwrap();
+        assert_eq!(prim, 7);
+        // The triangle hit: the one the scalar test finds at the same distance.
+        let i = (0..mesh.tris.len())
+            .find(|&i| {
+                triangle::intersect(&mesh.vertices(i), o, d, f32::INFINITY)
+                    .is_some_and(|t| t.t == h.t)
+            })
+            .expect("the hit triangle");
+        let m = mesh.geometry(i, h.b);
+        assert_eq!(
+            (g.p, g.p_error, g.n, g.ns, g.uv, g.dpdu, g.dpdv, g.hit.face),
+            (m.p, m.p_error, m.n, m.ns, m.uv, m.dpdu, m.dpdv, m.hit.face),
+            "triangle {i}"
+        );
+        hits += 1;
+    }
+    assert!(hits > 300, "{hits} hits");
+}
