@@ -286,7 +286,8 @@ impl Blas {
         match self.items.get(hit.slot as usize)? {
             Item::Tri { shape, index } => {
                 // Barycentrics from the traversal; re-intersect only if they were not kept.
-                // The vertices are the tested packet's (in cache), the mesh's bit for bit.
+                // The slot's stored vertices (its packet's, just tested and in cache, or
+                // `verts` in the other layouts): the mesh's bit for bit.
                 let v = self.tri_vertices(hit.slot as usize);
                 let b = if hit.b[0].is_nan() {
                     triangle::intersect(&v, o, dn, tm)?.b

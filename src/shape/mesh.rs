@@ -167,7 +167,9 @@ impl TriangleMesh {
 
     /// [`Self::surface`] with triangle `i`'s vertices given (a BVH packet that was just
     /// tested holds them: reading them there spares two dependent loads from the mesh).
-    pub fn surface_of(&self, i: usize, [p0, p1, p2]: [Vec3A; 3], b: [f32; 3]) -> MeshPoint {
+    pub fn surface_of(&self, i: usize, v: [Vec3A; 3], b: [f32; 3]) -> MeshPoint {
+        debug_assert_eq!(v, self.vertices(i), "triangle {i}: not the mesh's vertices");
+        let [p0, p1, p2] = v;
         let p = b[0] * p0 + b[1] * p1 + b[2] * p2;
         let p_abs_sum = (b[0] * p0).abs() + (b[1] * p1).abs() + (b[2] * p2).abs();
         let p_error = error_floor(p, gamma(7) * p_abs_sum);
