@@ -319,26 +319,26 @@ impl Bvh8 {
     }
 }
 
-/// Sorts (lane, entry distance) pairs near to far, equal distances in their given (lane)
-/// order, so ties are broken as the lane-order loop before the sort broke them.
+/// Sorts (lane or child, entry distance) pairs near to far, equal distances kept in their
+/// given (lane) order, so ties are broken as the lane-order loop before the sort broke them.
 #[inline(always)]
 fn sort_near_to_far(v: &mut [(u32, f32)]) {
-    for i in 1..v.len() {
-        let mut j = i;
-        while j > 0 && v[j - 1].1 > v[j].1 {
-            v.swap(j - 1, j);
-            j -= 1;
-        }
-    }
+    insertion_sort(v, |a, b| a > b);
 }
 
-/// Sorts (child, entry distance) pairs far to near (insertion sort: a node's hit children
-/// are usually two or three).
+/// Sorts (child, entry distance) pairs far to near, ties in their given order.
 #[inline(always)]
 fn sort_far_to_near(v: &mut [(u32, f32)]) {
+    insertion_sort(v, |a, b| a < b);
+}
+
+/// Stable insertion sort by entry distance (a node's hit children are usually two or
+/// three): an entry moves before its predecessor while `out_of_order(predecessor, entry)`.
+#[inline(always)]
+fn insertion_sort(v: &mut [(u32, f32)], out_of_order: impl Fn(f32, f32) -> bool) {
     for i in 1..v.len() {
         let mut j = i;
-        while j > 0 && v[j - 1].1 < v[j].1 {
+        while j > 0 && out_of_order(v[j - 1].1, v[j].1) {
             v.swap(j - 1, j);
             j -= 1;
         }
