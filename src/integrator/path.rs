@@ -27,7 +27,8 @@ use crate::plugin::{BuildError, Stmt};
 use crate::sampler::SampleStream;
 use crate::scene::World;
 use crate::spectrum::Rgb;
-use glam::Vec3A;
+use crate::material::bsdf::Bsdf;
+use glam::{Vec2, Vec3A};
 
 /// Russian roulette after this many vertices (LuxRender starts at path length 3).
 const RR_START: u32 = 3;
@@ -228,7 +229,7 @@ impl PathIntegrator {
                 break;
             }
             let last = depth + 1 >= self.max_depth;
-            let u_select = s.next_1d();
+            let u_select = if material.uses_select() { s.next_1d() } else { 0.5 };
             let mut bsdf = material.bsdf(si, u_select);
             if scene.spectral() {
                 if let Some(b) = material.dispersion(si, u_select) {
@@ -251,7 +252,7 @@ impl PathIntegrator {
             if last && !continues_past_last(dls, bsdf.may_be_specular()) {
                 break;
             }
-            let (u, u2) = (s.next_1d(), s.next_2d());
+            let (u, u2) = bsdf_samples(&bsdf, s);
             let Some(bs) = bsdf.sample_f(si.wo, u, u2) else {
                 break;
             };
@@ -293,4 +294,15 @@ impl PathIntegrator {
         }
         beta.is_finite() && !beta.is_black()
     }
+}
+
+/// The samples [`Bsdf::sample_f`] reads, drawn only where its lobes read them
+/// ([`Bsdf::sample_uses`]): an unread dimension would cost a sampler evaluation for nothing.
+/// Every sampler keys its dimensions independently, so skipping one leaves the others as
+/// they are distributed.
+fn bsdf_samples(bsdf: &Bsdf, s: &mut SampleStream) -> (f32, Vec2) {
+    let (uses_u, uses_u2) = bsdf.sample_uses();
+    let u = if uses_u { s.next_1d() } else { 0.5 };
+    let u2 = if uses_u2 { s.next_2d() } else { Vec2::splat(0.5) };
+    (u, u2)
 }

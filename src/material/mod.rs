@@ -200,6 +200,17 @@ impl Material {
         matches!(self.kind, MaterialKind::Null)
     }
 
+    /// Whether [`Self::bsdf`] and [`Self::dispersion`] read their `u_select` (a mix or a
+    /// layered material, or one built on them): an integrator draws that sample only then.
+    pub fn uses_select(&self) -> bool {
+        match &self.kind {
+            MaterialKind::Mix(_) | MaterialKind::Layered(_) => true,
+            MaterialKind::DoubleSide(m) => m.front.uses_select() || m.back.uses_select(),
+            MaterialKind::GlossyCoating(m) => m.base.uses_select(),
+            _ => false,
+        }
+    }
+
     /// The BSDF at a hit; `u_select` in [0, 1) picks a component of mix materials (and seeds
     /// the layered material's estimator).
     pub fn bsdf(&self, si: &SurfaceInteraction, u_select: f32) -> Bsdf {

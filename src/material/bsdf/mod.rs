@@ -171,6 +171,30 @@ impl Bsdf {
         )
     }
 
+    /// Which of [`Self::sample_f`]'s samples its lobes read: the 1D lobe choice `u` and the
+    /// 2D direction `u2` (a diffuse lobe reads only `u2`, a smooth dielectric only `u`, a
+    /// mirror neither). An integrator draws only those; the others are not evaluated.
+    pub fn sample_uses(&self) -> (bool, bool) {
+        match &self.lobes {
+            Lobes::Black | Lobes::Mirror(_) | Lobes::Null => (false, false),
+            Lobes::Diffuse(_)
+            | Lobes::Velvet(_)
+            | Lobes::Microfacet(_)
+            | Lobes::Scatter(_)
+            | Lobes::Cloth(_) => (false, true),
+            Lobes::Dielectric(_) => (true, false),
+            Lobes::Translucent(_)
+            | Lobes::CarPaint(_)
+            | Lobes::GlossyTranslucent(_)
+            | Lobes::Coating(_)
+            | Lobes::SchlickBrdf(_)
+            | Lobes::FresnelBlend(_)
+            | Lobes::GlossyMirror { .. }
+            | Lobes::RoughDielectric(_)
+            | Lobes::Composite(_) => (true, true),
+        }
+    }
+
     /// True when local and geometric sides agree on reflection vs transmission.
     fn consistent(&self, wo_w: Vec3A, wi_w: Vec3A, wo: Vec3A, wi: Vec3A) -> bool {
         let geo_reflect = wo_w.dot(self.ng) * wi_w.dot(self.ng) > 0.0;
