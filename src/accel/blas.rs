@@ -274,6 +274,7 @@ impl Blas {
 
     /// Geometry of the hit found by [`Self::closest`] for the same ray, and its primitive id
     /// (a triangle's point comes from the hit's barycentrics, a quadric's from its distance).
+    #[inline(always)]
     pub fn hit_geometry(
         &self,
         hit: BlasHit,

@@ -42,6 +42,7 @@ impl LocalGeometry {
     }
 
     /// The complete record of a ray hit.
+    #[inline(always)]
     pub fn into_surface_interaction(
         mut self,
         wo: Vec3A,

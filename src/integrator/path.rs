@@ -23,11 +23,11 @@ use super::spectral::sample_wavelength;
 use super::volume::VolumeIntegrator;
 use super::DirectSettings;
 use crate::geometry::{Interaction, Ray};
+use crate::material::bsdf::Bsdf;
 use crate::plugin::{BuildError, Stmt};
 use crate::sampler::SampleStream;
 use crate::scene::World;
 use crate::spectrum::Rgb;
-use crate::material::bsdf::Bsdf;
 use glam::{Vec2, Vec3A};
 
 /// Russian roulette after this many vertices (LuxRender starts at path length 3).
@@ -229,7 +229,11 @@ impl PathIntegrator {
                 break;
             }
             let last = depth + 1 >= self.max_depth;
-            let u_select = if material.uses_select() { s.next_1d() } else { 0.5 };
+            let u_select = if material.uses_select() {
+                s.next_1d()
+            } else {
+                0.5
+            };
             let mut bsdf = material.bsdf(si, u_select);
             if scene.spectral() {
                 if let Some(b) = material.dispersion(si, u_select) {
@@ -303,6 +307,10 @@ impl PathIntegrator {
 fn bsdf_samples(bsdf: &Bsdf, s: &mut SampleStream) -> (f32, Vec2) {
     let (uses_u, uses_u2) = bsdf.sample_uses();
     let u = if uses_u { s.next_1d() } else { 0.5 };
-    let u2 = if uses_u2 { s.next_2d() } else { Vec2::splat(0.5) };
+    let u2 = if uses_u2 {
+        s.next_2d()
+    } else {
+        Vec2::splat(0.5)
+    };
     (u, u2)
 }

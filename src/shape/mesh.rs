@@ -167,6 +167,7 @@ impl TriangleMesh {
 
     /// [`Self::surface`] with triangle `i`'s vertices given (a BVH packet that was just
     /// tested holds them: reading them there spares two dependent loads from the mesh).
+    #[inline(always)]
     pub fn surface_of(&self, i: usize, v: [Vec3A; 3], b: [f32; 3]) -> MeshPoint {
         debug_assert_eq!(v, self.vertices(i), "triangle {i}: not the mesh's vertices");
         let [p0, p1, p2] = v;
@@ -196,6 +197,7 @@ impl TriangleMesh {
     }
 
     /// [`Self::geometry`] with triangle `i`'s vertices given (see [`Self::surface_of`]).
+    #[inline(always)]
     pub fn geometry_of(&self, i: usize, v: [Vec3A; 3], b: [f32; 3]) -> LocalGeometry {
         let MeshPoint { p, p_error, n, ns } = self.surface_of(i, v, b);
         let [p0, p1, p2] = v;

@@ -131,6 +131,7 @@ impl Bsdf {
     }
 
     /// A BSDF in the shading frame of `si`.
+    #[inline(always)]
     pub fn new(si: &SurfaceInteraction, lobes: Lobes) -> Bsdf {
         let n = if si.shading.n == Vec3A::ZERO {
             si.it.n
