@@ -92,6 +92,14 @@ impl Geometry {
         slot.get_or_insert(made).area as f32
     }
 
+    /// Whether [`Self::sample`] of shape `id` reads its `u_pick`: only a mesh with more
+    /// than [`REMAP_MAX_TRIANGLES`] triangles does (see [`pick_triangle`]).
+    pub fn sample_reads_pick(&self, id: ShapeId) -> bool {
+        let area = self.areas.get(id.0 as usize).and_then(Option::as_ref);
+        area.and_then(|a| a.tris.as_ref())
+            .is_some_and(|d| d.len() > REMAP_MAX_TRIANGLES)
+    }
+
     /// A point of the shape at shutter time `time`, uniform by area (`u_pick` chooses the
     /// triangle of a mesh), its uv and its density with respect to area. An unknown id, or
     /// one not prepared by [`Self::prepare_sampling`], gives pdf 0.

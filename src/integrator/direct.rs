@@ -183,9 +183,14 @@ fn sample_one(
     depth: u32,
 ) -> Rgb {
     let u = s.next_2d();
-    let u_pick = s.next_1d();
     let Some(light) = scene.lights().get(i) else {
         return Rgb::BLACK;
+    };
+    // Drawn only where it is read: an unread dimension costs a sampler evaluation.
+    let u_pick = if light.reads_pick(scene) {
+        s.next_1d()
+    } else {
+        0.5
     };
     let Some(ls) = light.sample_li(at.it(), u, u_pick, scene) else {
         return Rgb::BLACK;

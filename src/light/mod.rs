@@ -150,6 +150,13 @@ pub trait ShapeSampler {
         u_pick: f32,
         time: f32,
     ) -> Option<(Interaction, Vec2, f32)>;
+
+    /// Whether [`Self::sample_shape`] of `shape` reads its `u_pick` (a mesh with many
+    /// triangles picks one with it; a few triangles are picked with `u` itself). An
+    /// integrator draws `u_pick` only then; true when not known.
+    fn reads_pick(&self, _shape: u32) -> bool {
+        true
+    }
 }
 
 /// One sampled light direction as seen from a reference point.
@@ -440,6 +447,17 @@ impl Light {
             Light::Moving(l) => l.sample_li(r, u, u_pick, shapes),
         }?;
         (s.pdf > 0.0 && s.pdf.is_finite() && s.li.is_finite() && !s.li.is_black()).then_some(s)
+    }
+
+    /// Whether [`Self::sample_li`] reads its `u_pick` (an area light on a mesh with many
+    /// triangles, or a moving one); the other lights ignore it, and an integrator need not
+    /// draw it for them.
+    pub fn reads_pick(&self, shapes: &dyn ShapeSampler) -> bool {
+        match self {
+            Light::Area(l) => shapes.reads_pick(l.shape),
+            Light::Moving(_) => true,
+            _ => false,
+        }
     }
 
     /// Solid-angle density with which [`Self::sample_li`] picks `wi` from `r`; for area

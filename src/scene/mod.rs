@@ -305,4 +305,10 @@ impl ShapeSampler for World {
         let (it, uv, pdf) = self.geometry.sample(id, u, u_pick, time);
         (pdf > 0.0).then_some((it, uv, pdf))
     }
+
+    fn reads_pick(&self, shape: u32) -> bool {
+        self.emitters
+            .get(shape as usize)
+            .is_none_or(|&id| self.geometry.sample_reads_pick(id))
+    }
 }
