@@ -173,3 +173,51 @@ fn a_stratified_sample_stays_stratified_over_a_quads_two_triangles() {
     }
     assert_eq!(first, 32);
 }
+
+/// `u_pick` is read exactly where `sample_reads_pick` says: not by a quad light or a
+/// quadric (the same point for every `u_pick`), but by a mesh of more than 1024 triangles
+/// (a different triangle for a different `u_pick`).
+#[test]
+fn u_pick_is_read_only_by_meshes_of_many_triangles() {
+    let n = 48; // a 48 × 48 grid of quads: 4608 triangles
+    let mut p = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            p.push([i as f32, j as f32, 0.0]);
+        }
+    }
+    let mut idx = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i;
+            idx.extend([a, a + 1, a + n + 2, a, a + n + 2, a + n + 1]);
+        }
+    }
+    let grid = shape(
+        "trianglemesh",
+        vec![("indices", ints(&idx)), ("P", points(&p))],
+        DMat4::IDENTITY,
+        false,
+    );
+    let g = geo(&[quad(DMat4::IDENTITY, false), sphere(vec![], false), grid]);
+    let reads: Vec<bool> = (0..3).map(|i| g.sample_reads_pick(ShapeId(i))).collect();
+    assert_eq!(reads, [false, false, true]);
+    let mut rng = fixtures::Rng::new(9);
+    let mut moved = 0;
+    for _ in 0..200 {
+        let (u, up) = (Vec2::new(rng.f32(), rng.f32()), rng.f32());
+        for (i, &r) in reads.iter().enumerate() {
+            let id = ShapeId(i as u32);
+            let (a, b) = (g.sample(id, u, up, 0.0), g.sample(id, u, 1.0 - up, 0.0));
+            if r {
+                moved += usize::from(a.0.p != b.0.p);
+            } else {
+                assert_eq!(format!("{a:?}"), format!("{b:?}"), "shape {i} reads u_pick");
+            }
+        }
+    }
+    assert!(
+        moved > 150,
+        "the grid's point moved with u_pick in {moved} of 200 draws"
+    );
+}

@@ -502,3 +502,91 @@ fn gold_reflects_red_over_green_over_blue() {
     let r = crate::material::bxdf::fresnel::conductor(1.0, Rgb::from_array(n), Rgb::from_array(k));
     assert!(r.r > r.g && r.g > r.b, "{r:?}");
 }
+
+/// The samples an integrator may skip are really unread: for every material kind, a BSDF
+/// that says it does not read `u_select`, the lobe choice `u` or the direction `u2`
+/// (`Material::uses_select`, `Bsdf::sample_uses`) samples exactly the same whatever is
+/// passed for it. A kind that reads a sample it claims not to fails here.
+#[test]
+fn samples_said_unread_change_nothing() {
+    let plain = [
+        "matte",
+        "mattetranslucent",
+        "glossy",
+        "glossy_lossy",
+        "glossytranslucent",
+        "glass",
+        "glass2",
+        "roughglass",
+        "metal",
+        "metal2",
+        "shinymetal",
+        "mirror",
+        "carpaint",
+        "velvet",
+        "cloth",
+        "scatter",
+        "null",
+    ];
+    let mut mats: Vec<MaterialDesc> = (1..)
+        .zip(plain)
+        .map(|(line, kind)| mat(kind, kind, vec![], line))
+        .collect();
+    let pair = |a: &str, b: &str| vec![("namedmaterial1", s(a)), ("namedmaterial2", s(b))];
+    mats.push(mat("mix", "mix", pair("matte", "mirror"), 30));
+    mats.push(mat("layered", "layered", pair("glass", "matte"), 31));
+    let sides = vec![
+        ("frontnamedmaterial", s("glossy")),
+        ("backnamedmaterial", s("matte")),
+    ];
+    mats.push(mat("doubleside", "doubleside", sides, 32));
+    let coat = vec![("basematerial", s("mix"))];
+    mats.push(mat("glossycoating", "glossycoating", coat, 33));
+    let n = mats.len();
+    let names: Vec<String> = mats.iter().map(|m| m.entity.kind.clone()).collect();
+    let set = MaterialSet::build(
+        &scene(mats),
+        &(0..n).collect::<Vec<_>>(),
+        &MaterialCtx::default(),
+    )
+    .unwrap();
+    let si = flat_si();
+    let same =
+        |a: &Option<BsdfSample>, b: &Option<BsdfSample>| format!("{a:?}") == format!("{b:?}");
+    let mut rng = Rng(0x5eed);
+    let (mut selects, mut reads_u, mut reads_u2) = (0, 0, 0);
+    for k in 0..n {
+        let m = set.get(Some(k));
+        let uses_select = m.uses_select();
+        selects += usize::from(uses_select);
+        for _ in 0..64 {
+            let wo = dir(80.0 * rng.next(), 360.0 * rng.next());
+            let (us, u, u2) = (rng.next(), rng.next(), rng.next2());
+            let bsdf = m.bsdf(&si, us);
+            let s = bsdf.sample_f(wo, u, u2);
+            if !uses_select {
+                let other = m.bsdf(&si, 1.0 - us).sample_f(wo, u, u2);
+                assert!(same(&s, &other), "{}: reads u_select", names[k]);
+            }
+            let (uses_u, uses_u2) = bsdf.sample_uses();
+            reads_u += usize::from(uses_u);
+            reads_u2 += usize::from(uses_u2);
+            if !uses_u {
+                let other = bsdf.sample_f(wo, 1.0 - u, u2);
+                assert!(same(&s, &other), "{}: reads u ({:?})", names[k], bsdf.lobes);
+            }
+            if !uses_u2 {
+                let other = bsdf.sample_f(wo, u, Vec2::ONE - u2);
+                assert!(
+                    same(&s, &other),
+                    "{}: reads u2 ({:?})",
+                    names[k],
+                    bsdf.lobes
+                );
+            }
+        }
+    }
+    // The predicates are not trivially true: some kinds read each sample, some do not.
+    assert!(selects > 0 && selects < n, "{selects} of {n} select");
+    assert!(reads_u > 0 && reads_u < 64 * n && reads_u2 > 0 && reads_u2 < 64 * n);
+}
