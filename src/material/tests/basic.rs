@@ -555,7 +555,7 @@ fn samples_said_unread_change_nothing() {
         |a: &Option<BsdfSample>, b: &Option<BsdfSample>| format!("{a:?}") == format!("{b:?}");
     let mut rng = Rng(0x5eed);
     let (mut selects, mut reads_u, mut reads_u2) = (0, 0, 0);
-    for k in 0..n {
+    for (k, name) in names.iter().enumerate() {
         let m = set.get(Some(k));
         let uses_select = m.uses_select();
         selects += usize::from(uses_select);
@@ -566,14 +566,14 @@ fn samples_said_unread_change_nothing() {
             let s = bsdf.sample_f(wo, u, u2);
             if !uses_select {
                 let other = m.bsdf(&si, 1.0 - us).sample_f(wo, u, u2);
-                assert!(same(&s, &other), "{}: reads u_select", names[k]);
+                assert!(same(&s, &other), "{name}: reads u_select");
             }
             let (uses_u, uses_u2) = bsdf.sample_uses();
             reads_u += usize::from(uses_u);
             reads_u2 += usize::from(uses_u2);
             if !uses_u {
                 let other = bsdf.sample_f(wo, 1.0 - u, u2);
-                assert!(same(&s, &other), "{}: reads u ({:?})", names[k], bsdf.lobes);
+                assert!(same(&s, &other), "{name}: reads u ({:?})", bsdf.lobes);
             }
             if !uses_u2 {
                 let other = bsdf.sample_f(wo, u, Vec2::ONE - u2);
