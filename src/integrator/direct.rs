@@ -186,8 +186,8 @@ fn sample_one(
     let Some(light) = scene.lights().get(i) else {
         return Rgb::BLACK;
     };
-    // Drawn only where it is read: an unread dimension costs a sampler evaluation.
-    let u_pick = if light.reads_pick(scene) {
+    // Drawn only when some light reads it: an unread dimension costs a sampler evaluation.
+    let u_pick = if scene.lights_read_pick() {
         s.next_1d()
     } else {
         0.5

@@ -449,15 +449,16 @@ impl Light {
         (s.pdf > 0.0 && s.pdf.is_finite() && s.li.is_finite() && !s.li.is_black()).then_some(s)
     }
 
-    /// Whether [`Self::sample_li`] reads its `u_pick` (an area light on a mesh with many
-    /// triangles, or a moving one); the other lights ignore it, and an integrator need not
-    /// draw it for them.
+    /// Whether [`Self::sample_li`] reads its `u_pick`: a light with portals (it chooses
+    /// between them and its own sampling, and picks the portal's triangle), an area light on
+    /// a mesh with many triangles, a moving one. The other lights ignore it.
     pub fn reads_pick(&self, shapes: &dyn ShapeSampler) -> bool {
-        match self {
-            Light::Area(l) => shapes.reads_pick(l.shape),
-            Light::Moving(_) => true,
-            _ => false,
-        }
+        self.portals().is_some()
+            || match self {
+                Light::Area(l) => shapes.reads_pick(l.shape),
+                Light::Moving(_) => true,
+                _ => false,
+            }
     }
 
     /// Solid-angle density with which [`Self::sample_li`] picks `wi` from `r`; for area

@@ -35,6 +35,12 @@
 //! | 4    | `next_1d` | time (shutter) |
 //! | 5 .. | either    | the integrator's, in a fixed order per path vertex |
 //!
+//! A value nobody reads is not drawn: the path integrator draws a material's selection
+//! sample, a BSDF's lobe choice and direction, and the light pick sample only where the hit's
+//! material or the scene's lights read them. So which dimensions a vertex takes depends on
+//! its material (as it already did on whether the BSDF is specular); every sampler keys each
+//! dimension on its own, so that changes no value's distribution.
+//!
 //! [`SampleStream::camera_sample`] draws dims 0..5 in that order. Dimensions are counted:
 //! `next_1d` uses one, `next_2d` two. For the best stratification, draw 2D quantities with
 //! `next_2d` (lowdiscrepancy and sobol stratify each 2D request jointly).

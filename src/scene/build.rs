@@ -163,9 +163,10 @@ impl World {
                 "scene needs spectra: {name} disperses; paths through it carry one wavelength"
             );
         }
-        Ok(World {
+        let mut world = World {
             built: summary,
             spectral: spectral.is_some(),
+            lights_read_pick: true,
             media,
             has_null,
             groups,
@@ -181,7 +182,9 @@ impl World {
                 center,
                 radius: radius.max(1e-6),
             },
-        })
+        };
+        world.lights_read_pick = world.lights.iter().any(|l| l.reads_pick(&world));
+        Ok(world)
     }
 }
 

@@ -19,6 +19,8 @@
 mod build;
 mod geometry;
 mod portals;
+#[cfg(test)]
+mod tests;
 
 use crate::accel::{Geometry, ShapeId};
 use crate::geometry::{Interaction, Ray, SurfaceInteraction};
@@ -64,6 +66,8 @@ pub struct World {
     media: Option<Box<MediaSet>>,
     /// Whether some material disperses light: paths through it then carry a wavelength.
     spectral: bool,
+    /// Whether some light's sampling reads its `u_pick` ([`Light::reads_pick`]).
+    lights_read_pick: bool,
 }
 
 /// Where a segment walked by [`World::walk_segment`] ends: at a point (stopping just short
@@ -151,6 +155,13 @@ impl World {
     /// Whether some material disperses light (the scene needs spectral paths).
     pub fn spectral(&self) -> bool {
         self.spectral
+    }
+
+    /// Whether light sampling needs its `u_pick` in this scene: some light reads it. Decided
+    /// per scene, not per light, so that every light sample draws the same dimensions and a
+    /// pixel's later dimensions stay aligned (stratified) whichever light its samples pick.
+    pub fn lights_read_pick(&self) -> bool {
+        self.lights_read_pick
     }
 
     /// The scene's participating media, when it has any that act on light.
