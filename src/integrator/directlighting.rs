@@ -18,7 +18,7 @@ use super::direct::{
     add_emission, add_medium_emission, bsdf_hit_weight, escaped, sample_lights, Arrival, Scatterer,
 };
 use super::volume::VolumeIntegrator;
-use super::DirectSettings;
+use super::{bsdf_samples, select_sample, DirectSettings};
 use crate::geometry::{Interaction, Ray};
 use crate::plugin::Stmt;
 use crate::sampler::SampleStream;
@@ -132,7 +132,8 @@ impl DirectLightingIntegrator {
                 continue;
             }
             pass = 0;
-            let bsdf = material.bsdf(si, s.next_1d());
+            let u_select = select_sample(material, s);
+            let bsdf = material.bsdf(si, u_select);
             if bsdf.has_non_specular() {
                 let at = Scatterer::Surface { si, bsdf: &bsdf };
                 sample_lights(scene, &self.direct, &at, medium, s, beta, false, depth, l);
@@ -141,7 +142,7 @@ impl DirectLightingIntegrator {
             if depth >= self.max_depth {
                 break;
             }
-            let (u, u2) = (s.next_1d(), s.next_2d());
+            let (u, u2) = bsdf_samples(&bsdf, s);
             match bsdf.sample_f(si.wo, u, u2) {
                 Some(bs) if bs.specular && bs.pdf > 0.0 => {
                     beta *= bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);

@@ -48,8 +48,11 @@ pub use volume::VolumeIntegrator;
 use crate::camera::Camera;
 use crate::geometry::Ray;
 use crate::light::LightStrategy;
+use crate::material::bsdf::Bsdf;
+use crate::material::Material;
 use crate::sampler::SampleStream;
 use crate::scene::World;
+use glam::Vec2;
 
 /// Settings shared by both integrators.
 #[derive(Clone, Copy, Debug)]
@@ -244,5 +247,30 @@ impl Integrator {
 pub(crate) fn add_group(l: &mut [Rgb], g: usize, c: Rgb) {
     if let Some(slot) = l.get_mut(g) {
         *slot += c;
+    }
+}
+
+/// The samples [`Bsdf::sample_f`] reads, drawn only where its lobes read them
+/// ([`Bsdf::sample_uses`]): an unread dimension would cost a sampler evaluation for nothing.
+/// Every sampler keys its dimensions independently, so skipping one leaves the others as
+/// they are distributed.
+pub(crate) fn bsdf_samples(bsdf: &Bsdf, s: &mut SampleStream) -> (f32, Vec2) {
+    let (uses_u, uses_u2) = bsdf.sample_uses();
+    let u = if uses_u { s.next_1d() } else { 0.5 };
+    let u2 = if uses_u2 {
+        s.next_2d()
+    } else {
+        Vec2::splat(0.5)
+    };
+    (u, u2)
+}
+
+/// The sample a material's `bsdf` selects its component with ([`Material::uses_select`]),
+/// drawn only for materials that read it (mix, layered and those built on them).
+pub(crate) fn select_sample(material: &Material, s: &mut SampleStream) -> f32 {
+    if material.uses_select() {
+        s.next_1d()
+    } else {
+        0.5
     }
 }

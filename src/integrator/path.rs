@@ -21,14 +21,13 @@ use super::direct::{
 };
 use super::spectral::sample_wavelength;
 use super::volume::VolumeIntegrator;
-use super::DirectSettings;
+use super::{bsdf_samples, select_sample, DirectSettings};
 use crate::geometry::{Interaction, Ray};
-use crate::material::bsdf::Bsdf;
 use crate::plugin::{BuildError, Stmt};
 use crate::sampler::SampleStream;
 use crate::scene::World;
 use crate::spectrum::Rgb;
-use glam::{Vec2, Vec3A};
+use glam::Vec3A;
 
 /// Russian roulette after this many vertices (LuxRender starts at path length 3).
 const RR_START: u32 = 3;
@@ -229,11 +228,7 @@ impl PathIntegrator {
                 break;
             }
             let last = depth + 1 >= self.max_depth;
-            let u_select = if material.uses_select() {
-                s.next_1d()
-            } else {
-                0.5
-            };
+            let u_select = select_sample(material, s);
             let mut bsdf = material.bsdf(si, u_select);
             if scene.spectral() {
                 if let Some(b) = material.dispersion(si, u_select) {
@@ -298,19 +293,4 @@ impl PathIntegrator {
         }
         beta.is_finite() && !beta.is_black()
     }
-}
-
-/// The samples [`Bsdf::sample_f`] reads, drawn only where its lobes read them
-/// ([`Bsdf::sample_uses`]): an unread dimension would cost a sampler evaluation for nothing.
-/// Every sampler keys its dimensions independently, so skipping one leaves the others as
-/// they are distributed.
-fn bsdf_samples(bsdf: &Bsdf, s: &mut SampleStream) -> (f32, Vec2) {
-    let (uses_u, uses_u2) = bsdf.sample_uses();
-    let u = if uses_u { s.next_1d() } else { 0.5 };
-    let u2 = if uses_u2 {
-        s.next_2d()
-    } else {
-        Vec2::splat(0.5)
-    };
-    (u, u2)
 }
