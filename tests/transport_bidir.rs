@@ -23,7 +23,9 @@ const PATH: &str = "Sampler \"random\" \"integer pixelsamples\" [4]\nSurfaceInte
 #[test]
 fn cornell_bidirectional_matches_path() {
     let (p, dir) = scene("cornell/cornell.lxs", PATH, 64, 64);
-    let rp = runs(&p, &dir, 0, 6, 2, 32);
+    // Twelve path runs: standard errors taken from six runs are themselves uncertain enough
+    // (Student's t, five degrees of freedom) that |z| passes 4 by chance now and then.
+    let rp = runs(&p, &dir, 0, 12, 2, 32);
     for (i, sampler) in ["random", "sobol"].iter().enumerate() {
         let (b, _) = scene("cornell/cornell.lxs", &bidir_with(sampler), 64, 64);
         let rb = runs(&b, &dir, 100 * (i as u64 + 1), 6, 2, 32);
