@@ -139,12 +139,12 @@ impl AreaLight {
         }
     }
 
-    pub fn sample_li(
+    pub fn sample_li<S: ShapeSampler + ?Sized>(
         &self,
         r: &Interaction,
         u: Vec2,
         u_pick: f32,
-        shapes: &dyn ShapeSampler,
+        shapes: &S,
     ) -> Option<LightSample> {
         let (it, uv, pdf_area) = shapes.sample_shape(self.shape, u, u_pick, r.time)?;
         let d = it.p - r.p;

@@ -402,12 +402,12 @@ impl Light {
 
     /// Samples a direction toward the light from `r`; a light with portals draws most of its
     /// directions through them and the rest as it would without ([`portal::PORTAL_SHARE`]).
-    pub fn sample_li(
+    pub fn sample_li<S: ShapeSampler + ?Sized>(
         &self,
         r: &Interaction,
         u: Vec2,
         u_pick: f32,
-        shapes: &dyn ShapeSampler,
+        shapes: &S,
     ) -> Option<LightSample> {
         let Some(portals) = self.portals() else {
             return self.sample_li_ignoring_portals(r, u, u_pick, shapes);
@@ -427,12 +427,12 @@ impl Light {
 
     /// Samples a direction toward the light from `r` over the light's whole extent, portals
     /// or not (bidirectional's position-free directions at infinity).
-    pub fn sample_li_ignoring_portals(
+    pub fn sample_li_ignoring_portals<S: ShapeSampler + ?Sized>(
         &self,
         r: &Interaction,
         u: Vec2,
         u_pick: f32,
-        shapes: &dyn ShapeSampler,
+        shapes: &S,
     ) -> Option<LightSample> {
         let s = match self {
             Light::Point(l) => l.sample_li(r),

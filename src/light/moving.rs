@@ -103,12 +103,12 @@ impl MovingLight {
     /// position, with the intensity that reaches `r` over the world distance, or for a light
     /// at infinity a direction it draws in its own space (`u`, `u_pick`), turned to world
     /// space.
-    pub fn sample_li(
+    pub fn sample_li<S: ShapeSampler + ?Sized>(
         &self,
         r: &Interaction,
         u: Vec2,
         u_pick: f32,
-        shapes: &dyn ShapeSampler,
+        shapes: &S,
     ) -> Option<LightSample> {
         if self.at_infinity() {
             return self.sample_li_at_infinity(r, u, u_pick, shapes);
@@ -142,12 +142,12 @@ impl MovingLight {
 
     /// A light at infinity's [`Self::sample_li`]: the local sample's direction in world
     /// space, its density over world directions.
-    fn sample_li_at_infinity(
+    fn sample_li_at_infinity<S: ShapeSampler + ?Sized>(
         &self,
         r: &Interaction,
         u: Vec2,
         u_pick: f32,
-        shapes: &dyn ShapeSampler,
+        shapes: &S,
     ) -> Option<LightSample> {
         let t = self.at(r.time)?;
         let local = Interaction {
