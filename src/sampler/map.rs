@@ -34,7 +34,11 @@
 //! looks noisy, so a map built from each pixel's own change gives the lucky pixel more
 //! samples (diluting its catch) and the others fewer. Such an image reads dark: 0.82 of the
 //! reference at 433 samples a pixel on a lamp seen only through glass, where uniform sampling
-//! read 1.02 (LuxRender 1.x's map, built from each pixel's own change, has the same defect).
+//! read 1.02. (LuxRender 1.x builds its map another way, which luxfarm does not follow yet:
+//! each pixel's per-sample luminance deviation over the convergence test's threshold,
+//! stretched between the 5th and 95th percentiles, box-filtered with radius 6 and rebuilt on
+//! a doubling samples-per-pixel schedule; `Film::GenerateNoiseAwareMap`. It too depends on
+//! each pixel's own samples, so the same caution applies.)
 //! So a pixel is judged by its neighbourhood: its noise is the largest within
 //! [`DILATE_RADIUS`] pixels, and (`crate::render::noise`) a noisy pixel's noise fades over
 //! several tests rather than vanishing at the first quiet one. A catch then raises the
