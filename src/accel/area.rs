@@ -93,7 +93,7 @@ impl Geometry {
     }
 
     /// Whether [`Self::sample`] of shape `id` reads its `u_pick`: only a mesh with more
-    /// than [`REMAP_MAX_TRIANGLES`] triangles does (see [`pick_triangle`]).
+    /// than `REMAP_MAX_TRIANGLES` triangles does (see `pick_triangle`).
     pub fn sample_reads_pick(&self, id: ShapeId) -> bool {
         let area = self.areas.get(id.0 as usize).and_then(Option::as_ref);
         area.and_then(|a| a.tris.as_ref())
