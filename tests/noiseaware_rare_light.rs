@@ -8,12 +8,12 @@
 //! The light here is simulated, not rendered, so that the test measures the map and nothing
 //! else, at hundreds of samples a pixel in a fraction of a second: every sample of every
 //! pixel returns `V` with probability `P` (else 0), over a dim constant floor. The samples go
-//! through the real machinery of a noise-aware session (the film, its display image, the
-//! convergence test, [`MapBuilder`] and the map's per-pixel sample counts), pass after pass.
+//! through the real machinery of a noise-aware session (the film and its variance sums, its
+//! display image, [`MapBuilder`] and the map's per-pixel sample counts), pass after pass.
 //! The film's mean must agree with the true mean within the noise of the estimate, as
 //! uniform sampling's does.
 
-use luxfarm::film::Film;
+use luxfarm::film::{Film, VarianceBuffer};
 use luxfarm::render::noise::MapBuilder;
 use luxfarm::sampler::map::{PassKey, SamplingMap};
 use luxfarm::tonemap::TonemapParams;
@@ -72,6 +72,7 @@ fn render_lit(
     lit: impl Fn(u32) -> bool,
 ) -> Rendered {
     let mut film = Film::new(W, H, vec![]);
+    film.set_variance(Some(VarianceBuffer::new(W, H))).unwrap();
     let mut rng = Rng(seed);
     let mut builder = MapBuilder::new(STEP);
     let mut map = SamplingMap::uniform(W, H).unwrap();
@@ -96,6 +97,7 @@ fn render_lit(
                     let caught = lit(x) && rng.next() < p;
                     let c = (FLOOR + if caught { v } else { 0.0 }) as f32;
                     film.add_splat(0, x, y, [c, c, c], 1.0, 1.0);
+                    film.add_variance(x, y, c, 1.0);
                 }
                 samples[(y * W + x) as usize] += f64::from(n);
             }

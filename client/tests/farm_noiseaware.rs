@@ -1,12 +1,13 @@
 //! Noise-aware sampling across the farm: a master and one worker on loopback render a scene
 //! whose left half is a finely textured plane (noisy) and whose right half an emitter seen
 //! directly (converged after one sample), with `"bool noiseaware"`. The master builds the
-//! sampling map from the merged film (two convergence tests: it needs two merged deltas) and
-//! sends it with its acknowledgements; the worker's kept deltas show its per-pixel sample
-//! counts (box filter of radius 0.5: a pixel's weight sum is its sample count). The first two
-//! deltas, rendered before any map can exist (the map needs two merges and comes with an
-//! acknowledgement), sample every pixel equally; a later delta gives the noisy half several
-//! times the samples of the converged half.
+//! sampling map from the merged film (from the spread of each pixel's contributions, which
+//! the deltas carry, once it has `convergencestep` spp) in its periodic tick and sends it with
+//! its acknowledgements; the worker's kept deltas show its per-pixel sample counts (box
+//! filter of radius 0.5: a pixel's weight sum is its sample count). The first delta, rendered
+//! before any map can exist, samples every pixel equally (the second usually does too: the
+//! map built from the first comes with a later acknowledgement); from the third on, a delta
+//! gives the noisy half several times the samples of the converged half.
 
 mod farm_common;
 
@@ -115,7 +116,7 @@ fn the_workers_sampling_follows_the_masters_map_once_it_arrives() {
     // Before the map: every pixel sampled alike (whole passes of 4 samples per pixel). A
     // camera sample whose film position rounds (f32) onto the next pixel's edge moves one
     // count to a neighbour now and then, so "alike" is within one sample.
-    for (k, c) in deltas.iter().take(2).enumerate() {
+    for (k, c) in deltas.iter().take(1).enumerate() {
         let mut sorted = c.clone();
         sorted.sort_by(f64::total_cmp);
         let median = sorted[sorted.len() / 2];

@@ -1,7 +1,7 @@
 //! The merged film's analyses, run on the master's tick instead of on the upload path: the
 //! `haltthreshold` convergence test, the trade view's own test for jobs without one
-//! (`crate::trade`), and the noise-aware sampling map (`crate::noisemap`), each every
-//! `convergencestep` spp.
+//! (`crate::trade`), each every `convergencestep` spp, and the noise-aware sampling map
+//! (`crate::noisemap`), first at `convergencestep` spp and then at doubling steps.
 //!
 //! ```text
 //! merge (upload path: decode, merge, ledger, haltspp, ack) --> film version bumped

@@ -1,7 +1,8 @@
 //! Sampling maps on the master: for a job whose sampler has `"bool noiseaware"`, the map is
 //! built from the merged film (the render core's `luxfarm::render::noise`, the same builder a
-//! local render uses: the convergence test every `convergencestep` spp); a job may also have a
-//! user sampling map (`crate::usermap`). The map the workers get is their pixel by pixel
+//! local render uses: each pixel's spread of contributions, which the workers' deltas carry,
+//! over its visibility threshold, at `convergencestep` spp and then at doubling steps); a job
+//! may also have a user sampling map (`crate::usermap`). The map the workers get is their pixel by pixel
 //! product when both exist, else the one that does (LuxRender's `Film::UpdateSamplingMap`;
 //! a cleared user map without a noise-aware map gives the uniform map), handed to every
 //! worker with its acknowledgements, as LuxRender's master pushed its maps to the slaves.
@@ -271,8 +272,8 @@ mod tests {
 
     #[test]
     fn wire_maps_are_bounded_and_round_trip() {
-        let noise: Vec<f32> = (0..600 * 400).map(|i| (i % 600) as f32 / 100.0).collect();
-        let m = SamplingMap::from_noise(&noise, 600, 400).unwrap();
+        let weights: Vec<f32> = (0..600 * 400).map(|i| (i % 600) as f32 / 100.0).collect();
+        let m = SamplingMap::from_weights(&weights, 600, 400).unwrap();
         let w = to_wire(&m, 7);
         assert!(u64::from(w.width * w.height) <= MAX_WIRE_CELLS);
         assert_eq!(w.densities.len() as u32, 4 * w.width * w.height);

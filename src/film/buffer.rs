@@ -5,7 +5,7 @@
 //! LuxRender keeps these in f32; here they are f64 so that merging thousands of network deltas
 //! loses nothing. The FLM format stores f32 and a double sample count (see `flm`).
 
-use super::{FilmError, ZBuffer};
+use super::{FilmError, VarianceBuffer, ZBuffer};
 use rayon::prelude::*;
 
 /// Number of f64 values per pixel: X, Y, Z, alpha, weight sum.
@@ -67,7 +67,8 @@ pub fn check_size(width: u32, height: u32) -> Result<(), FilmError> {
 }
 
 /// The film buffers: f64 sums per light group, buffer and pixel, and f64 sample counts; and
-/// the depth sums when the film carries a Z buffer (a farm delta of a Film that writes Z).
+/// the depth sums when the film carries a Z buffer (a farm delta of a Film that writes Z), and
+/// the luminance spread sums of a noise-aware render ([`VarianceBuffer`]).
 #[derive(Debug, PartialEq)]
 pub struct Film {
     width: u32,
@@ -80,6 +81,8 @@ pub struct Film {
     rejected: u64,
     /// Depth sums and weights (`write_exr_ZBuf`), merged with the film; `None` without Z.
     depth: Option<ZBuffer>,
+    /// Luminance spread sums of a noise-aware render, merged with the film; `None` otherwise.
+    variance: Option<VarianceBuffer>,
 }
 
 impl Clone for Film {
@@ -93,6 +96,7 @@ impl Clone for Film {
             samples: self.samples.clone(),
             rejected: self.rejected,
             depth: self.depth.clone(),
+            variance: self.variance.clone(),
         }
     }
 
@@ -107,6 +111,7 @@ impl Clone for Film {
         self.samples.clone_from(&source.samples);
         self.rejected = source.rejected;
         self.depth.clone_from(&source.depth);
+        self.variance.clone_from(&source.variance);
     }
 }
 
@@ -154,6 +159,7 @@ impl Film {
             buffer_types,
             rejected: 0,
             depth: None,
+            variance: None,
         }
     }
 
@@ -317,6 +323,11 @@ impl Film {
             (None, Some(o)) => self.depth = Some(o.clone()),
             _ => {}
         }
+        match (&mut self.variance, &other.variance) {
+            (Some(v), Some(o)) => v.merge_at(o, 0, 0),
+            (None, Some(o)) => self.variance = Some(o.clone()),
+            _ => {}
+        }
         Ok(())
     }
 
@@ -343,6 +354,9 @@ impl Film {
             }
         }
         self.rejected += tile.rejected;
+        if let (Some(v), Some(tv)) = (&mut self.variance, &tile.variance) {
+            v.merge_at(tv, x0, y0);
+        }
         Ok(())
     }
 
@@ -355,6 +369,9 @@ impl Film {
         self.rejected = 0;
         if let Some(z) = &mut self.depth {
             z.clear();
+        }
+        if let Some(v) = &mut self.variance {
+            v.clear();
         }
     }
 
@@ -378,6 +395,38 @@ impl Film {
             }
         }
         self.depth = depth;
+        Ok(())
+    }
+
+    /// Adds a contribution's luminance `lum` with filter weight `weight` at pixel (x, y) to
+    /// the variance sums, when the film keeps them (a noise-aware render).
+    #[inline]
+    pub fn add_variance(&mut self, x: u32, y: u32, lum: f32, weight: f32) {
+        if let Some(v) = &mut self.variance {
+            v.add(x, y, lum, weight);
+        }
+    }
+
+    /// The luminance spread sums the film carries (a noise-aware render's film or delta).
+    pub fn variance(&self) -> Option<&VarianceBuffer> {
+        self.variance.as_ref()
+    }
+
+    /// Gives the film variance sums of its size (replacing any), or takes them away; a
+    /// buffer of another size is refused.
+    pub fn set_variance(&mut self, variance: Option<VarianceBuffer>) -> Result<(), FilmError> {
+        if let Some(v) = &variance {
+            if (v.width(), v.height()) != (self.width, self.height) {
+                return Err(FilmError::Mismatch(format!(
+                    "a {}x{} variance buffer for a {}x{} film",
+                    v.width(),
+                    v.height(),
+                    self.width,
+                    self.height
+                )));
+            }
+        }
+        self.variance = variance;
         Ok(())
     }
 

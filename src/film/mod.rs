@@ -9,7 +9,8 @@
 //! - [`response`]: the `cameraresponse` curves, CRF files or LuxRender's built-in film
 //!   presets ([`crf_presets`]).
 //! - [`flm`], [`flm_header`]: LuxRender's film file; [`compare`](mod@compare): luxcomp's metrics;
-//!   [`outlier`]: k-nearest outlier rejection of samples.
+//!   [`outlier`]: k-nearest outlier rejection of samples; [`variance`]: the luminance spread
+//!   per pixel that noise-aware sampling builds its map from; [`zbuffer`]: depths.
 //!
 //! The back end runs one way: `film` -> `tonemap` (film sums to RGB) -> `imageio` (pixel
 //! buffers to PNG/TGA/EXR bytes) -> `output` (the files a Film asks for); `halt` decides when
@@ -27,6 +28,7 @@ mod imaging_params;
 pub mod outlier;
 pub mod params;
 pub mod response;
+pub mod variance;
 pub mod zbuffer;
 
 pub use buffer::{check_size, BufferType, Film, MAX_AXIS, MAX_PIXELS, PIXEL_VALUES};
@@ -38,6 +40,7 @@ pub use imaging::{
 };
 pub use outlier::OutlierRejector;
 pub use params::FilmParams;
+pub use variance::VarianceBuffer;
 pub use zbuffer::ZBuffer;
 pub mod flm;
 pub mod flm_header;

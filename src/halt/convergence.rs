@@ -184,23 +184,45 @@ fn prepare(img: &RgbImage, p: &YeeParams) -> Prepared {
     }
 }
 
-/// Yee's comparison of two display images of the same size: per pixel, the ratio of the
-/// visible-difference measure to its threshold (> 1 fails) and whether it failed.
-pub fn yee_compare(a: &RgbImage, b: &RgbImage, p: &YeeParams) -> Vec<(f32, bool)> {
-    let (w, h) = (a.width as usize, a.height as usize);
-    let (pa, pb) = (prepare(a, p), prepare(b, p));
-    let one_degree =
-        2.0 * (p.field_of_view * 0.5).to_radians().tan() * 180.0 / std::f32::consts::PI;
-    let pixels_per_degree = w as f32 / one_degree;
-    let mut adaptation_level = 0;
+/// Yee's "pixels in one degree" of the observer's field of view.
+fn one_degree_pixels(p: &YeeParams) -> f32 {
+    2.0 * (p.field_of_view * 0.5).to_radians().tan() * 180.0 / std::f32::consts::PI
+}
+
+/// The pyramid level whose blur spans about one degree: the adaptation luminance's.
+fn adaptation_level(one_degree: f32) -> usize {
+    let mut level = 0;
     let mut n = 1.0;
     for i in 0..LEVELS {
-        adaptation_level = i;
+        level = i;
         if n > one_degree {
             break;
         }
         n *= 2.0;
     }
+    level
+}
+
+/// Per pixel of a display image, the threshold versus intensity of its adaptation luminance
+/// (cd/m^2): the smallest luminance change visible there, as the test measures it. The
+/// noise-aware map divides each pixel's noise by it (`crate::sampler::map`).
+pub fn tvi_map(img: &RgbImage, p: &YeeParams) -> Vec<f32> {
+    let level = adaptation_level(one_degree_pixels(p));
+    let pyramid = prepare(img, p).pyramid;
+    let (w, h) = (img.width as usize, img.height as usize);
+    (0..w * h)
+        .map(|i| tvi(pyramid.get(i % w, i / w, level).max(1e-5)))
+        .collect()
+}
+
+/// Yee's comparison of two display images of the same size: per pixel, the ratio of the
+/// visible-difference measure to its threshold (> 1 fails) and whether it failed.
+pub fn yee_compare(a: &RgbImage, b: &RgbImage, p: &YeeParams) -> Vec<(f32, bool)> {
+    let (w, h) = (a.width as usize, a.height as usize);
+    let (pa, pb) = (prepare(a, p), prepare(b, p));
+    let one_degree = one_degree_pixels(p);
+    let pixels_per_degree = w as f32 / one_degree;
+    let adaptation_level = adaptation_level(one_degree);
     let mut cpd = [0.0f32; LEVELS];
     cpd[0] = 0.5 * pixels_per_degree;
     for i in 1..LEVELS {

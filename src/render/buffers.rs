@@ -71,6 +71,7 @@ pub fn apply_splats(
             let (lx, ly) = (i64::from(x) - ox, i64::from(y) - oy);
             if lx >= 0 && ly >= 0 && lx <= i64::from(u32::MAX) && ly <= i64::from(u32::MAX) {
                 film.add_buffer_splat(g, buffer, lx as u32, ly as u32, xyz, 1.0, w);
+                film.add_variance(lx as u32, ly as u32, xyz[1], w);
             }
         });
     }

@@ -551,6 +551,7 @@ pub(super) fn deposit(
                     c.alpha,
                     fw * w,
                 );
+                film.add_variance(lx as u32, ly as u32, c.xyz[1], fw * w);
             }
         });
     }

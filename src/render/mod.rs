@@ -16,10 +16,12 @@
 //! Markov chains ([`mlt`], [`erpt`]) into the film's per-screen buffers.
 //!
 //! A `noiseaware` sampler draws each pixel's samples of a pass by the session's sampling map
-//! (`crate::sampler::map`). A local session rebuilds the map from its own film every
-//! `convergencestep` spp ([`noise`], which documents the pass count); a farm worker's session
-//! instead takes the maps its master sends ([`Session::follow_external_maps`],
-//! [`Session::set_sampling_map`]). Passes count the samples they actually took.
+//! (`crate::sampler::map`). Its film keeps each pixel's luminance spread sums
+//! (`crate::film::variance`, which farm deltas carry to the master); a local session
+//! rebuilds the map from its own film at `convergencestep` spp and then at doubling steps
+//! ([`noise`]); a farm worker's session instead takes the maps its master builds from the
+//! merged film ([`Session::follow_external_maps`], [`Session::set_sampling_map`]). Passes
+//! count the samples they actually took.
 //!
 //! A session may also be given a user sampling map ([`Session::set_user_map`], read from an
 //! image by [`usermap`]): every sampler that takes maps (all but metropolis and erpt) then
@@ -46,7 +48,7 @@ pub mod setup;
 mod tile;
 pub mod usermap;
 
-use crate::film::{BufferType, Film, FilmParams, ZBuffer};
+use crate::film::{BufferType, Film, FilmParams, VarianceBuffer, ZBuffer};
 use crate::lxs::SceneDescription;
 use crate::sampler::map::{MapError, SamplingMap};
 use setup::{Renderable, SetupError};
@@ -152,7 +154,13 @@ impl Session {
         opts: SessionOptions,
     ) -> Result<Session, RenderError> {
         let buffers = scene.setup.buffers();
-        let film = new_film(&scene, &buffers)?;
+        let mut film = new_film(&scene, &buffers)?;
+        if scene.setup.sampler.noise_aware() {
+            // The film keeps the spread of each pixel's contributions, the noise-aware map's
+            // measure of noise (`crate::film::variance`); its size is the film's.
+            let v = VarianceBuffer::new(film.width(), film.height());
+            film.set_variance(Some(v)).map_err(RenderError::from)?;
+        }
         let mlt = scene
             .setup
             .sampler

@@ -1,60 +1,56 @@
 //! Building noise-aware sampling maps from a film, for the local render driver (the
-//! [`super::Session`] of a `noiseaware` sampler) and for the farm's master (its merged film).
+//! [`super::Session`] of a `noiseaware` sampler) and for the farm's master (its merged film),
+//! as LuxRender 1.x's film does (`FlexImageFilm::ConvUpdateThreadImpl`,
+//! `Film::GenerateNoiseAwareMap`).
 //!
 //! ```text
-//! film --every convergencestep spp: tonemap_display--> ConvergenceTest (crate::halt)
-//!   --per-pixel noise (from the second test on)--> memory: max(noise, remembered × 0.85)
-//!   --> SamplingMap::from_noise --> session / wire
+//! film's variance sums (crate::film::variance) --per pixel--> standard deviation of one
+//!   contribution's luminance --\
+//! film --tonemap_display--> threshold versus intensity (crate::halt::convergence::tvi_map) --+
+//!   --> SamplingMap::from_deviation --> session / wire
 //! ```
 //!
-//! The map is rebuilt whenever the film's spp has grown by `convergencestep` (the Film
-//! parameter, LuxRender's default 32, at least 4) since the last rebuild, as LuxRender updates
-//! its noise-aware map with its convergence test. A local render thus rebuilds it every
-//! N = ceil(convergencestep / pixelsamples) passes (8 passes with the defaults), the first
-//! map after the second test (the first only gives the test its reference image). Until then
+//! **When.** The first map is built once the film has `convergencestep` spp (the Film
+//! parameter, LuxRender's default 32, at least 4), and the step doubles after every map: maps
+//! at 32, 96, 224, 480, ... spp with the defaults, as LuxRender's `noiseAwareStep` doubles. A
+//! pixel's spread of single contributions settles as samples arrive (it does not shrink with
+//! their number, unlike the error of the pixel's mean), so an early map stays good and later
+//! ones refine it. Until the first map, and while some pixel has no contribution yet,
 //! sampling is uniform.
 //!
-//! The map is built from a memory of the tests, not from the last one alone: a pixel that
-//! changed visibly keeps its noise, fading by [`MEMORY_DECAY`] a test, so a pixel lit by
-//! rare paths is not taken for converged the first time a test finds it quiet (the bias
-//! this avoids is explained in `crate::sampler::map`).
+//! **Threshold.** LuxRender takes each pixel's threshold from its last convergence test,
+//! which compares two display images and adapts to their mean; luxfarm computes it from the
+//! display image the map is built at, so a map needs no earlier test.
+//!
+//! Why a map built from the pixels' own samples does not bias the image, and where it is only
+//! consistent, is said in `crate::sampler::map`.
 
 use crate::film::Film;
-use crate::halt::{ConvergenceTest, YeeParams};
-use crate::sampler::map::{SamplingMap, NOISE_CAP};
+use crate::halt::convergence::tvi_map;
+use crate::halt::YeeParams;
+use crate::sampler::map::SamplingMap;
 use crate::tonemap::{tonemap_display, TonemapParams};
 
-/// How much of a pixel's remembered noise is left one test later: a pixel that changed
-/// visibly keeps a raised density for a while (noise 16 fades to 1 in 17 tests) instead of
-/// dropping back the moment one test finds it unchanged.
-pub const MEMORY_DECAY: f32 = 0.85;
-
-/// The running convergence test behind a sampling map, and when it is next due.
+/// When the next map of a film is due, and how many were built.
 #[derive(Clone, Debug)]
 pub struct MapBuilder {
-    test: ConvergenceTest,
+    /// Spp the film must gain before the next map (doubles after each).
     step: f64,
     last_spp: f64,
-    tests: u64,
     version: u64,
-    /// Per pixel, the noise the map was last built from, fading by [`MEMORY_DECAY`] a test.
-    memory: Vec<f32>,
 }
 
 impl MapBuilder {
-    /// A builder testing every `step` spp (`convergencestep`; at least 1).
+    /// A builder whose first map is due at `step` spp (`convergencestep`; at least 1).
     pub fn new(step: f64) -> MapBuilder {
         MapBuilder {
-            test: ConvergenceTest::new(YeeParams::default()),
             step: if step.is_finite() {
                 step.max(1.0)
             } else {
                 32.0
             },
             last_spp: 0.0,
-            tests: 0,
             version: 0,
-            memory: Vec::new(),
         }
     }
 
@@ -63,18 +59,15 @@ impl MapBuilder {
         spp >= self.last_spp + self.step
     }
 
-    /// Runs the convergence test on `film` and returns the new map (`None` after the first
-    /// test, which only keeps its image, or for an empty film).
+    /// Builds the map of `film` from its variance sums and its display image, and doubles
+    /// the step to the next. `None` (sampling stays as it is) for a film without variance
+    /// sums, or with a pixel no contribution has reached yet.
     pub fn update(&mut self, film: &Film, tonemap: &TonemapParams) -> Option<SamplingMap> {
         self.last_spp = film.spp();
-        self.test.update(&tonemap_display(film, tonemap));
-        self.tests += 1;
-        if self.tests < 2 {
-            return None;
-        }
-        self.remember();
-        let map = SamplingMap::from_noise(&self.memory, film.width(), film.height());
-        match map {
+        self.step *= 2.0;
+        let sigma = film.variance()?.deviations()?;
+        let tvi = tvi_map(&tonemap_display(film, tonemap), &YeeParams::default());
+        match SamplingMap::from_deviation(&sigma, &tvi, film.width(), film.height()) {
             Ok(m) => {
                 self.version += 1;
                 Some(m)
@@ -83,26 +76,6 @@ impl MapBuilder {
                 tracing::warn!("no sampling map: {e}");
                 None
             }
-        }
-    }
-
-    /// Folds the last test's noise into the memory: each pixel keeps the larger of its new
-    /// noise and its remembered noise faded by [`MEMORY_DECAY`].
-    fn remember(&mut self) {
-        let noise = self.test.noise_map();
-        let capped = noise.iter().map(|v| {
-            if v.is_nan() {
-                NOISE_CAP
-            } else {
-                v.clamp(0.0, NOISE_CAP)
-            }
-        });
-        if self.memory.len() != noise.len() {
-            self.memory = capped.collect();
-            return;
-        }
-        for (m, n) in self.memory.iter_mut().zip(capped) {
-            *m = n.max(*m * MEMORY_DECAY);
         }
     }
 
@@ -115,78 +88,68 @@ impl MapBuilder {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::film::VarianceBuffer;
 
-    /// A film whose left half flickers between two values from one snapshot to the next
-    /// while its right half stays put.
-    fn film(w: u32, h: u32, round: u32) -> Film {
+    /// A grey film whose pixels left of `split` get contributions spread by `noisy` and the
+    /// others a constant, `spp` per pixel.
+    fn film(w: u32, h: u32, split: u32, noisy: f32, spp: u32) -> Film {
         let mut f = Film::new(w, h, vec![]);
+        f.set_variance(Some(VarianceBuffer::new(w, h))).unwrap();
         for y in 0..h {
             for x in 0..w {
-                let v = if x < w / 2 && (x + y + round).is_multiple_of(2) {
-                    0.9
-                } else {
-                    0.3
-                };
-                f.add_splat(0, x, y, [v, v, v], 1.0, 1.0);
+                for k in 0..spp {
+                    let d = if x < split && k % 2 == 0 { noisy } else { 0.0 };
+                    let v = 0.3 + d - if x < split && k % 2 == 1 { noisy } else { 0.0 };
+                    f.add_splat(0, x, y, [v, v, v], 1.0, 1.0);
+                    f.add_variance(x, y, v, 1.0);
+                }
             }
         }
-        f.add_sample_count(f64::from(w * h) * 4.0 * f64::from(round + 1));
-        f
-    }
-
-    /// A film of uniform grey with one pixel's value set.
-    fn film_with(w: u32, h: u32, at: (u32, u32), v: f32, spp: f64) -> Film {
-        let mut f = Film::new(w, h, vec![]);
-        for y in 0..h {
-            for x in 0..w {
-                let c = if (x, y) == at { v } else { 0.3 };
-                f.add_splat(0, x, y, [c, c, c], 1.0, 1.0);
-            }
-        }
-        f.add_sample_count(f64::from(w * h) * spp);
+        f.add_sample_count(f64::from(w * h * spp));
         f
     }
 
     #[test]
-    fn a_pixels_noise_fades_over_tests_instead_of_vanishing() {
+    fn maps_are_due_on_a_doubling_schedule() {
         let tm = TonemapParams::default();
-        let mut b = MapBuilder::new(4.0);
-        let (w, h) = (40, 40);
-        b.update(&film_with(w, h, (20, 20), 0.3, 4.0), &tm);
-        // The pixel changes once ...
-        let changed = b.update(&film_with(w, h, (20, 20), 0.9, 8.0), &tm).unwrap();
-        let peak = changed.density(20, 20);
-        assert!(peak > 2.0, "{peak}");
-        // ... then holds still: its density stays raised, falling test by test.
-        let mut last = peak;
-        for k in 0..3 {
-            let m = b.update(
-                &film_with(w, h, (20, 20), 0.9, 12.0 + 4.0 * f64::from(k)),
-                &tm,
-            );
-            let d = m.unwrap().density(20, 20);
-            assert!(d > 1.5, "test {k}: {d}");
-            assert!(d <= last * 1.0001, "test {k}: {d} after {last}");
-            last = d;
-        }
+        let mut b = MapBuilder::new(32.0);
+        assert!(!b.due(31.0) && b.due(32.0));
+        assert!(b.update(&film(40, 20, 20, 0.2, 32), &tm).is_some());
+        // next at 32 + 64, then 96 + 128
+        assert!(!b.due(95.0) && b.due(96.0));
+        assert!(b.update(&film(40, 20, 20, 0.2, 96), &tm).is_some());
+        assert!(!b.due(223.0) && b.due(224.0));
+        assert_eq!(b.version(), 2);
     }
 
     #[test]
-    fn the_map_follows_the_changing_half_after_the_second_test() {
+    fn the_map_follows_the_spread_of_the_contributions() {
         let tm = TonemapParams::default();
-        let mut b = MapBuilder::new(4.0);
-        assert!(b.due(4.0) && !b.due(3.0));
-        assert!(b.update(&film(32, 16, 0), &tm).is_none());
-        assert!(!b.due(4.0));
-        let m = b.update(&film(32, 16, 1), &tm).expect("a map");
-        assert_eq!(b.version(), 1);
+        let (w, h) = (64u32, 32u32);
+        let m = MapBuilder::new(4.0)
+            .update(&film(w, h, 32, 0.2, 8), &tm)
+            .expect("a map");
         let half = |x0: u32, x1: u32| -> f32 {
-            (0..16)
+            (0..h)
                 .flat_map(|y| (x0..x1).map(move |x| (x, y)))
                 .map(|(x, y)| m.density(x, y))
                 .sum::<f32>()
         };
-        let (left, right) = (half(0, 16), half(16, 32));
-        assert!(left > 3.0 * right, "left {left} right {right}");
+        // well inside each half (the box filter blends 6 pixels either side of the edge)
+        let (left, right) = (half(0, 25), half(39, 64));
+        assert!(left > 5.0 * right, "left {left} right {right}");
+    }
+
+    #[test]
+    fn no_map_without_variance_sums_or_before_every_pixel_has_one() {
+        let tm = TonemapParams::default();
+        let mut plain = Film::new(8, 8, vec![]);
+        plain.add_sample_count(64.0);
+        assert!(MapBuilder::new(4.0).update(&plain, &tm).is_none());
+        let mut f = film(8, 8, 4, 0.2, 4);
+        let mut v = VarianceBuffer::new(8, 8);
+        v.add(0, 0, 0.5, 1.0);
+        f.set_variance(Some(v)).unwrap();
+        assert!(MapBuilder::new(4.0).update(&f, &tm).is_none());
     }
 }

@@ -64,6 +64,7 @@ impl Session {
             map,
             counts,
             depth: self.depth.is_some(),
+            variance: self.film.variance().is_some(),
         }
     }
 

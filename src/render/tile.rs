@@ -16,7 +16,7 @@ use super::counts::SampleCounts;
 use super::extent::SampleExtent;
 use super::setup::{RenderSetup, Renderable};
 use crate::film::FilmParams;
-use crate::film::{BufferType, Film, OutlierRejector, ZBuffer};
+use crate::film::{BufferType, Film, OutlierRejector, VarianceBuffer, ZBuffer};
 use crate::integrator::{SampleOut, Splat};
 use crate::sampler::map::{PassKey, SamplingMap};
 use crate::spectrum::rgb_to_xyz;
@@ -100,6 +100,8 @@ pub struct PassCtx<'a> {
     pub counts: Option<&'a SampleCounts>,
     /// Whether tiles record depths (the session keeps a Z buffer).
     pub depth: bool,
+    /// Whether tile films keep luminance spread sums (a noise-aware sampler's session).
+    pub variance: bool,
 }
 
 impl PassCtx<'_> {
@@ -178,6 +180,10 @@ pub fn render_tile(scene: &Renderable, t: &Tile, ctx: &PassCtx) -> TileOut {
     let (fw, fh) = (t.fx1 - t.fx0, t.fy1 - t.fy0);
     let mut film = Film::with_buffers(fw, fh, world.groups().to_vec(), buffers.to_vec())
         .unwrap_or_else(|_| Film::new(fw, fh, world.groups().to_vec()));
+    if ctx.variance {
+        // A tile film has the size of its new buffer: the call cannot be refused.
+        let _ = film.set_variance(Some(VarianceBuffer::new(fw, fh)));
+    }
     let mut depth = ctx
         .depth
         .then(|| ZBuffer::new(t.fx1 - t.fx0, t.fy1 - t.fy0));
@@ -246,6 +252,7 @@ pub fn render_tile(scene: &Renderable, t: &Tile, ctx: &PassCtx) -> TileOut {
                         let (lx, ly) = (i64::from(x) - ox, i64::from(y) - oy);
                         if lx >= 0 && ly >= 0 {
                             film.add_splat(g, lx as u32, ly as u32, xyz, alpha, fw);
+                            film.add_variance(lx as u32, ly as u32, xyz[1], fw);
                         }
                     });
                 }

@@ -17,7 +17,8 @@
 //!
 //! Both may end with a depth section (a Film writing Z: the depth sums and weights of the
 //! `write_exr_ZBuf` channel, zstd-compressed, see `depth_section`); a film without it has no
-//! depth.
+//! depth. A variance section may follow (a noise-aware render: each pixel's luminance spread
+//! sums, zstd-compressed, see `variance_section`); a film without it has none.
 //!
 //! Common header: magic, width u32, height u32, group count u32, per group its name (u32
 //! length + UTF-8), buffer count u32, per buffer its type i32, rejected u64, per group the
@@ -26,13 +27,15 @@
 pub mod lxd2;
 
 use crate::{Result, WireError};
-use luxfarm::film::{BufferType, Film, ZBuffer, PIXEL_VALUES};
+use luxfarm::film::{BufferType, Film, VarianceBuffer, ZBuffer, PIXEL_VALUES};
 
 pub use lxd2::Compressor;
 
 const MAGIC: &[u8; 4] = b"LXD1";
 /// Tag of the optional depth section (Z buffer sums) after a film's values.
 const DEPTH_TAG: &[u8; 4] = b"ZBF1";
+/// Tag of the optional variance section (noise-aware sums) after the depth section, if any.
+const VARIANCE_TAG: &[u8; 4] = b"VAR1";
 /// Most light groups a delta may carry.
 pub const MAX_GROUPS: usize = 1024;
 const MAX_BUFFERS: usize = 8;
@@ -104,7 +107,8 @@ pub fn encode_to(film: &Film, w: &mut impl std::io::Write) -> std::io::Result<()
             }
         }
     }
-    w.write_all(&depth_section(film))
+    w.write_all(&depth_section(film))?;
+    w.write_all(&variance_section(film))
 }
 
 /// The optional depth section after the values (both encodings): [`DEPTH_TAG`], the
@@ -126,36 +130,80 @@ fn depth_section(film: &Film) -> Vec<u8> {
     out
 }
 
-/// Reads the optional depth section (see [`depth_section`]) into `film`: exactly the film's
-/// pixel count of sums and weights, finite, weights not negative; no section clears the
-/// film's depth. Nothing may follow.
-fn read_depth(r: &mut Reader, film: &mut Film) -> Result<()> {
-    if r.rest() == 0 {
-        return film.set_depth(None).map_err(|e| bad(&e.to_string()));
+/// Reads the optional sections after the values (see [`depth_section`] and
+/// [`variance_section`]), each at most once and in that order; a section left out clears
+/// that part of `film`. Nothing else may follow.
+fn read_sections(r: &mut Reader, film: &mut Film) -> Result<()> {
+    let mut depth = None;
+    let mut variance = None;
+    while r.rest() != 0 {
+        let tag = r.take(4)?;
+        if tag == DEPTH_TAG && depth.is_none() && variance.is_none() {
+            depth = Some(read_depth(r, film)?);
+        } else if tag == VARIANCE_TAG && variance.is_none() {
+            variance = Some(read_variance(r, film)?);
+        } else {
+            return Err(bad("trailing bytes"));
+        }
     }
-    if r.take(4)? != DEPTH_TAG {
-        return Err(bad("trailing bytes"));
-    }
+    film.set_depth(depth).map_err(|e| bad(&e.to_string()))?;
+    film.set_variance(variance).map_err(|e| bad(&e.to_string()))
+}
+
+/// A section's zstd-compressed f64 values (after its tag): the compressed length u32, then
+/// exactly `count` values once decompressed.
+fn read_f64_section(r: &mut Reader, count: usize, what: &str) -> Result<Vec<f64>> {
     let len = r.u32()? as usize;
     let packed = r.take(len)?;
-    let n = film.pixel_count();
-    let want = n * 16;
-    let raw = zstd::bulk::decompress(packed, want).map_err(|_| bad("bad depth section"))?;
+    let want = count * 8;
+    let raw =
+        zstd::bulk::decompress(packed, want).map_err(|_| bad(&format!("bad {what} section")))?;
     if raw.len() != want {
-        return Err(bad("depth section of the wrong size"));
+        return Err(bad(&format!("{what} section of the wrong size")));
     }
-    let values: Vec<f64> = raw
+    Ok(raw
         .chunks_exact(8)
         .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
-        .collect();
+        .collect())
+}
+
+/// The depth section's sums and weights: the film's pixel count of each, finite, weights
+/// not negative.
+fn read_depth(r: &mut Reader, film: &Film) -> Result<ZBuffer> {
+    let n = film.pixel_count();
+    let values = read_f64_section(r, 2 * n, "depth")?;
     let (sums, weights) = values.split_at(n);
-    let z = ZBuffer::from_sums(film.width(), film.height(), sums.to_vec(), weights.to_vec())
-        .map_err(|e| bad(&e))?;
-    film.set_depth(Some(z)).map_err(|e| bad(&e.to_string()))?;
-    if r.rest() != 0 {
-        return Err(bad("trailing bytes"));
+    ZBuffer::from_sums(film.width(), film.height(), sums.to_vec(), weights.to_vec())
+        .map_err(|e| bad(&e))
+}
+
+/// The variance section's sums, three per pixel (Σw, Σw·Y, Σw·Y²), checked as
+/// [`VarianceBuffer::from_sums`] checks them.
+fn read_variance(r: &mut Reader, film: &Film) -> Result<VarianceBuffer> {
+    let values = read_f64_section(r, 3 * film.pixel_count(), "variance")?;
+    let sums = values.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    VarianceBuffer::from_sums(film.width(), film.height(), sums).map_err(|e| bad(&e))
+}
+
+/// The optional variance section after the depth section (both encodings): [`VARIANCE_TAG`],
+/// the compressed length u32, then zstd of each pixel's three sums (f64, little endian, row
+/// by row). A film without variance sums writes nothing.
+fn variance_section(film: &Film) -> Vec<u8> {
+    let Some(v) = film.variance() else {
+        return Vec::new();
+    };
+    let mut raw = Vec::with_capacity(24 * v.sums().len());
+    for s in v.sums() {
+        for x in s {
+            raw.extend_from_slice(&x.to_le_bytes());
+        }
     }
-    Ok(())
+    let packed = zstd::bulk::compress(&raw, 1).unwrap_or_default();
+    let mut out = Vec::with_capacity(8 + packed.len());
+    out.extend_from_slice(VARIANCE_TAG);
+    out.extend_from_slice(&(packed.len() as u32).to_le_bytes());
+    out.extend_from_slice(&packed);
+    out
 }
 
 /// Writes the common header with its magic.
@@ -226,7 +274,7 @@ pub fn decode(bytes: &[u8]) -> Result<Film> {
     let header = read_header(&mut r, raw)?;
     let mut film = header.new_film()?;
     read_values(&mut r, raw, &mut film)?;
-    read_depth(&mut r, &mut film)?;
+    read_sections(&mut r, &mut film)?;
     Ok(film)
 }
 
@@ -237,7 +285,7 @@ pub fn decode_into(bytes: &[u8], film: &mut Film) -> Result<()> {
     let header = read_header(&mut r, raw)?;
     header.check_fits(film)?;
     read_values(&mut r, raw, film)?;
-    read_depth(&mut r, film)?;
+    read_sections(&mut r, film)?;
     header.set_counts(film);
     Ok(())
 }
@@ -380,7 +428,7 @@ fn read_header(r: &mut Reader, raw: bool) -> Result<Header> {
     if bytes > MAX_DECODED {
         return Err(bad(&format!("a film of {bytes} bytes is too large")));
     }
-    // (A depth section may follow the values: `read_depth` checks it.)
+    // (Depth and variance sections may follow the values: `read_sections` checks them.)
     if raw && (r.rest() as u64) < bytes {
         let expected = r.pos as u64 + bytes;
         return Err(bad(&format!(
@@ -480,6 +528,80 @@ mod tests {
         assert!(decode(&section(&[1.0; 7], &[1.0; 7])).is_err());
         assert!(decode(&section(&[1.0; 6], &[1.0, 1.0, -1.0, 1.0, 1.0, 1.0])).is_err());
         assert!(decode(&section(&[f64::NAN, 1.0, 1.0, 1.0, 1.0, 1.0], &[1.0; 6])).is_err());
+    }
+
+    fn with_variance(mut f: Film) -> Film {
+        let mut v = VarianceBuffer::new(3, 2);
+        v.add(0, 0, 1.0, 1.0);
+        v.add(0, 0, 3.0, 1.0);
+        v.add(2, 1, 0.5, 0.25);
+        f.set_variance(Some(v)).unwrap();
+        f
+    }
+
+    #[test]
+    fn variance_sums_travel_exactly_alone_or_after_depth() {
+        for f in [
+            with_variance(sample_film()),
+            with_variance(with_depth(sample_film())),
+        ] {
+            for enc in [encode(&f), encode_delta(&f)] {
+                let g = decode(&enc).unwrap();
+                assert_eq!(g, f);
+                assert_eq!(g.variance().unwrap().variance(0, 0), Some(1.0));
+                // Into a used film: the sums arrive, and leave with a delta that has none.
+                let mut used = sample_film();
+                decode_into(&enc, &mut used).unwrap();
+                assert_eq!(used.variance(), f.variance());
+                assert_eq!(used.depth(), f.depth());
+                decode_into(&encode_delta(&sample_film()), &mut used).unwrap();
+                assert!(used.variance().is_none() && used.depth().is_none());
+            }
+        }
+        // Merging adds the sums.
+        let f = with_variance(sample_film());
+        let mut m = f.clone();
+        m.merge(&f).unwrap();
+        assert_eq!(m.variance().unwrap().sums()[0], [4.0, 8.0, 20.0]);
+    }
+
+    #[test]
+    fn bad_variance_sections_are_refused() {
+        let plain = encode_delta(&sample_film());
+        let section = |tag: &[u8; 4], sums: &[f64]| {
+            let raw: Vec<u8> = sums.iter().flat_map(|v| v.to_le_bytes()).collect();
+            let packed = zstd::bulk::compress(&raw, 1).unwrap();
+            let mut out = Vec::new();
+            out.extend_from_slice(tag);
+            out.extend_from_slice(&(packed.len() as u32).to_le_bytes());
+            out.extend_from_slice(&packed);
+            out
+        };
+        let with = |parts: &[Vec<u8>]| -> Vec<u8> {
+            let mut out = plain.clone();
+            parts.iter().for_each(|p| out.extend_from_slice(p));
+            out
+        };
+        let good = section(VARIANCE_TAG, &[1.0; 18]);
+        let depth = section(DEPTH_TAG, &[1.0; 12]);
+        assert!(decode(&with(std::slice::from_ref(&good))).is_ok());
+        assert!(decode(&with(&[depth.clone(), good.clone()])).is_ok());
+        // Twice, or before the depth section, or truncated.
+        assert!(decode(&with(&[good.clone(), good.clone()])).is_err());
+        assert!(decode(&with(&[good.clone(), depth.clone()])).is_err());
+        let full = with(std::slice::from_ref(&good));
+        assert!(decode(&full[..full.len() - 2]).is_err());
+        // The wrong count, a negative weight, a negative square, a NaN.
+        let mut bad = vec![1.0; 18];
+        assert!(decode(&with(&[section(VARIANCE_TAG, &bad[..15])])).is_err());
+        bad[3] = -1.0;
+        assert!(decode(&with(&[section(VARIANCE_TAG, &bad)])).is_err());
+        bad[3] = 1.0;
+        bad[5] = -1.0;
+        assert!(decode(&with(&[section(VARIANCE_TAG, &bad)])).is_err());
+        bad[5] = 1.0;
+        bad[4] = f64::NAN;
+        assert!(decode(&with(&[section(VARIANCE_TAG, &bad)])).is_err());
     }
 
     #[test]

@@ -116,6 +116,7 @@ pub fn encode(film: &Film, comp: Compressor) -> Vec<u8> {
         }
     }
     out.extend_from_slice(&super::depth_section(film));
+    out.extend_from_slice(&super::variance_section(film));
     out
 }
 
