@@ -2,8 +2,9 @@
 //! a caustic): most samples of a pixel return nothing and a few return a great deal. A pixel
 //! that has caught none of them looks converged, so a sampling map that trusted each pixel's
 //! own recent change would starve exactly those pixels and dilute the ones that did catch
-//! light: the image reads dark (measured before the fix: 0.78 of the reference on the
-//! `caustic-covered` benchmark scene at 8 s, where uniform sampling read 1.02).
+//! light: the image reads dark (measured with an earlier luxfarm map built from each pixel's
+//! own change: 0.78 of the reference on the `caustic-covered` benchmark scene at 8 s, where
+//! uniform sampling read 1.02).
 //!
 //! The light here is simulated, not rendered, so that the test measures the map and nothing
 //! else, at hundreds of samples a pixel in a fraction of a second: every sample of every
@@ -171,13 +172,13 @@ fn check(p: f64, v: f64) {
     );
 }
 
-/// About one catch per pixel over the render (before the fix: 0.86 of the truth).
+/// About one catch per pixel over the render (the earlier map: 0.86 of the truth).
 #[test]
 fn light_caught_once_in_500_samples_reads_true() {
     check(0.002, 500.0);
 }
 
-/// A quarter of a catch per pixel over the render (before the fix: 0.65 of the truth).
+/// A quarter of a catch per pixel over the render (the earlier map: 0.65 of the truth).
 #[test]
 fn light_caught_once_in_2000_samples_reads_true() {
     check(0.0005, 2000.0);

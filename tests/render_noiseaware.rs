@@ -240,3 +240,34 @@ fn metropolis_takes_noiseaware_without_bias() {
     eprintln!("metropolis noise-aware {a:?} / {a2:?}\nuniform {uniform:?}");
     assert_within_noise(&a, &a2, &uniform, "metropolis noise-aware vs uniform");
 }
+
+/// Metropolis drops black contributions from the image, but a noise-aware film still counts
+/// them in its variance sums (as LuxRender deposits them): with no infinite light the left
+/// half of the scene is black, and the session still builds its map.
+#[test]
+fn metropolis_builds_a_map_over_black_regions() {
+    let text = scene(true)
+        .replace(
+            r#"Sampler "random" "integer pixelsamples" [4]"#,
+            r#"Sampler "metropolis" "integer pixelsamples" [4]"#,
+        )
+        .replace(r#"LightSource "infinite" "color L" [1 1 1]"#, "");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/noiseaware.lxs");
+    let desc = parse_text(&text, &path);
+    let opts = SessionOptions {
+        threads: 2,
+        seed: 5,
+        stream: 1,
+    };
+    let mut s = Session::new(&desc, path.parent().unwrap(), opts).unwrap();
+    for _ in 0..8 {
+        s.render_pass();
+    }
+    let v = s
+        .film()
+        .variance()
+        .expect("a noise-aware film keeps variance sums");
+    let reached = v.sums().iter().filter(|p| p[0] > 0.0).count();
+    assert_eq!(reached, (W * H) as usize, "pixels with a contribution");
+    assert!(s.sampling_map().is_some(), "no map over a half-black film");
+}

@@ -20,7 +20,10 @@ pub const CHUNK_BYTES: usize = 1024 * 1024;
 /// The version of the worker protocol (registration, assignments, uploads, heartbeats) this
 /// build speaks. Worker and master exchange it at registration and refuse a different one.
 /// 2: worker credentials, durable sequence numbers, sample budgets.
-pub const PROTOCOL_VERSION: u32 = 2;
+/// 3: a noise-aware job's deltas carry each pixel's variance sums (`VAR1` section), from
+/// which the master builds the sampling map; a master or worker of version 2 would refuse or
+/// drop them.
+pub const PROTOCOL_VERSION: u32 = 3;
 
 /// This build's version (the luxfarm release), shown when versions disagree.
 pub const BUILD: &str = env!("CARGO_PKG_VERSION");

@@ -116,11 +116,17 @@ fn check_halts(
 }
 
 /// Bytes of one film of the scene's layout (f64 sums), with its depth buffer (a sum and a
-/// weight per pixel) when an output asks for Z.
+/// weight per pixel) when an output asks for Z, and its variance sums (three per pixel) when
+/// the sampler is noise-aware.
 pub fn film_bytes(info: &SceneInfo) -> u64 {
     let per_pixel = (PIXEL_VALUES * 8) as u64;
     let depth = if info.params.wants_zbuf() {
         info.pixels.saturating_mul(DEPTH_BYTES_PER_PIXEL)
+    } else {
+        0
+    };
+    let variance = if info.noise_aware {
+        info.pixels.saturating_mul(VARIANCE_BYTES_PER_PIXEL)
     } else {
         0
     };
@@ -129,10 +135,15 @@ pub fn film_bytes(info: &SceneInfo) -> u64 {
         .saturating_mul(info.buffers.len().max(1) as u64)
         .saturating_mul(per_pixel)
         .saturating_add(depth)
+        .saturating_add(variance)
 }
 
 /// A depth buffer's bytes per pixel: an f64 sum and an f64 weight (`luxfarm::film::ZBuffer`).
 const DEPTH_BYTES_PER_PIXEL: u64 = 16;
+
+/// Variance sums' bytes per pixel: Σw, Σw·Y and Σw·Y² as f64
+/// (`luxfarm::film::VarianceBuffer`).
+const VARIANCE_BYTES_PER_PIXEL: u64 = 24;
 
 /// Decides whether a scene may be queued, and with which halt rules.
 pub fn admit(
@@ -328,6 +339,14 @@ mod tests {
         // Z asked of an output that is not written renders no depth.
         z.params.exr.enabled = false;
         assert_eq!(film_bytes(&z), film_bytes(&plain));
+    }
+
+    #[test]
+    fn a_noise_aware_sampler_adds_its_variance_sums_to_the_film() {
+        let plain = info(100, 50, 2);
+        let mut na = info(100, 50, 2);
+        na.noise_aware = true;
+        assert_eq!(film_bytes(&na) - film_bytes(&plain), 100 * 50 * 24);
     }
 
     #[test]

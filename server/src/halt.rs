@@ -4,7 +4,7 @@
 //! this module asks them at the master's moments, on the merged film: haltspp after each
 //! merge; halttime (seconds since the first lease) and haltthreshold (the convergence test
 //! every convergencestep spp, `crate::analysis`, which also rebuilds a noise-aware job's
-//! sampling map and feeds the job's error history) on every tick.
+//! sampling map on its own doubling schedule and feeds the job's error history) on every tick.
 //! When a halt rule holds the job enters its halting phase (its `halted` webhook queued,
 //! `crate::webhooks`): every lease is told to stop and
 //! the master waits for the last deltas (at most two upload intervals plus

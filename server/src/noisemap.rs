@@ -48,8 +48,8 @@ pub enum UserMap {
     Set(Arc<SamplingMap>),
 }
 
-/// A job's map state: the builder (created at the first test), the last noise-aware map, the
-/// user map, and the last combined map with its version.
+/// A job's map state: the builder (created when the first map is due), the last noise-aware
+/// map, the user map, and the last combined map with its version.
 #[derive(Default)]
 pub struct NoiseMapState {
     builder: Option<MapBuilder>,
@@ -66,8 +66,8 @@ impl NoiseMapState {
         self.builder.as_ref().is_none_or(|b| b.due(spp))
     }
 
-    /// Takes the builder out (a new one testing every `step` spp at the first call), to run
-    /// it without holding the job's state; [`Self::put_back`] returns it.
+    /// Takes the builder out (at the first call a new one, its first map due at `step` spp),
+    /// to run it without holding the job's state; [`Self::put_back`] returns it.
     pub fn take_builder(&mut self, step: f64) -> MapBuilder {
         self.builder.take().unwrap_or_else(|| MapBuilder::new(step))
     }

@@ -412,6 +412,11 @@ impl Film {
         self.variance.as_ref()
     }
 
+    /// The luminance spread sums, to write (a farm delta decoded into a reused film).
+    pub fn variance_mut(&mut self) -> Option<&mut VarianceBuffer> {
+        self.variance.as_mut()
+    }
+
     /// Gives the film variance sums of its size (replacing any), or takes them away; a
     /// buffer of another size is refused.
     pub fn set_variance(&mut self, variance: Option<VarianceBuffer>) -> Result<(), FilmError> {

@@ -29,7 +29,8 @@ impl VarianceBuffer {
     }
 
     /// A buffer from its sums, row by row (a film read back from the wire): `width × height`
-    /// triples, finite, the weights and the weighted squares not negative.
+    /// triples, all finite. (Filters with negative lobes, such as the default Mitchell, give
+    /// negative weights, so any sign may arrive.)
     pub fn from_sums(width: u32, height: u32, sums: Vec<[f64; 3]>) -> Result<Self, String> {
         let n = width as usize * height as usize;
         if sums.len() != n {
@@ -38,17 +39,34 @@ impl VarianceBuffer {
                 sums.len()
             ));
         }
-        let valid = |s: &[f64; 3]| s.iter().all(|v| v.is_finite()) && s[0] >= 0.0 && s[2] >= 0.0;
-        if !sums.iter().all(valid) {
-            return Err(
-                "variance sums must be finite, their weights and squares not negative".into(),
-            );
-        }
+        check_finite(&sums)?;
         Ok(VarianceBuffer {
             width,
             height,
             sums,
         })
+    }
+
+    /// Overwrites every sum with `count` triples decoded by `read` (a farm delta read into a
+    /// reused film: no fresh memory); refused unless `count` is the pixel count and every
+    /// value finite.
+    pub fn overwrite(
+        &mut self,
+        count: usize,
+        mut read: impl FnMut(usize) -> [f64; 3],
+    ) -> Result<(), String> {
+        if count != self.sums.len() {
+            return Err(format!(
+                "a {}x{} variance buffer needs {} sums, got {count}",
+                self.width,
+                self.height,
+                self.sums.len()
+            ));
+        }
+        for (i, s) in self.sums.iter_mut().enumerate() {
+            *s = read(i);
+        }
+        check_finite(&self.sums)
     }
 
     pub fn width(&self) -> u32 {
@@ -135,6 +153,15 @@ impl VarianceBuffer {
     }
 }
 
+/// Every value finite, else why not.
+fn check_finite(sums: &[[f64; 3]]) -> Result<(), String> {
+    if sums.iter().flatten().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err("variance sums must be finite".into())
+    }
+}
+
 /// Σw·Y²/Σw − (Σw·Y/Σw)², not below 0 (rounding); `None` without weight.
 fn variance_of(s: &[f64; 3]) -> Option<f64> {
     if s[0] > 0.0 {
@@ -199,8 +226,14 @@ mod tests {
     fn sums_from_the_wire_are_checked() {
         assert!(VarianceBuffer::from_sums(2, 1, vec![[1.0, 0.5, 0.5]; 2]).is_ok());
         assert!(VarianceBuffer::from_sums(2, 1, vec![[1.0, 0.5, 0.5]; 3]).is_err());
-        assert!(VarianceBuffer::from_sums(1, 1, vec![[-1.0, 0.5, 0.5]]).is_err());
+        // negative lobes (Mitchell) give negative weights and squares: accepted
+        assert!(VarianceBuffer::from_sums(1, 1, vec![[-1.0, 0.5, -0.5]]).is_ok());
         assert!(VarianceBuffer::from_sums(1, 1, vec![[1.0, f64::NAN, 0.5]]).is_err());
-        assert!(VarianceBuffer::from_sums(1, 1, vec![[1.0, 0.5, -0.5]]).is_err());
+        assert!(VarianceBuffer::from_sums(1, 1, vec![[1.0, 0.5, f64::INFINITY]]).is_err());
+        let mut v = VarianceBuffer::new(2, 1);
+        assert!(v.overwrite(2, |i| [i as f64, 1.0, 2.0]).is_ok());
+        assert_eq!(v.sums(), &[[0.0, 1.0, 2.0], [1.0, 1.0, 2.0]]);
+        assert!(v.overwrite(3, |_| [1.0; 3]).is_err());
+        assert!(v.overwrite(2, |_| [f64::NAN; 3]).is_err());
     }
 }

@@ -184,7 +184,7 @@ impl ErptState {
         };
         let fp = &scene.setup.film_params;
         let range = params.range_pixels(fp.x_pixel_count as f32, fp.y_pixel_count as f32);
-        let frame = frame(scene, range);
+        let frame = frame(scene, range, film.variance().is_some());
         let m = params.chain_length.max(1);
         let ed = match self.ed {
             Some(ed) => ed,

@@ -114,6 +114,9 @@ pub(super) struct Frame {
     pub range_xy: [f32; 2],
     /// The sampling map over the span: fresh film positions are drawn by it.
     warp: Option<Arc<MapWarp>>,
+    /// Whether black eye contributions are kept: a noise-aware film counts them in its
+    /// variance sums (LuxRender deposits them), though they add nothing to the image.
+    keep_black: bool,
 }
 
 impl Frame {
@@ -281,7 +284,7 @@ impl MltState {
         };
         let fp = &scene.setup.film_params;
         let range = params.range_pixels(fp.x_pixel_count as f32, fp.y_pixel_count as f32);
-        let mut frame = frame(scene, range);
+        let mut frame = frame(scene, range, film.variance().is_some());
         let e = scene.setup.sample_extent();
         let extent = [
             i64::from(e.x0),
@@ -353,7 +356,7 @@ impl MltState {
 
 /// The frame of a session: film positions over the sample extent, small mutations moving
 /// them by at most `range` pixels.
-pub(super) fn frame(scene: &Renderable, range: f32) -> Frame {
+pub(super) fn frame(scene: &Renderable, range: f32, keep_black: bool) -> Frame {
     let fp = &scene.setup.film_params;
     let e = scene.setup.sample_extent();
     let span = Vec2::new((e.x1 - e.x0).max(1) as f32, (e.y1 - e.y0).max(1) as f32);
@@ -364,6 +367,7 @@ pub(super) fn frame(scene: &Renderable, range: f32) -> Frame {
         scale: e.per_screen_scale(),
         range_xy: [(range / span.x).min(1.0), (range / span.y).min(1.0)],
         warp: None,
+        keep_black,
     }
 }
 
@@ -436,13 +440,24 @@ pub(super) fn trace_stream(
         for (g, (c, wl)) in eye {
             let xyz = rgb_to_xyz(*c * k);
             let hint = (use_variance && *wl > 0.0).then_some(*wl * k);
-            lum += record(rec, cs.p_film, 0, g, xyz, so.alpha, hint, invalid);
+            let black = frame.keep_black;
+            lum += record(rec, cs.p_film, 0, g, xyz, so.alpha, hint, black, invalid);
         }
         for sp in &so.splats {
             let xyz = rgb_to_xyz(sp.l * k);
             let hint = (use_variance && sp.weight > 0.0).then(|| sp.weight * xyz[1]);
             let g = sp.group as usize;
-            lum += record(rec, sp.p_film, LIGHT_BUFFER, g, xyz, 1.0, hint, invalid);
+            lum += record(
+                rec,
+                sp.p_film,
+                LIGHT_BUFFER,
+                g,
+                xyz,
+                1.0,
+                hint,
+                false,
+                invalid,
+            );
         }
     }
     (lum, st.into_values())
@@ -498,8 +513,8 @@ fn step(
     slot.proposal = rec;
 }
 
-/// Records a contribution when it is usable; returns its part of the chain's target
-/// (its luminance, or the variance `hint` when given).
+/// Records a contribution when it is usable (a black one only when `keep_black`); returns
+/// its part of the chain's target (its luminance, or the variance `hint` when given).
 #[allow(clippy::too_many_arguments)]
 fn record(
     rec: &mut Vec<Contribution>,
@@ -509,6 +524,7 @@ fn record(
     xyz: [f32; 3],
     alpha: f32,
     hint: Option<f32>,
+    keep_black: bool,
     invalid: &mut u64,
 ) -> f32 {
     if !xyz.iter().all(|v| v.is_finite()) || xyz[1] < 0.0 || !p_film.is_finite() {
@@ -516,6 +532,15 @@ fn record(
         return 0.0;
     }
     if xyz[1] == 0.0 && xyz[0] == 0.0 && xyz[2] == 0.0 {
+        if keep_black {
+            rec.push(Contribution {
+                p_film,
+                buffer,
+                group,
+                xyz,
+                alpha,
+            });
+        }
         return 0.0;
     }
     rec.push(Contribution {
@@ -528,7 +553,8 @@ fn record(
     hint.filter(|h| h.is_finite() && *h > 0.0).unwrap_or(xyz[1])
 }
 
-/// Adds weighted contributions to the film through the pixel filter.
+/// Adds weighted contributions to the film through the pixel filter (a black one only to its
+/// variance sums: it adds nothing to the image).
 pub(super) fn deposit(
     scene: &Renderable,
     frame: &Frame,
@@ -539,9 +565,14 @@ pub(super) fn deposit(
     let nbuf = film.buffer_types().len();
     for (c, w) in deposits {
         let buffer = if c.buffer < nbuf { c.buffer } else { 0 };
+        let black = c.xyz == [0.0; 3];
         filter.splat(c.p_film, |x, y, fw| {
             let (lx, ly) = (i64::from(x) - frame.film0[0], i64::from(y) - frame.film0[1]);
-            if (0..=i64::from(u32::MAX)).contains(&lx) && (0..=i64::from(u32::MAX)).contains(&ly) {
+            if !((0..=i64::from(u32::MAX)).contains(&lx) && (0..=i64::from(u32::MAX)).contains(&ly))
+            {
+                return;
+            }
+            if !black {
                 film.add_buffer_splat(
                     c.group,
                     buffer,
@@ -551,8 +582,8 @@ pub(super) fn deposit(
                     c.alpha,
                     fw * w,
                 );
-                film.add_variance(lx as u32, ly as u32, c.xyz[1], fw * w);
             }
+            film.add_variance(lx as u32, ly as u32, c.xyz[1], fw * w);
         });
     }
 }

@@ -155,7 +155,7 @@ impl Session {
     ) -> Result<Session, RenderError> {
         let buffers = scene.setup.buffers();
         let mut film = new_film(&scene, &buffers)?;
-        if scene.setup.sampler.noise_aware() {
+        if scene.setup.sampler.noise_aware() && scene.setup.sampler.takes_maps() {
             // The film keeps the spread of each pixel's contributions, the noise-aware map's
             // measure of noise (`crate::film::variance`); its size is the film's.
             let v = VarianceBuffer::new(film.width(), film.height());

@@ -38,7 +38,8 @@ pub(super) fn stretch(v: &[f32]) -> Option<Vec<f32>> {
 }
 
 /// A separable box filter of radius `r` (a (2r+1)² window), the border pixel repeated past
-/// the edges, as LuxRender's `ApplyBoxFilter` does; the mean is kept.
+/// the edges, as LuxRender's `ApplyBoxFilter` does (so the mean moves where the borders
+/// differ from their inside; the map is normalised afterwards).
 pub(super) fn box_filter(v: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
     let rows = box_pass(v, w, h, r, |x, y| y * w + x);
     box_pass(&rows, h, w, r, |y, x| y * w + x)

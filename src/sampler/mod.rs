@@ -9,8 +9,9 @@
 //! lowdiscrepancy.
 //!
 //! `"bool noiseaware"` (random, lowdiscrepancy, sobol and the fallbacks to them) makes a pass
-//! give each pixel a number of samples in proportion to a sampling map built from the film's
-//! convergence test ([`map`]; the render session keeps the map). With metropolis, as in
+//! give each pixel a number of samples in proportion to a sampling map built, as LuxRender 1.x
+//! builds it, from each pixel's spread of contributions over its visibility threshold
+//! ([`map`]; the render session keeps the map). With metropolis, as in
 //! LuxRender, the map weighs the chains' target (luminance × map density) and places their
 //! large steps ([`map_warp`]); each contribution is divided by the density, so the image
 //! stays unbiased. Erpt ignores the parameter with a warning, as LuxRender's. The user

@@ -134,25 +134,32 @@ fn depth_section(film: &Film) -> Vec<u8> {
 /// [`variance_section`]), each at most once and in that order; a section left out clears
 /// that part of `film`. Nothing else may follow.
 fn read_sections(r: &mut Reader, film: &mut Film) -> Result<()> {
-    let mut depth = None;
-    let mut variance = None;
+    let (mut depth, mut variance) = (false, false);
     while r.rest() != 0 {
         let tag = r.take(4)?;
-        if tag == DEPTH_TAG && depth.is_none() && variance.is_none() {
-            depth = Some(read_depth(r, film)?);
-        } else if tag == VARIANCE_TAG && variance.is_none() {
-            variance = Some(read_variance(r, film)?);
+        if tag == DEPTH_TAG && !depth && !variance {
+            let z = read_depth(r, film)?;
+            film.set_depth(Some(z)).map_err(|e| bad(&e.to_string()))?;
+            depth = true;
+        } else if tag == VARIANCE_TAG && !variance {
+            read_variance(r, film)?;
+            variance = true;
         } else {
             return Err(bad("trailing bytes"));
         }
     }
-    film.set_depth(depth).map_err(|e| bad(&e.to_string()))?;
-    film.set_variance(variance).map_err(|e| bad(&e.to_string()))
+    if !depth {
+        film.set_depth(None).map_err(|e| bad(&e.to_string()))?;
+    }
+    if !variance {
+        film.set_variance(None).map_err(|e| bad(&e.to_string()))?;
+    }
+    Ok(())
 }
 
 /// A section's zstd-compressed f64 values (after its tag): the compressed length u32, then
-/// exactly `count` values once decompressed.
-fn read_f64_section(r: &mut Reader, count: usize, what: &str) -> Result<Vec<f64>> {
+/// exactly `count` values once decompressed, as little-endian bytes.
+fn read_f64_section(r: &mut Reader, count: usize, what: &str) -> Result<Vec<u8>> {
     let len = r.u32()? as usize;
     let packed = r.take(len)?;
     let want = count * 8;
@@ -161,28 +168,44 @@ fn read_f64_section(r: &mut Reader, count: usize, what: &str) -> Result<Vec<f64>
     if raw.len() != want {
         return Err(bad(&format!("{what} section of the wrong size")));
     }
-    Ok(raw
-        .chunks_exact(8)
-        .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
-        .collect())
+    Ok(raw)
+}
+
+/// The `i`-th little-endian f64 of `raw` (in range by the section's checked size).
+fn f64_at(raw: &[u8], i: usize) -> f64 {
+    let mut b = [0u8; 8];
+    if let Some(c) = raw.get(8 * i..8 * i + 8) {
+        b.copy_from_slice(c);
+    }
+    f64::from_le_bytes(b)
 }
 
 /// The depth section's sums and weights: the film's pixel count of each, finite, weights
 /// not negative.
 fn read_depth(r: &mut Reader, film: &Film) -> Result<ZBuffer> {
     let n = film.pixel_count();
-    let values = read_f64_section(r, 2 * n, "depth")?;
-    let (sums, weights) = values.split_at(n);
-    ZBuffer::from_sums(film.width(), film.height(), sums.to_vec(), weights.to_vec())
-        .map_err(|e| bad(&e))
+    let raw = read_f64_section(r, 2 * n, "depth")?;
+    let sums = (0..n).map(|i| f64_at(&raw, i)).collect();
+    let weights = (n..2 * n).map(|i| f64_at(&raw, i)).collect();
+    ZBuffer::from_sums(film.width(), film.height(), sums, weights).map_err(|e| bad(&e))
 }
 
-/// The variance section's sums, three per pixel (Σw, Σw·Y, Σw·Y²), checked as
-/// [`VarianceBuffer::from_sums`] checks them.
-fn read_variance(r: &mut Reader, film: &Film) -> Result<VarianceBuffer> {
-    let values = read_f64_section(r, 3 * film.pixel_count(), "variance")?;
-    let sums = values.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-    VarianceBuffer::from_sums(film.width(), film.height(), sums).map_err(|e| bad(&e))
+/// The variance section's sums, three per pixel (Σw, Σw·Y, Σw·Y²), all finite, into
+/// `film`: written over the sums the film already holds when it has them (a reused film
+/// takes no fresh memory but the decompressed bytes).
+fn read_variance(r: &mut Reader, film: &mut Film) -> Result<()> {
+    let n = film.pixel_count();
+    let raw = read_f64_section(r, 3 * n, "variance")?;
+    let triple = |i: usize| [0, 1, 2].map(|k| f64_at(&raw, 3 * i + k));
+    if film.variance().is_none() {
+        let v = VarianceBuffer::new(film.width(), film.height());
+        film.set_variance(Some(v))
+            .map_err(|e| bad(&e.to_string()))?;
+    }
+    match film.variance_mut() {
+        Some(v) => v.overwrite(n, triple).map_err(|e| bad(&e)),
+        None => Err(bad("variance section for a film without variance sums")),
+    }
 }
 
 /// The optional variance section after the depth section (both encodings): [`VARIANCE_TAG`],
@@ -535,6 +558,8 @@ mod tests {
         v.add(0, 0, 1.0, 1.0);
         v.add(0, 0, 3.0, 1.0);
         v.add(2, 1, 0.5, 0.25);
+        // a negative lobe (Mitchell, the default filter) on a dark pixel: negative sums
+        v.add(1, 0, 0.5, -0.125);
         f.set_variance(Some(v)).unwrap();
         f
     }
@@ -591,15 +616,12 @@ mod tests {
         assert!(decode(&with(&[good.clone(), depth.clone()])).is_err());
         let full = with(std::slice::from_ref(&good));
         assert!(decode(&full[..full.len() - 2]).is_err());
-        // The wrong count, a negative weight, a negative square, a NaN.
+        // The wrong count and a NaN are refused; negative sums (a filter's negative lobes) are not.
         let mut bad = vec![1.0; 18];
         assert!(decode(&with(&[section(VARIANCE_TAG, &bad[..15])])).is_err());
         bad[3] = -1.0;
-        assert!(decode(&with(&[section(VARIANCE_TAG, &bad)])).is_err());
-        bad[3] = 1.0;
         bad[5] = -1.0;
-        assert!(decode(&with(&[section(VARIANCE_TAG, &bad)])).is_err());
-        bad[5] = 1.0;
+        assert!(decode(&with(&[section(VARIANCE_TAG, &bad)])).is_ok());
         bad[4] = f64::NAN;
         assert!(decode(&with(&[section(VARIANCE_TAG, &bad)])).is_err());
     }
