@@ -375,6 +375,17 @@ impl Film {
         }
     }
 
+    /// A `what` buffer of `w` × `h` kept beside the sums must have the film's size.
+    fn check_side_buffer(&self, what: &str, w: u32, h: u32) -> Result<(), FilmError> {
+        if (w, h) == (self.width, self.height) {
+            return Ok(());
+        }
+        Err(FilmError::Mismatch(format!(
+            "a {w}x{h} {what} buffer for a {}x{} film",
+            self.width, self.height
+        )))
+    }
+
     /// The depth sums the film carries (a farm delta or job film of a Film writing Z).
     pub fn depth(&self) -> Option<&ZBuffer> {
         self.depth.as_ref()
@@ -384,15 +395,7 @@ impl Film {
     /// of another size is refused.
     pub fn set_depth(&mut self, depth: Option<ZBuffer>) -> Result<(), FilmError> {
         if let Some(z) = &depth {
-            if (z.width(), z.height()) != (self.width, self.height) {
-                return Err(FilmError::Mismatch(format!(
-                    "a {}x{} depth buffer for a {}x{} film",
-                    z.width(),
-                    z.height(),
-                    self.width,
-                    self.height
-                )));
-            }
+            self.check_side_buffer("depth", z.width(), z.height())?;
         }
         self.depth = depth;
         Ok(())
@@ -421,15 +424,7 @@ impl Film {
     /// buffer of another size is refused.
     pub fn set_variance(&mut self, variance: Option<VarianceBuffer>) -> Result<(), FilmError> {
         if let Some(v) = &variance {
-            if (v.width(), v.height()) != (self.width, self.height) {
-                return Err(FilmError::Mismatch(format!(
-                    "a {}x{} variance buffer for a {}x{} film",
-                    v.width(),
-                    v.height(),
-                    self.width,
-                    self.height
-                )));
-            }
+            self.check_side_buffer("variance", v.width(), v.height())?;
         }
         self.variance = variance;
         Ok(())

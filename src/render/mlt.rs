@@ -531,25 +531,19 @@ fn record(
         *invalid += 1;
         return 0.0;
     }
-    if xyz[1] == 0.0 && xyz[0] == 0.0 && xyz[2] == 0.0 {
-        if keep_black {
-            rec.push(Contribution {
-                p_film,
-                buffer,
-                group,
-                xyz,
-                alpha,
-            });
-        }
+    let black = xyz[1] == 0.0 && xyz[0] == 0.0 && xyz[2] == 0.0;
+    if !black || keep_black {
+        rec.push(Contribution {
+            p_film,
+            buffer,
+            group,
+            xyz,
+            alpha,
+        });
+    }
+    if black {
         return 0.0;
     }
-    rec.push(Contribution {
-        p_film,
-        buffer,
-        group,
-        xyz,
-        alpha,
-    });
     hint.filter(|h| h.is_finite() && *h > 0.0).unwrap_or(xyz[1])
 }
 

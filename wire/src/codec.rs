@@ -118,13 +118,16 @@ fn depth_section(film: &Film) -> Vec<u8> {
     let Some(z) = film.depth() else {
         return Vec::new();
     };
-    let mut raw = Vec::with_capacity(16 * z.sums().len());
-    for v in z.sums().iter().chain(z.weights()) {
-        raw.extend_from_slice(&v.to_le_bytes());
-    }
+    packed_section(DEPTH_TAG, z.sums().iter().chain(z.weights()).copied())
+}
+
+/// A tagged section: `tag`, the compressed length u32, then zstd of `values` (f64, little
+/// endian).
+fn packed_section(tag: &[u8; 4], values: impl Iterator<Item = f64>) -> Vec<u8> {
+    let raw: Vec<u8> = values.flat_map(f64::to_le_bytes).collect();
     let packed = zstd::bulk::compress(&raw, 1).unwrap_or_default();
     let mut out = Vec::with_capacity(8 + packed.len());
-    out.extend_from_slice(DEPTH_TAG);
+    out.extend_from_slice(tag);
     out.extend_from_slice(&(packed.len() as u32).to_le_bytes());
     out.extend_from_slice(&packed);
     out
@@ -215,18 +218,7 @@ fn variance_section(film: &Film) -> Vec<u8> {
     let Some(v) = film.variance() else {
         return Vec::new();
     };
-    let mut raw = Vec::with_capacity(24 * v.sums().len());
-    for s in v.sums() {
-        for x in s {
-            raw.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-    let packed = zstd::bulk::compress(&raw, 1).unwrap_or_default();
-    let mut out = Vec::with_capacity(8 + packed.len());
-    out.extend_from_slice(VARIANCE_TAG);
-    out.extend_from_slice(&(packed.len() as u32).to_le_bytes());
-    out.extend_from_slice(&packed);
-    out
+    packed_section(VARIANCE_TAG, v.sums().iter().flatten().copied())
 }
 
 /// Writes the common header with its magic.
