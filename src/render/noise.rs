@@ -60,17 +60,22 @@ impl MapBuilder {
     }
 
     /// Builds the map of `film` from its variance sums and its display image, and doubles
-    /// the step to the next. `None` (sampling stays as it is) for a film without variance
-    /// sums, or with a pixel no contribution has reached yet.
+    /// the step to the next. `None` (sampling stays as it is, the version too) for a film
+    /// without variance sums, with a pixel no contribution has reached yet, or without
+    /// noise or threshold (see [`SamplingMap::from_deviation`]).
     pub fn update(&mut self, film: &Film, tonemap: &TonemapParams) -> Option<SamplingMap> {
         self.last_spp = film.spp();
         self.step *= 2.0;
         let sigma = film.variance()?.deviations()?;
         let tvi = tvi_map(&tonemap_display(film, tonemap), &YeeParams::default());
         match SamplingMap::from_deviation(&sigma, &tvi, film.width(), film.height()) {
-            Ok(m) => {
+            Ok(Some(m)) => {
                 self.version += 1;
                 Some(m)
+            }
+            Ok(None) => {
+                tracing::debug!("no noise information yet: the sampling map stays as it is");
+                None
             }
             Err(e) => {
                 tracing::warn!("no sampling map: {e}");
@@ -120,6 +125,20 @@ mod tests {
         assert!(b.update(&film(40, 20, 20, 0.2, 96), &tm).is_some());
         assert!(!b.due(223.0) && b.due(224.0));
         assert_eq!(b.version(), 2);
+    }
+
+    /// A film without noise gives no new map: sampling keeps the last one, and the
+    /// version stays (LuxRender's `GenerateNoiseAwareMap` does not bump it either).
+    #[test]
+    fn a_film_without_noise_keeps_the_last_map() {
+        let tm = TonemapParams::default();
+        let mut b = MapBuilder::new(4.0);
+        assert!(b.update(&film(40, 20, 20, 0.2, 8), &tm).is_some());
+        assert_eq!(b.version(), 1);
+        assert!(b.update(&film(40, 20, 20, 0.0, 24), &tm).is_none());
+        assert_eq!(b.version(), 1);
+        // and the schedule still doubles
+        assert!(!b.due(24.0 + 15.9) && b.due(24.0 + 16.0));
     }
 
     #[test]

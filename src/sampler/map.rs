@@ -118,14 +118,16 @@ impl SamplingMap {
     /// both `w` × `h`, row-major: the deviation over the threshold, each normalised by its
     /// maximum, normalised again by the largest ratio, stretched between its 5th and 95th
     /// percentiles ([`super::map_filter::stretch`]), box-filtered with radius
-    /// [`BOX_RADIUS`], then normalised to mean 1. A film without noise, without a threshold,
-    /// or whose stretch finds no spread gives the uniform map, as LuxRender's does.
+    /// [`BOX_RADIUS`], then normalised to mean 1. As in LuxRender: a film without noise or
+    /// without a threshold gives no map (`None`: LuxRender leaves its map version as it is,
+    /// so samplers keep the map they have), and one whose stretch finds no spread gives the
+    /// uniform map (a new version).
     pub fn from_deviation(
         sigma: &[f32],
         tvi: &[f32],
         w: u32,
         h: u32,
-    ) -> Result<SamplingMap, MapError> {
+    ) -> Result<Option<SamplingMap>, MapError> {
         let n = check_size(w, h)?;
         for v in [sigma, tvi] {
             if v.len() as u64 != n {
@@ -142,7 +144,7 @@ impl SamplingMap {
         };
         let (max_sigma, max_tvi) = (finite_max(sigma), finite_max(tvi));
         if max_sigma <= 0.0 || max_tvi <= 0.0 {
-            return SamplingMap::uniform(w, h);
+            return Ok(None);
         }
         let ratio: Vec<f32> = sigma
             .iter()
@@ -158,14 +160,14 @@ impl SamplingMap {
             .collect();
         let max_ratio = finite_max(&ratio);
         if max_ratio <= 0.0 {
-            return SamplingMap::uniform(w, h);
+            return SamplingMap::uniform(w, h).map(Some);
         }
         let ratio: Vec<f32> = ratio.iter().map(|r| (r / max_ratio).min(1.0)).collect();
         let Some(stretched) = stretch(&ratio) else {
-            return SamplingMap::uniform(w, h);
+            return SamplingMap::uniform(w, h).map(Some);
         };
         let filtered = box_filter(&stretched, w as usize, h as usize, BOX_RADIUS);
-        Ok(SamplingMap::normalised(w, h, filtered))
+        Ok(Some(SamplingMap::normalised(w, h, filtered)))
     }
 
     /// A user sampling map from per-pixel weights (`w` × `h`, row-major, row 0 at the top):
@@ -388,6 +390,13 @@ mod tests {
     }
 
     /// A threshold of 1 everywhere: the map follows the deviations alone.
+    /// The deviation map of `sigma` over `tvi`, which must give one.
+    fn map(sigma: &[f32], tvi: &[f32], w: u32, h: u32) -> SamplingMap {
+        SamplingMap::from_deviation(sigma, tvi, w, h)
+            .unwrap()
+            .expect("a map")
+    }
+
     fn flat(n: usize) -> Vec<f32> {
         vec![1.0; n]
     }
@@ -401,7 +410,7 @@ mod tests {
         let sigma: Vec<f32> = (0..w * h)
             .map(|i| if i % w < w / 2 { 0.4 } else { 0.01 })
             .collect();
-        let m = SamplingMap::from_deviation(&sigma, &flat(n), w, h).unwrap();
+        let m = map(&sigma, &flat(n), w, h);
         let mean: f32 = m.densities().iter().sum::<f32>() / n as f32;
         assert!((mean - 1.0).abs() < 1e-4, "{mean}");
         let (left, right) = (m.density(0, 0), m.density(w - 1, 0));
@@ -411,17 +420,15 @@ mod tests {
         let tvi: Vec<f32> = (0..w * h)
             .map(|i| if i % w < w / 2 { 40.0 } else { 1.0 })
             .collect();
-        let m = SamplingMap::from_deviation(&sigma, &tvi, w, h).unwrap();
+        let m = map(&sigma, &tvi, w, h);
         assert!(m.densities().iter().all(|d| (*d - 1.0).abs() < 1e-4));
-        // no noise, no threshold, or nothing to stretch: uniform
-        for (s, t) in [
-            (vec![0.0; n], flat(n)),
-            (sigma.clone(), vec![0.0; n]),
-            (vec![0.2; n], flat(n)),
-        ] {
-            let u = SamplingMap::from_deviation(&s, &t, w, h).unwrap();
-            assert!(u.densities().iter().all(|d| (*d - 1.0).abs() < 1e-5));
+        // no noise or no threshold: no map (the samplers keep theirs)
+        for (s, t) in [(vec![0.0; n], flat(n)), (sigma.clone(), vec![0.0; n])] {
+            assert!(SamplingMap::from_deviation(&s, &t, w, h).unwrap().is_none());
         }
+        // noise everywhere alike, nothing to stretch: a uniform map
+        let u = map(&vec![0.2; n], &flat(n), w, h);
+        assert!(u.densities().iter().all(|d| (*d - 1.0).abs() < 1e-5));
         assert!(SamplingMap::from_deviation(&sigma, &flat(n - 1), w, h).is_err());
     }
 
@@ -434,7 +441,7 @@ mod tests {
             *s += (i % 7) as f32 * 0.001;
         }
         sigma[(20 * w + 20) as usize] = 8.0;
-        let m = SamplingMap::from_deviation(&sigma, &flat((w * h) as usize), w, h).unwrap();
+        let m = map(&sigma, &flat((w * h) as usize), w, h);
         let r = BOX_RADIUS as u32;
         let centre = m.density(20, 20);
         for (x, y) in [(20 - r, 20), (20 + r, 20 + r), (20, 20 - r)] {
