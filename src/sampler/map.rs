@@ -389,7 +389,6 @@ mod tests {
         }
     }
 
-    /// A threshold of 1 everywhere: the map follows the deviations alone.
     /// The deviation map of `sigma` over `tvi`, which must give one.
     fn map(sigma: &[f32], tvi: &[f32], w: u32, h: u32) -> SamplingMap {
         SamplingMap::from_deviation(sigma, tvi, w, h)
@@ -397,6 +396,7 @@ mod tests {
             .expect("a map")
     }
 
+    /// A threshold of 1 everywhere: the map follows the deviations alone.
     fn flat(n: usize) -> Vec<f32> {
         vec![1.0; n]
     }
