@@ -203,6 +203,37 @@ impl HaltRules {
     /// Every rule at once, as a local render asks after each pass: haltspp (against
     /// `pass_pixels`, the sample extent's pixels), halttime, then (when due) the convergence
     /// test.
+    /// Passes of `pass_samples` samples each that may run before a rule needs checking
+    /// again: until `haltspp` (counted as [`Self::spp_reached`] counts, over `pass_pixels`)
+    /// and until the next convergence test (at least 1). `None` when neither rule is set;
+    /// `halttime` is for the caller to bound (`crate::render::Session::passes_within`).
+    pub fn passes_until_check(
+        &self,
+        state: &Convergence,
+        film: &Film,
+        pass_pixels: f64,
+        pass_samples: f64,
+    ) -> Option<u64> {
+        let passes = |samples_left: f64| {
+            if pass_samples > 0.0 && samples_left.is_finite() {
+                (samples_left / pass_samples).ceil().max(1.0) as u64
+            } else {
+                1
+            }
+        };
+        let to_spp = self
+            .spp
+            .map(|haltspp| passes(haltspp * pass_pixels - film.total_samples()));
+        let buffer_pixels = film.pixel_count() as f64;
+        let to_test = self
+            .threshold
+            .map(|_| passes((state.last_spp + self.step - film.spp()) * buffer_pixels));
+        match (to_spp, to_test) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
     pub fn check(
         &self,
         state: &mut Convergence,
@@ -265,6 +296,26 @@ mod tests {
         // Counted against the sample extent's pixels (here 3, wider than the film's 2).
         assert_eq!(r.check(&mut c, &film(4), &tp, 0.0, 3.0), None);
         assert!(r.check(&mut c, &film(5), &tp, 0.0, 3.0).is_some());
+    }
+
+    /// Sweeps stop where haltspp is reached and where the next convergence test is due.
+    #[test]
+    fn passes_until_check_stops_at_haltspp_and_the_next_test() {
+        let c = Convergence::default();
+        // haltspp 10 over 3 extent pixels: 30 samples; 2 of them taken, 3 a pass.
+        let r = rules(Some(10.0), None, None);
+        assert_eq!(r.passes_until_check(&c, &film(1), 3.0, 3.0), Some(10));
+        // Reached or passed: still one pass (the caller checks the rules first).
+        assert_eq!(r.passes_until_check(&c, &film(20), 3.0, 3.0), Some(1));
+        // The convergence test every 4 spp of the 2-pixel film: 8 samples, 2 a pass.
+        let t = rules(None, None, Some(0.1));
+        assert_eq!(t.passes_until_check(&c, &film(1), 2.0, 2.0), Some(3));
+        let both = rules(Some(100.0), None, Some(0.1));
+        assert_eq!(both.passes_until_check(&c, &film(1), 2.0, 2.0), Some(3));
+        assert_eq!(
+            rules(None, Some(5.0), None).passes_until_check(&c, &film(1), 2.0, 2.0),
+            None
+        );
     }
 
     #[test]

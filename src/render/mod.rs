@@ -103,6 +103,8 @@ pub struct PassStats {
     /// Finite contributions discarded by the film's outlier rejection (`outlierrejection_k`).
     pub outliers: u64,
     pub seconds: f64,
+    /// Passes rendered (more than one in a sweep: [`Session::render_passes`]).
+    pub passes: u64,
     /// False when the pass was cancelled (its partial work is discarded).
     pub complete: bool,
 }
@@ -135,6 +137,8 @@ pub struct Session {
     /// Each pixel's next sample index, from the first pass that follows a map on
     /// ([`counts`]).
     counts: Option<counts::SampleCounts>,
+    /// Seconds per pass of the last sweep.
+    pass_seconds: Option<f64>,
 }
 
 impl Session {
@@ -202,6 +206,7 @@ impl Session {
             user_map: None,
             map_builder,
             counts: None,
+            pass_seconds: None,
         })
     }
 
@@ -327,6 +332,15 @@ impl Session {
     /// Passes rendered so far.
     pub fn passes(&self) -> u64 {
         self.pass
+    }
+
+    /// Passes that fit in `secs` seconds at the last sweep's pace (1 before any sweep, and
+    /// at least 1): for callers bounded by time, so a sweep does not run past their limit.
+    pub fn passes_within(&self, secs: f64) -> u64 {
+        match self.pass_seconds {
+            Some(p) if p > 0.0 && secs.is_finite() => (secs / p).floor().max(1.0) as u64,
+            _ => 1,
+        }
     }
 
     /// Camera samples per pixel per pass.

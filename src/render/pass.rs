@@ -3,6 +3,14 @@
 //! pass film; then the pass is counted (under a map, each pixel's samples too:
 //! `super::counts`) and the sampling map rebuilt when due. The session
 //! itself, its maps and its film are in `mod.rs`.
+//!
+//! A sweep renders several passes at once where nothing changes between them (a pixel
+//! sampler without sampling maps and an integrator without splats): each tile takes the
+//! passes' samples in one visit, at the indices the passes would have given them, so a
+//! sweep of n passes draws exactly the samples of n single passes. Only the order in which
+//! they are summed differs (tile film before session film). With `pixelsamples` 1 on a small
+//! image a pass is a few tens of milliseconds, and allocating, merging and waiting for the
+//! slowest tile once per pass cost about 5% of the render; a sweep pays them once.
 
 use super::counts::SampleCounts;
 use super::setup::Renderable;
@@ -13,10 +21,22 @@ use crate::sampler::map::SamplingMap;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
+/// A sweep takes this many samples, or just over (at most [`MAX_SWEEP`] passes).
+const SWEEP_SAMPLES: u64 = 1 << 20;
+
+/// Passes in a sweep at most.
+const MAX_SWEEP: u64 = 64;
+
 impl Session {
     /// Renders one more pass of `pixelsamples` samples over every pixel of the sample extent
     /// ([`extent`]) into the film.
     pub fn render_pass(&mut self) -> PassStats {
+        self.render_passes(1)
+    }
+
+    /// Renders up to `max` passes (at least one) in one sweep, as many as
+    /// [`Self::sweep_passes`] allows; the stats say how many.
+    pub fn render_passes(&mut self, max: u64) -> PassStats {
         if self.mlt.is_some() {
             return self.render_pass_mlt();
         }
@@ -27,12 +47,14 @@ impl Session {
             return self.render_pass_splatting();
         }
         let start = Instant::now();
+        let passes = max.clamp(1, self.sweep_passes());
         self.start_counts();
         let scene = &*self.scene;
         let fp = &scene.setup.film_params;
         let list = tiles(fp.x_pixel_count, fp.y_pixel_count);
         let (buffers, map) = (self.buffers.clone(), self.map.clone());
-        let ctx = self.pass_ctx(&buffers, map.as_deref(), self.counts.as_ref());
+        let mut ctx = self.pass_ctx(&buffers, map.as_deref(), self.counts.as_ref());
+        ctx.passes = u32::try_from(passes).unwrap_or(1);
         let Some(results) = render_tiles(&self.pool, scene, &list, &ctx, &self.cancel) else {
             return cancelled(start);
         };
@@ -43,7 +65,23 @@ impl Session {
             rejected += r.discarded.invalid;
             outliers += r.discarded.outliers;
         }
-        self.finish_pass(start, samples, rejected, outliers)
+        self.finish_passes(passes, start, samples, rejected, outliers)
+    }
+
+    /// Passes one sweep may render ([`Self::render_passes`]): enough for about
+    /// [`SWEEP_SAMPLES`] samples when nothing changes between passes, else 1.
+    pub fn sweep_passes(&self) -> u64 {
+        let batchable = self.mlt.is_none()
+            && self.erpt.is_none()
+            && !self.scene.setup.integrator.splats()
+            && !self.noise_aware()
+            && self.map.is_none();
+        if !batchable {
+            return 1;
+        }
+        SWEEP_SAMPLES
+            .div_ceil(self.pass_samples().max(1))
+            .clamp(1, MAX_SWEEP)
     }
 
     /// What the tiles of the next pass share (borrowing only the buffer layout and the map,
@@ -56,6 +94,7 @@ impl Session {
     ) -> tile::PassCtx<'a> {
         tile::PassCtx {
             pass: self.pass,
+            passes: 1,
             spp: self.scene.setup.sampler.pixel_samples().max(1),
             seed: self.opts.seed,
             stream: self.opts.stream,
@@ -212,19 +251,35 @@ impl Session {
         rejected: u64,
         outliers: u64,
     ) -> PassStats {
+        self.finish_passes(1, start, samples, rejected, outliers)
+    }
+
+    /// [`Self::finish_pass`] for a sweep of `passes` passes (no map, so no counts to advance
+    /// when there are more than one).
+    fn finish_passes(
+        &mut self,
+        passes: u64,
+        start: Instant,
+        samples: u64,
+        rejected: u64,
+        outliers: u64,
+    ) -> PassStats {
         self.film.add_sample_count(samples as f64);
         // The film's count (kept in FLM deltas) covers both kinds, as LuxRender's does.
         self.film.add_rejected(rejected + outliers);
         self.rejected += rejected;
         self.outliers += outliers;
         self.advance_counts();
-        self.pass += 1;
+        self.pass += passes;
         self.update_map();
+        let seconds = start.elapsed().as_secs_f64();
+        self.pass_seconds = Some(seconds / passes as f64);
         PassStats {
             samples,
             rejected,
             outliers,
-            seconds: start.elapsed().as_secs_f64(),
+            seconds,
+            passes,
             complete: true,
         }
     }

@@ -89,7 +89,10 @@ pub struct TileOut {
 /// any.
 #[derive(Clone, Copy)]
 pub struct PassCtx<'a> {
+    /// The first pass of the sweep.
     pub pass: u64,
+    /// Passes in the sweep (1 under a map: see `super::pass`).
+    pub passes: u32,
     pub spp: u32,
     pub seed: u64,
     pub stream: u64,
@@ -109,7 +112,7 @@ impl PassCtx<'_> {
     /// whose map count it takes (itself, or for a margin pixel the nearest buffer pixel).
     fn pixel_plan(&self, bx: u32, by: u32, px: i32, py: i32) -> u32 {
         match self.map {
-            None => self.spp,
+            None => self.spp.saturating_mul(self.passes),
             Some(m) => m.pixel_samples(
                 self.spp,
                 bx,
@@ -149,8 +152,9 @@ impl PassCtx<'_> {
         n
     }
 
-    /// The sample index of raster pixel (`px`, `py`)'s `k`-th sample in this pass: the next
-    /// of its own sequence under counts, else `pass × spp + k`.
+    /// The sample index of raster pixel (`px`, `py`)'s `k`-th sample in this sweep: the next
+    /// of its own sequence under counts, else `pass × spp + k` (the sweep's later passes'
+    /// samples follow on: k runs to passes × spp).
     fn sample_index(&self, px: i32, py: i32, k: u32) -> u64 {
         match self.counts.and_then(|c| c.next(px, py)) {
             Some(next) => next + u64::from(k),

@@ -202,7 +202,11 @@ fn render_thread(
         }
         asked = false;
         apply_map(&mut session, &flags.map);
-        let stats = session.render_pass();
+        // A sweep of passes within the lease's budget (at least one pass).
+        let left = (load_f64(&flags.budget) - load_f64(&flags.samples)) / pass;
+        // (An unbounded budget sweeps as far as the session allows: the cast saturates.)
+        let max = if left >= 1.0 { left as u64 } else { 1 };
+        let stats = session.render_passes(max);
         if let Some(q) = session.erpt_quantum() {
             if !known {
                 known = true;

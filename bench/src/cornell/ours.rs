@@ -50,8 +50,15 @@ impl Ours {
             &ParseOptions::default(),
         )?;
         let base = self.path.parent().unwrap_or(Path::new("."));
+        let target = f64::from(spp);
         render_until(&desc, base, self.threads, seed, |s, _| {
-            s.film().spp() >= f64::from(spp)
+            let film = s.film();
+            let left = (target - film.spp()) * film.pixel_count() as f64;
+            if left <= 0.0 {
+                0
+            } else {
+                (left / s.pass_samples().max(1) as f64).ceil() as u64
+            }
         })
     }
 }
@@ -71,15 +78,16 @@ pub fn sampler_statement(spec: &str) -> anyhow::Result<String> {
     Ok(line)
 }
 
-/// Renders `desc` in this process pass by pass on stream `seed` until `done(session,
-/// elapsed seconds)` holds (checked before each pass); scene building is left out of the
-/// timing. Shared by `bench cornell` (a spp target) and `bench efficiency` (a time budget).
+/// Renders `desc` in this process on stream `seed` in sweeps of passes
+/// ([`Session::render_passes`]) until `left(session, elapsed seconds)`, the passes still to
+/// render (checked before each sweep), is 0; scene building is left out of the timing.
+/// Shared by `bench cornell` (a spp target) and `bench efficiency` (a time budget).
 pub fn render_until(
     desc: &luxfarm::lxs::SceneDescription,
     base: &Path,
     threads: usize,
     seed: u64,
-    mut done: impl FnMut(&Session, f64) -> bool,
+    mut left: impl FnMut(&Session, f64) -> u64,
 ) -> anyhow::Result<Run> {
     let opts = SessionOptions {
         threads,
@@ -90,8 +98,12 @@ pub fn render_until(
     let start = Instant::now();
     let cpu0 = cpu_seconds(libc::RUSAGE_SELF);
     let mut samples = 0u64;
-    while !done(&s, start.elapsed().as_secs_f64()) {
-        let st = s.render_pass();
+    loop {
+        let max = left(&s, start.elapsed().as_secs_f64());
+        if max == 0 {
+            break;
+        }
+        let st = s.render_passes(max);
         if !st.complete || st.samples == 0 {
             bail!("render pass did not complete");
         }

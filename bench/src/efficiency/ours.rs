@@ -119,7 +119,13 @@ impl Ours {
             &ParseOptions::default(),
         )?;
         let base = self.path.parent().unwrap_or(Path::new("."));
-        render_until(&desc, base, self.threads, seed, |_, t| t >= budget)
+        render_until(&desc, base, self.threads, seed, |s, t| {
+            if t >= budget {
+                0
+            } else {
+                s.passes_within(budget - t)
+            }
+        })
     }
 }
 

@@ -133,9 +133,20 @@ pub fn render(args: Args) -> anyhow::Result<Vec<PathBuf>> {
     let pixels = f64::from(fp.x_pixel_count) * f64::from(fp.y_pixel_count);
     // haltspp counts the samples of the sample extent's pixels, as LuxRender's samplePerPass.
     let pass_pixels = session.renderable().setup.sample_extent().pixels() as f64;
+    let pass_samples = session.pass_samples() as f64;
     let mut samples = 0u64;
     loop {
-        let stats = session.render_pass();
+        // A sweep of passes, as many as fit before the next halt check is due.
+        let mut max = session.sweep_passes();
+        if let Some(n) =
+            rules.passes_until_check(&convergence, session.film(), pass_pixels, pass_samples)
+        {
+            max = max.min(n);
+        }
+        if let Some(t) = rules.time {
+            max = max.min(session.passes_within(t - start.elapsed().as_secs_f64()));
+        }
+        let stats = session.render_passes(max);
         samples += stats.samples;
         let spp = session.film().spp();
         let secs = start.elapsed().as_secs_f64();
