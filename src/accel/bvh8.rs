@@ -201,24 +201,23 @@ impl Bvh8 {
                 },
             };
             let node = &self.nodes[ni as usize];
-            let (t0, mut mask) = node.test(&slab, t_max);
+            let (t0, mask) = node.test(&slab, t_max);
             // Leaves first, nearest first, each skipped once a nearer hit lies before its
             // box (a ray through a closed mesh crosses the boxes of its far side too); then
-            // inner children far to near.
+            // inner children far to near. The hit lanes split into the two by mask, without
+            // a branch per lane.
+            let leaf_lanes = node.leaf_lanes();
             let mut inner = [(0u32, 0f32); WIDTH];
             let mut n_inner = 0;
+            for lane in lanes(mask & !leaf_lanes) {
+                inner[n_inner] = (node.child[lane], t0[lane]);
+                n_inner += 1;
+            }
             let mut leaves = [(0u32, 0f32); WIDTH];
             let mut n_leaves = 0;
-            while mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                if node.count[lane] == 0 {
-                    inner[n_inner] = (node.child[lane], t0[lane]);
-                    n_inner += 1;
-                } else {
-                    leaves[n_leaves] = (lane as u32, t0[lane]);
-                    n_leaves += 1;
-                }
+            for lane in lanes(mask & leaf_lanes) {
+                leaves[n_leaves] = (lane as u32, t0[lane]);
+                n_leaves += 1;
             }
             let leaves = &mut leaves[..n_leaves];
             sort_near_to_far(leaves);
@@ -317,6 +316,16 @@ impl Bvh8 {
         }
         false
     }
+}
+
+/// The set bits of `mask`, lowest first.
+#[inline(always)]
+fn lanes(mut mask: u32) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        let lane = (mask != 0).then(|| mask.trailing_zeros() as usize);
+        mask &= mask.wrapping_sub(1);
+        lane
+    })
 }
 
 /// Sorts (lane or child, entry distance) pairs near to far, equal distances kept in their
@@ -426,6 +435,16 @@ impl Node8 {
         }
         self.child[lane] = child;
         self.count[lane] = count;
+    }
+
+    /// The lanes holding leaves, as a bit mask.
+    #[inline(always)]
+    fn leaf_lanes(&self) -> u32 {
+        let mut bits = 0;
+        for (lane, &c) in self.count.iter().enumerate() {
+            bits |= u32::from(c != 0) << lane;
+        }
+        bits
     }
 
     /// Entry distances of the eight children and the mask of those hit within [0, t_max].
