@@ -200,9 +200,6 @@ impl HaltRules {
         })
     }
 
-    /// Every rule at once, as a local render asks after each pass: haltspp (against
-    /// `pass_pixels`, the sample extent's pixels), halttime, then (when due) the convergence
-    /// test.
     /// Passes of `pass_samples` samples each that may run before a rule needs checking
     /// again: until `haltspp` (counted as [`Self::spp_reached`] counts, over `pass_pixels`)
     /// and until the next convergence test (at least 1). `None` when neither rule is set;
@@ -234,6 +231,9 @@ impl HaltRules {
         }
     }
 
+    /// Every rule at once, as a local render asks after each pass: haltspp (against
+    /// `pass_pixels`, the sample extent's pixels), halttime, then (when due) the convergence
+    /// test.
     pub fn check(
         &self,
         state: &mut Convergence,

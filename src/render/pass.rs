@@ -69,7 +69,7 @@ impl Session {
     }
 
     /// Passes one sweep may render ([`Self::render_passes`]): enough for about
-    /// [`SWEEP_SAMPLES`] samples when nothing changes between passes, else 1.
+    /// 2²⁰ samples (`SWEEP_SAMPLES`) when nothing changes between passes, else 1.
     pub fn sweep_passes(&self) -> u64 {
         let batchable = self.mlt.is_none()
             && self.erpt.is_none()
