@@ -26,6 +26,9 @@ pub(crate) struct Flags {
     pub(crate) cancel: std::sync::Mutex<Option<Arc<AtomicBool>>>,
     /// The newest sampling map from the master, until the render thread takes it.
     pub(crate) map: MapSlot,
+    /// The lease's upload interval in seconds: a sweep of passes is kept within it, so the
+    /// render thread sees the uploader's requests (and the master's stop) that often.
+    pub(crate) upload_secs: f64,
 }
 
 pub(crate) fn load_f64(a: &AtomicU64) -> f64 {
@@ -37,7 +40,7 @@ pub(crate) fn store_f64(a: &AtomicU64, v: f64) {
 }
 
 impl Flags {
-    pub(crate) fn new(budget: Option<f64>) -> Flags {
+    pub(crate) fn new(budget: Option<f64>, upload_secs: f64) -> Flags {
         Flags {
             stop: AtomicBool::new(false),
             want: AtomicBool::new(false),
@@ -48,6 +51,7 @@ impl Flags {
             ask: tokio::sync::Notify::new(),
             cancel: std::sync::Mutex::new(None),
             map: MapSlot::default(),
+            upload_secs,
         }
     }
 
@@ -81,7 +85,7 @@ mod tests {
 
     #[test]
     fn budget_defaults_to_unbounded() {
-        let f = Flags::new(None);
+        let f = Flags::new(None, 1.0);
         assert!(load_f64(&f.budget).is_infinite());
         f.apply(false, Some(100.0), 3);
         assert_eq!(load_f64(&f.budget), 100.0);

@@ -4,7 +4,8 @@
 //! is spent, and at stop.
 //!
 //! ```text
-//! render thread --(a pass while rendered < budget)--> session film
+//! render thread --(a sweep of passes while rendered < budget, each sweep within the upload
+//!   interval at the last sweep's pace)--> session film
 //!   --take (interval, budget spent, stop)--> encoded delta --channel--> upload loop
 //! upload loop: pending (not acknowledged) --ack--> retained (acknowledged, not durable)
 //!   --durable_seq from acks and heartbeats--> dropped
@@ -67,7 +68,8 @@ pub async fn run_lease(
     let rel = luxfarm_wire::bundle::safe_relative(&a.scene_path)?;
     let scene = dir.join(rel);
     let root = dir.clone();
-    let flags = Arc::new(Flags::new(a.budget));
+    let interval = Duration::from_secs_f64(a.upload_interval.clamp(0.05, 3600.0));
+    let flags = Arc::new(Flags::new(a.budget, interval.as_secs_f64()));
     let (tx, rx) = tokio::sync::mpsc::channel::<Delta>(4);
     let render = {
         let flags = flags.clone();
@@ -98,7 +100,6 @@ pub async fn run_lease(
         a.lease_id.clone(),
         flags.clone(),
     ));
-    let interval = Duration::from_secs_f64(a.upload_interval.clamp(0.05, 3600.0));
     let watch = tokio::spawn(shutdown_watch(link.shutdown.clone(), flags.clone()));
     let result = upload_loop(link, cfg, &a.lease_id, interval, &flags, rx).await;
     flags.request_stop();
@@ -202,10 +203,11 @@ fn render_thread(
         }
         asked = false;
         apply_map(&mut session, &flags.map);
-        // A sweep of passes within the lease's budget (at least one pass).
+        // A sweep of passes within the lease's budget and its upload interval (at least one
+        // pass; an unbounded budget sweeps as far as the session allows: the cast saturates).
         let left = (load_f64(&flags.budget) - load_f64(&flags.samples)) / pass;
-        // (An unbounded budget sweeps as far as the session allows: the cast saturates.)
         let max = if left >= 1.0 { left as u64 } else { 1 };
+        let max = max.min(session.passes_within(flags.upload_secs));
         let stats = session.render_passes(max);
         if let Some(q) = session.erpt_quantum() {
             if !known {
