@@ -14,6 +14,7 @@
 //! does, so rounding in the slab test can only make boxes look bigger.
 
 use crate::geometry::transform::gamma;
+use arrayvec::ArrayVec;
 use glam::{Vec3A, Vec4};
 use obvhs::bvh2::Bvh2;
 
@@ -33,8 +34,11 @@ struct Node8 {
     b: [[[Vec4; 2]; 3]; 2],
     /// Inner child: node index; leaf child: first slot; empty: [`EMPTY`].
     child: [u32; WIDTH],
-    /// 0 for an inner (or empty) child, else the leaf's primitive count.
-    count: [u32; WIDTH],
+    /// 0 for an inner (or empty) child, else the leaf's primitive count (obvhs caps leaves
+    /// at 255 primitives).
+    count: [u16; WIDTH],
+    /// The lanes holding leaves, as a bit mask (`count[lane] != 0`).
+    leaves: u8,
 }
 
 /// An 8-wide BVH; slots index the permutation [`Bvh8::from_bvh2`] returns.
@@ -46,19 +50,50 @@ pub struct Bvh8 {
     stack: usize,
 }
 
-/// Traversals whose stack fits this use an array on the thread's stack; deeper trees a Vec.
+/// Traversals whose stack fits this use an uninitialised array on the thread's stack
+/// ([`ArrayVec`]: zeroing a 64-entry array per ray cost 1.2% of a Cornell render's
+/// instructions); deeper trees a Vec.
 const STACK: usize = 64;
 
-/// Shallow trees (two levels of 8-wide nodes) take a smaller array: zeroing the 64-entry
-/// one cost about 1% of a Cornell render's time.
-const SMALL_STACK: usize = 16;
+/// A traversal stack: a fixed array for trees up to [`STACK`] entries deep, else a Vec.
+trait TraversalStack<T> {
+    fn push(&mut self, v: T);
+    fn pop(&mut self) -> Option<T>;
+}
+
+impl<T, const N: usize> TraversalStack<T> for ArrayVec<T, N> {
+    #[inline(always)]
+    fn push(&mut self, v: T) {
+        // In bounds: the tree's `stack` bound chose this capacity.
+        ArrayVec::push(self, v)
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) -> Option<T> {
+        ArrayVec::pop(self)
+    }
+}
+
+impl<T> TraversalStack<T> for Vec<T> {
+    #[inline(always)]
+    fn push(&mut self, v: T) {
+        Vec::push(self, v)
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) -> Option<T> {
+        Vec::pop(self)
+    }
+}
 
 /// Per-ray constants of the slab test.
 struct Slab {
     o: [Vec4; 3],
     inv: [Vec4; 3],
-    /// Index (0: min, 1: max) of the near plane per axis.
-    near: [usize; 3],
+    /// `inv` widened by 1 + 2γ(3) for the exit distances (see [`Slab::far_scale`]).
+    inv_far: [Vec4; 3],
+    /// Per axis: whether the near plane is the box's maximum (the direction is negative).
+    near_is_max: [bool; 3],
 }
 
 impl Slab {
@@ -73,26 +108,36 @@ impl Slab {
             }
         };
         let i = Vec3A::new(inv(d.x), inv(d.y), inv(d.z));
-        let near = |v: f32| usize::from(v < 0.0);
+        let f = i * Slab::far_scale();
         Slab {
             o: [Vec4::splat(o.x), Vec4::splat(o.y), Vec4::splat(o.z)],
             inv: [Vec4::splat(i.x), Vec4::splat(i.y), Vec4::splat(i.z)],
-            near: [near(i.x), near(i.y), near(i.z)],
+            inv_far: [Vec4::splat(f.x), Vec4::splat(f.y), Vec4::splat(f.z)],
+            near_is_max: [i.x < 0.0, i.y < 0.0, i.z < 0.0],
         }
     }
 
-    /// Entry distances of four boxes (minima and maxima per axis, one box per lane) and the
-    /// mask of those the ray crosses within [0, t_max].
+    /// The widening of exit distances. pbrt scales the computed exit distance by 1 + 2γ(3)
+    /// (about six half-ulps); scaling the reciprocal instead leaves four roundings of at most
+    /// half an ulp each (reciprocal, scaled reciprocal, difference, product) under that
+    /// widening, as pbrt's order (difference, reciprocal, product, scaling) does, so the exit
+    /// still lies beyond its exact value: boxes can only look bigger.
+    fn far_scale() -> f32 {
+        1.0 + 2.0 * gamma(3)
+    }
+
+    /// Entry distances of the four boxes of `node`'s lane group `g` and the mask of those
+    /// the ray crosses within [0, t_max]. Planes are read from the node in place.
     #[inline(always)]
-    fn test_lanes(&self, lo: [Vec4; 3], hi: [Vec4; 3], t_max: f32) -> (Vec4, u32) {
-        let b = [lo, hi];
+    fn test_group(&self, node: &Node8, g: usize, t_max: f32) -> (Vec4, u32) {
         let mut t0 = Vec4::ZERO;
         let mut t1 = Vec4::splat(t_max);
         for a in 0..3 {
-            let near = (b[self.near[a]][a] - self.o[a]) * self.inv[a];
-            let far = (b[1 - self.near[a]][a] - self.o[a]) * self.inv[a];
-            t0 = t0.max(near);
-            t1 = t1.min(far * (1.0 + 2.0 * gamma(3)));
+            let near_max = self.near_is_max[a];
+            let near = node.b[usize::from(near_max)][a][g];
+            let far = node.b[usize::from(!near_max)][a][g];
+            t0 = t0.max((near - self.o[a]) * self.inv[a]);
+            t1 = t1.min((far - self.o[a]) * self.inv_far[a]);
         }
         (t0, t0.cmple(t1).bitmask())
     }
@@ -163,19 +208,17 @@ impl Bvh8 {
         if self.nodes.is_empty() {
             return None;
         }
-        if self.stack <= SMALL_STACK {
-            self.closest_in(&mut [(0, 0.0); SMALL_STACK], o, d, t_max, leaf)
-        } else if self.stack <= STACK {
-            self.closest_in(&mut [(0, 0.0); STACK], o, d, t_max, leaf)
+        if self.stack <= STACK {
+            self.closest_in(&mut ArrayVec::<_, STACK>::new(), o, d, t_max, leaf)
         } else {
-            self.closest_in(&mut vec![(0, 0.0); self.stack], o, d, t_max, leaf)
+            self.closest_in(&mut Vec::with_capacity(self.stack), o, d, t_max, leaf)
         }
     }
 
     #[inline(always)]
     fn closest_in(
         &self,
-        stack: &mut [(u32, f32)],
+        stack: &mut impl TraversalStack<(u32, f32)>,
         o: Vec3A,
         d: Vec3A,
         t_max: f32,
@@ -184,17 +227,14 @@ impl Bvh8 {
         let slab = Slab::new(o, d);
         let mut best: Option<(usize, f32)> = None;
         let mut t_max = t_max;
-        let mut sp = 0;
         let mut next = Some(0u32);
         loop {
             let ni = match next.take() {
                 Some(ni) => ni,
                 None => loop {
-                    if sp == 0 {
+                    let Some((ni, t_in)) = stack.pop() else {
                         return best;
-                    }
-                    sp -= 1;
-                    let (ni, t_in) = stack[sp];
+                    };
                     if t_in <= t_max {
                         break ni;
                     }
@@ -206,21 +246,16 @@ impl Bvh8 {
             // box (a ray through a closed mesh crosses the boxes of its far side too); then
             // inner children far to near. The hit lanes split into the two by mask, without
             // a branch per lane.
-            let leaf_lanes = node.leaf_lanes();
-            let mut inner = [(0u32, 0f32); WIDTH];
-            let mut n_inner = 0;
+            let leaf_lanes = u32::from(node.leaves);
+            let mut inner = ArrayVec::<(u32, f32), WIDTH>::new();
             for lane in lanes(mask & !leaf_lanes) {
-                inner[n_inner] = (node.child[lane], t0[lane]);
-                n_inner += 1;
+                inner.push((node.child[lane], t0[lane]));
             }
-            let mut leaves = [(0u32, 0f32); WIDTH];
-            let mut n_leaves = 0;
+            let mut leaves = ArrayVec::<(u32, f32), WIDTH>::new();
             for lane in lanes(mask & leaf_lanes) {
-                leaves[n_leaves] = (lane as u32, t0[lane]);
-                n_leaves += 1;
+                leaves.push((lane as u32, t0[lane]));
             }
-            let leaves = &mut leaves[..n_leaves];
-            sort_near_to_far(leaves);
+            sort_near_to_far(&mut leaves);
             for &(lane, t_in) in leaves.iter() {
                 if t_in > t_max {
                     break;
@@ -231,16 +266,13 @@ impl Bvh8 {
                     best = Some(hit);
                 }
             }
-            if n_inner == 0 {
+            sort_far_to_near(&mut inner);
+            let Some((nearest, t_near)) = inner.pop() else {
                 continue;
-            }
-            let inner = &mut inner[..n_inner];
-            sort_far_to_near(inner);
-            let (nearest, t_near) = inner[n_inner - 1];
-            for &(c, t) in &inner[..n_inner - 1] {
-                // In bounds: at most 7 entries per level are left behind (see `stack`).
-                stack[sp] = (c, t);
-                sp += 1;
+            };
+            for &entry in &inner {
+                // At most 7 entries per level are left behind (see `stack`).
+                stack.push(entry);
             }
             if t_near <= t_max {
                 next = Some(nearest);
@@ -275,38 +307,33 @@ impl Bvh8 {
         if self.nodes.is_empty() {
             return false;
         }
-        if self.stack <= SMALL_STACK {
-            self.any_in(&mut [0; SMALL_STACK], o, d, t_max, leaf)
-        } else if self.stack <= STACK {
-            self.any_in(&mut [0; STACK], o, d, t_max, leaf)
+        if self.stack <= STACK {
+            self.any_in(&mut ArrayVec::<_, STACK>::new(), o, d, t_max, leaf)
         } else {
-            self.any_in(&mut vec![0; self.stack], o, d, t_max, leaf)
+            self.any_in(&mut Vec::with_capacity(self.stack), o, d, t_max, leaf)
         }
     }
 
     #[inline(always)]
     fn any_in(
         &self,
-        stack: &mut [u32],
+        stack: &mut impl TraversalStack<u32>,
         o: Vec3A,
         d: Vec3A,
         t_max: f32,
         mut leaf: impl FnMut(usize, usize, f32) -> bool,
     ) -> bool {
         let slab = Slab::new(o, d);
-        stack[0] = 0;
-        let mut sp = 1;
-        while sp > 0 {
-            sp -= 1;
-            let node = &self.nodes[stack[sp] as usize];
+        stack.push(0);
+        while let Some(ni) = stack.pop() {
+            let node = &self.nodes[ni as usize];
             let (_, mut mask) = node.test(&slab, t_max);
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
                 let count = node.count[lane];
                 if count == 0 {
-                    stack[sp] = node.child[lane];
-                    sp += 1;
+                    stack.push(node.child[lane]);
                     continue;
                 }
                 if leaf(node.child[lane] as usize, count as usize, t_max) {
@@ -423,6 +450,7 @@ impl Node8 {
             b: [[[Vec4::INFINITY; 2]; 3], [[Vec4::NEG_INFINITY; 2]; 3]],
             child: [EMPTY; 8],
             count: [0; 8],
+            leaves: 0,
         }
     }
 
@@ -434,34 +462,21 @@ impl Node8 {
             self.b[1][a][g][l] = hi[a];
         }
         self.child[lane] = child;
-        self.count[lane] = count;
-    }
-
-    /// The lanes holding leaves, as a bit mask.
-    #[inline(always)]
-    fn leaf_lanes(&self) -> u32 {
-        let mut bits = 0;
-        for (lane, &c) in self.count.iter().enumerate() {
-            bits |= u32::from(c != 0) << lane;
+        self.count[lane] = u16::try_from(count).expect("a BVH leaf of over 65535 primitives");
+        if count != 0 {
+            self.leaves |= 1 << lane;
         }
-        bits
     }
 
     /// Entry distances of the eight children and the mask of those hit within [0, t_max].
     #[inline(always)]
     fn test(&self, slab: &Slab, t_max: f32) -> ([f32; 8], u32) {
+        let (lo_t, lo_mask) = slab.test_group(self, 0, t_max);
+        let (hi_t, hi_mask) = slab.test_group(self, 1, t_max);
         let mut t = [0.0f32; 8];
-        let mut mask = 0;
-        for g in 0..2 {
-            let (t0, m) = slab.test_lanes(
-                [self.b[0][0][g], self.b[0][1][g], self.b[0][2][g]],
-                [self.b[1][0][g], self.b[1][1][g], self.b[1][2][g]],
-                t_max,
-            );
-            t[g * 4..g * 4 + 4].copy_from_slice(&t0.to_array());
-            mask |= m << (4 * g);
-        }
-        (t, mask)
+        t[..4].copy_from_slice(&lo_t.to_array());
+        t[4..].copy_from_slice(&hi_t.to_array());
+        (t, lo_mask | hi_mask << 4)
     }
 }
 
