@@ -350,6 +350,13 @@ impl Geometry {
 
     /// The closest hit with 0 < t < ray.t_max, fully described.
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        if self.instances.is_empty() && self.movers.is_empty() {
+            // World shapes only: the hit goes straight from the traversal to its description,
+            // field by field (moving it whole through `Found` cost store-forwarding stalls).
+            let h = self.world.closest(ray.o, ray.d, ray.t_max)?;
+            let (g, prim) = self.world.hit_geometry(h, ray.o, ray.d, ray.t_max)?;
+            return Some(Self::described(g, h.t, prim, ray));
+        }
         let (found, t) = self.closest(ray)?;
         let (g, prim) = match found {
             Found::World(h) => self.world.hit_geometry(h, ray.o, ray.d, ray.t_max)?,
@@ -369,8 +376,14 @@ impl Geometry {
                     .hit_geometry(&self.objects, slot, h, (ray.o, dn), ray.time)?
             }
         };
+        Some(Self::described(g, t, prim, ray))
+    }
+
+    /// The interaction at local geometry `g`, distance `t` along `ray`.
+    #[inline(always)]
+    fn described(g: LocalGeometry, t: f32, prim: u32, ray: &Ray) -> SurfaceInteraction {
         let wo = unit_or(-ray.d, Vec3A::ZERO);
-        Some(g.into_surface_interaction(wo, t, prim, ray.time))
+        g.into_surface_interaction(wo, t, prim, ray.time)
     }
 
     /// Whether anything is hit with 0 < t < ray.t_max (shadow rays).

@@ -393,7 +393,7 @@ fn mesh_hits_are_described_as_the_mesh_describes_them() {
                     .is_some_and(|t| t.t == h.t)
             })
             .expect("the hit triangle");
-        let m = mesh.geometry(i, h.b);
+        let m = mesh.geometry(i, h.b.to_array());
         assert_eq!(
             (g.p, g.p_error, g.n, g.ns, g.uv, g.dpdu, g.dpdv, g.hit.face),
             (m.p, m.p_error, m.n, m.ns, m.uv, m.dpdu, m.dpdv, m.hit.face),
