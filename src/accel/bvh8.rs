@@ -10,8 +10,9 @@
 //!
 //! Robustness: primitive boxes are padded (see [`super::bvh::padded`]), the reciprocal
 //! direction is finite (tiny components map to ±1e20 with the sign of the component, so
-//! `(bound - o) * inv` is never NaN), and the exit distance is widened by 1 + 2γ(3) as pbrt
-//! does, so rounding in the slab test can only make boxes look bigger.
+//! `(bound - o) * inv` is never NaN), and exit distances are widened by 1 + 2γ(3) (through
+//! a widened copy of the reciprocal, see [`Slab::far_scale`]) as pbrt widens them, so
+//! rounding in the slab test can only make boxes look bigger.
 
 use crate::geometry::transform::gamma;
 use arrayvec::ArrayVec;
@@ -117,11 +118,13 @@ impl Slab {
         }
     }
 
-    /// The widening of exit distances. pbrt scales the computed exit distance by 1 + 2γ(3)
-    /// (about six half-ulps); scaling the reciprocal instead leaves four roundings of at most
-    /// half an ulp each (reciprocal, scaled reciprocal, difference, product) under that
-    /// widening, as pbrt's order (difference, reciprocal, product, scaling) does, so the exit
-    /// still lies beyond its exact value: boxes can only look bigger.
+    /// The widening of exit distances: the exit is computed with the reciprocal scaled by
+    /// s = fl(1 + 2γ(3)) = 1 + 6u (u = 2⁻²⁴, half an ulp of 1). Entry and exit use the same
+    /// rounded reciprocal, so a box the ray truly crosses keeps entry ≤ exit as long as s
+    /// covers the other roundings: the entry's difference and product (up to (1 + u)²) and
+    /// the exit's difference, product and scaled reciprocal (down to (1 − u)³), i.e.
+    /// s ≥ (1 + u)² / (1 − u)³ ≈ 1 + 5u, which 1 + 6u is. (pbrt's order, scaling the
+    /// computed exit, rests on the same margin.) Boxes can only look bigger.
     fn far_scale() -> f32 {
         1.0 + 2.0 * gamma(3)
     }

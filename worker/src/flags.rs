@@ -27,7 +27,8 @@ pub(crate) struct Flags {
     /// The newest sampling map from the master, until the render thread takes it.
     pub(crate) map: MapSlot,
     /// The lease's upload interval in seconds: a sweep of passes is kept within it, so the
-    /// render thread sees the uploader's requests (and the master's stop) that often.
+    /// render thread hands over a delta when the uploader asks (a stop needs no such bound:
+    /// it sets the session's cancel flag, which ends a sweep between tiles).
     pub(crate) upload_secs: f64,
 }
 
