@@ -11,7 +11,9 @@
 //! `tonemap` for the convergence test) and says when a render is done. Each stage imports only
 //! the stages before it; `tests/architecture.rs` checks it. `atomic_write` sits below them
 //! all: every file written (FLM, images, the master's checkpoints) goes through it; `fileio`
-//! beside it opens every file a scene names (confined to the bundle on a farm).
+//! beside it opens every file a scene names (confined to the bundle on a farm). `isa` names the
+//! x86-64 level the code was built for and the one the CPU supports (the production install's
+//! per-level binaries).
 //!
 //! Plugin families live in one folder each, one file per plugin, built by one convention
 //! (`plugin`): `camera`, `sampler`, `filter`, `shape`, `light`, `material`, `texture`,
@@ -28,6 +30,7 @@ pub mod geometry;
 pub mod halt;
 pub mod imageio;
 pub mod integrator;
+pub mod isa;
 pub mod light;
 pub mod lxs;
 pub mod material;

@@ -32,6 +32,17 @@ pub fn best<T>(runs: u32, mut f: impl FnMut() -> T) -> (f64, T) {
     (fastest, last)
 }
 
+/// The machine as a benchmark reports it: cores, the instruction-set level the render core
+/// was built for (a production install runs its CPU's best: `luxfarm::isa`) and the load.
+pub fn machine() -> String {
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    format!(
+        "{cores} cores, render core built for {}, load average {}",
+        luxfarm::isa::build_name(),
+        loadavg()
+    )
+}
+
 /// The 1, 5 and 15 minute load averages ("?" where /proc is missing).
 pub fn loadavg() -> String {
     std::fs::read_to_string("/proc/loadavg")

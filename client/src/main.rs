@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 mod cmd;
 mod exit;
+mod isa;
 
 #[derive(Parser)]
 #[command(
@@ -65,6 +66,8 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    isa::check_start();
+    isa::dispatch();
     let cli = Cli::parse();
     init_logging(&cli.log);
     let result = match cli.command {

@@ -162,11 +162,6 @@ fn median(mut v: Vec<f64>) -> f64 {
     v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
-fn machine() -> String {
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    format!("{cores} cores, load average {}", crate::support::loadavg())
-}
-
 /// The medians of a contestant's equal-samples runs.
 struct Summary {
     who: Who,
@@ -252,7 +247,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         },
         tmp: tmp.path().to_path_buf(),
     };
-    println!("machine: {} (before)", machine());
+    println!("machine: {} (before)", crate::support::machine());
     println!(
         "path depth: at most {depth} segments = LuxCore pathdepth.total {depth} = Mitsuba max_depth \
          {depth} = Cycles max_bounces {} = luxfarm/LuxRender maxdepth {}; Russian roulette off",
@@ -307,7 +302,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
             s.at_budget = Some((rmse, f64::from(spp), r.seconds));
         }
     }
-    println!("machine: {} (after)", machine());
+    println!("machine: {} (after)", crate::support::machine());
     print!("{}", report(&sums, a.spp, a.budget));
     Ok(ExitCode::SUCCESS)
 }

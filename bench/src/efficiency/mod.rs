@@ -314,11 +314,6 @@ fn median(mut v: Vec<f64>) -> f64 {
     v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
-fn machine() -> String {
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    format!("{cores} cores, load average {}", crate::support::loadavg())
-}
-
 fn contestants(a: &Args, lc: &LuxCore) -> anyhow::Result<Vec<Contestant>> {
     let mut v = Vec::new();
     for s in a.luxfarm.iter().filter(|s| !s.is_empty()) {
@@ -358,7 +353,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     };
     let who = contestants(&a, &lc)?;
     let tmp = tempfile::tempdir()?;
-    println!("machine: {} (before)", machine());
+    println!("machine: {} (before)", crate::support::machine());
     println!(
         "{}x{} pixels, at most {depth} path segments, Russian roulette off, {} s per render",
         a.res, a.res, a.budget
@@ -416,7 +411,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
             .collect();
         out.push_str(&report(variant, &sums, a.budget));
     }
-    println!("machine: {} (after)", machine());
+    println!("machine: {} (after)", crate::support::machine());
     print!("{out}");
     Ok(ExitCode::SUCCESS)
 }
