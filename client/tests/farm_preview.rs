@@ -94,6 +94,13 @@ fn preview_tonemapping_query_etag_and_worker_rate() {
         "no worker samples/s: {}",
         get_json(&s.api("/workers"))
     );
+    // The worker's build names the instruction-set level its render core runs at.
+    let ws = get_json(&s.api("/workers"));
+    let build = ws[0]["build"].as_str().unwrap_or_default().to_string();
+    assert!(
+        build.starts_with("luxfarm ") && build.ends_with(luxfarm::isa::build_name()),
+        "{ws}"
+    );
     // The same number over gRPC (ListWorkers' WorkerInfo).
     let grpc_rate = grpc_worker_rates(&s.url());
     assert!(

@@ -132,7 +132,8 @@ impl Link {
                 threads: self.threads,
                 worker_id,
                 protocol: pb::PROTOCOL_VERSION,
-                build: format!("luxfarm {}", pb::BUILD),
+                // The version and the instruction-set level its render core runs at.
+                build: format!("luxfarm {} {}", pb::BUILD, luxfarm::isa::build_name()),
                 worker_token,
                 tags: self.tags.clone(),
                 memory_mb: self.memory_mb,
