@@ -32,12 +32,17 @@ pub fn best<T>(runs: u32, mut f: impl FnMut() -> T) -> (f64, T) {
     (fastest, last)
 }
 
-/// The machine as a benchmark reports it: cores, the instruction-set level the render core
-/// was built for (a production install runs its CPU's best: `luxfarm::isa`) and the load.
+/// The machine as a benchmark reports it: cores, the build (a `scripts/build-production`
+/// binary, which farm nodes run, or another) and the instruction-set level its render core was
+/// built for (a production install runs its CPU's best: `luxfarm::isa`), and the load.
 pub fn machine() -> String {
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let build = match option_env!("LUXFARM_BUILD_ID") {
+        Some(id) => format!("production build {id}"),
+        None => "not a production build (farm nodes run scripts/build-production's)".into(),
+    };
     format!(
-        "{cores} cores, render core built for {}, load average {}",
+        "{cores} cores, {build}, render core built for {}, load average {}",
         luxfarm::isa::build_name(),
         loadavg()
     )
