@@ -5,6 +5,11 @@
 //! compared with a local render, it differs no more than a second local render of another
 //! seed does (RMSE and mean ratio, through `luxfarm compare-image` on the EXR outputs, which
 //! apply the per-screen normalisation of these films).
+//!
+//! A metropolis pass far longer than the job (a pass here is ~270 M steps) is wrapped up
+//! rather than dropped (`luxfarm::render::stops`): a stop from the master (the job's
+//! halttime) ends it at its next batch and the lease's last delta carries it; and each ask
+//! of the uploader ends it too, so deltas with samples arrive every upload interval.
 
 mod farm_common;
 
@@ -197,4 +202,95 @@ fn a_second_erpt_lease_on_a_worker_reuses_the_jobs_quantum() {
     );
     assert_eq!(text.matches(estimated).count(), 1, "{text}");
     assert_eq!(quantum(estimated), quantum(reused), "{text}");
+}
+
+/// A 64×64 scene whose metropolis pass (65 × 65 extent pixels × 65536 pixelsamples) no lease
+/// of these tests could finish.
+fn endless_metropolis(dir: &Path) -> Vec<u8> {
+    let path = small_scene(dir, "endless", (64, 64), "");
+    let text = std::fs::read_to_string(path).unwrap().replace(
+        "Sampler \"random\" \"integer pixelsamples\" [1]",
+        "Sampler \"metropolis\" \"integer pixelsamples\" [65536]",
+    );
+    assert!(text.contains("metropolis"));
+    text.into_bytes()
+}
+
+/// The sample counts of the deltas a worker kept as merged (`LEASE-SEQ.merged.lxd`), in
+/// sequence order (one lease).
+fn kept_samples(dir: &Path) -> Vec<f64> {
+    let mut kept: Vec<(u64, f64)> = files_under(dir)
+        .iter()
+        .filter_map(|p| {
+            let name = p.file_name()?.to_str()?.strip_suffix(".merged.lxd")?;
+            let seq = name.rsplit('-').next()?.parse().ok()?;
+            let film = luxfarm_wire::codec::decode(&std::fs::read(p).ok()?).ok()?;
+            Some((seq, film.total_samples()))
+        })
+        .collect();
+    kept.sort_by_key(|k| k.0);
+    kept.into_iter().map(|k| k.1).collect()
+}
+
+/// Runs the endless metropolis job with `halttime` on one worker under a master with
+/// `upload_interval`; returns the job's final view, its merged film and the samples of the
+/// worker's merged deltas.
+fn endless_job(
+    upload_interval: &str,
+    halttime: u32,
+) -> (serde_json::Value, luxfarm::film::Film, Vec<f64>) {
+    let dir = tempfile::tempdir().unwrap();
+    let s = server(
+        &dir.path().join("data"),
+        &["--upload-interval", upload_interval],
+    );
+    let scene = endless_metropolis(dir.path());
+    let (st, job) = post_job(
+        &s,
+        scene,
+        &format!("?filename=endless.lxs&halttime={halttime}"),
+    );
+    assert_eq!(st, 201, "{job}");
+    let id = job["id"].as_str().unwrap().to_string();
+    let kept = dir.path().join("kept");
+    let mut w = [worker(
+        &s.url(),
+        2,
+        &["--keep-deltas", kept.to_str().unwrap()],
+    )];
+    // A hang guard only.
+    let v = wait_job(&s, &id, 300, |v| {
+        v["state"] != "queued" && v["state"] != "rendering"
+    });
+    assert_eq!(v["state"], "done", "{v}");
+    stop_workers(&mut w);
+    let merged = final_checkpoint(&s, &id);
+    (v, merged, kept_samples(&kept))
+}
+
+/// The job's halttime stops the lease inside its first metropolis pass: the worker wraps
+/// the pass up and its last (here its only) delta carries the samples taken, which the job
+/// keeps; a cancelled pass would leave the job's film empty. The upload interval is far
+/// beyond the job, so no ask for a delta ends the pass before the stop.
+#[test]
+fn a_stopped_metropolis_lease_keeps_its_partial_pass() {
+    let (v, merged, kept) = endless_job("3600", 3);
+    eprintln!("job {v}; deltas {kept:?}");
+    let samples = merged.total_samples();
+    assert!(samples > 0.0, "the stopped pass was dropped: {v}");
+    assert!(samples < 65.0 * 65.0 * 65536.0, "{samples}");
+    assert_eq!(kept.len(), 1, "{kept:?}");
+    assert_eq!(kept[0], samples);
+}
+
+/// Each ask of the uploader (every second here) wraps up the current metropolis pass: the
+/// deltas carry samples while the first pass is far from its end, so the preview moves.
+#[test]
+fn a_long_metropolis_pass_uploads_every_interval() {
+    let (v, merged, kept) = endless_job("1", 8);
+    eprintln!("job {v}; deltas {kept:?}");
+    let with_samples = kept.iter().filter(|&&n| n > 0.0).count();
+    assert!(with_samples >= 3, "deltas with samples: {kept:?}");
+    assert!(kept.last().is_some_and(|&n| n > 0.0), "{kept:?}");
+    assert_eq!(kept.iter().sum::<f64>(), merged.total_samples());
 }

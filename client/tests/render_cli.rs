@@ -84,6 +84,49 @@ fn haltthreshold_stops_a_local_render_later_when_stricter() {
     );
 }
 
+/// `--halttime` ends a metropolis render inside its first pass: a pass here is 129 × 97 ×
+/// 512 steps (the sample extent × pixelsamples: a minute of this debug build or more, at
+/// 0.1 M steps/s on a loaded 2-core machine), and the render stops at the deadline's batch
+/// boundary with the samples it took, its film kept. No time is asserted: the wait is a
+/// hang guard only.
+#[test]
+fn halttime_ends_a_metropolis_render_inside_its_first_pass() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene(dir.path(), "");
+    let text = std::fs::read_to_string(&s).unwrap().replace(
+        r#"Sampler "random" "integer pixelsamples" [1]"#,
+        r#"Sampler "metropolis" "integer pixelsamples" [512]"#,
+    );
+    assert!(text.contains("metropolis"));
+    std::fs::write(&s, text).unwrap();
+    let out = dir.path().join("mlt");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_luxfarm"))
+        .arg("render")
+        .arg(&s)
+        .arg("-o")
+        .arg(&out)
+        .args(["--halttime", "1", "--threads", "2"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run luxfarm");
+    let guard = std::time::Instant::now() + std::time::Duration::from_secs(600);
+    while child.try_wait().unwrap().is_none() {
+        if std::time::Instant::now() > guard {
+            let _ = child.kill();
+            panic!("the render did not stop within its first pass");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let done = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&done.stderr);
+    assert!(done.status.success(), "{err}");
+    let n = spp(&out.with_extension("flm"));
+    // One pass reads 129 · 97 · 512 / (128 · 96) = 521 spp; a batch of the 16 chains is
+    // 4096 steps (0.33 spp).
+    assert!(n > 0.0 && n < 512.0, "{n} spp: {err}");
+}
+
 #[test]
 fn a_scene_without_halt_condition_is_refused() {
     let dir = tempfile::tempdir().unwrap();

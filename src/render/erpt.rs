@@ -25,9 +25,16 @@
 //! ([`ErptState::set_quantum`]), whose films are the same as with a warm-up of their own. Every chain ends
 //! within its pass: a pass film is a complete estimate, and films of passes, sessions and
 //! farm workers (each on its own stream) add up exactly.
+//!
+//! A wrap-up (`super::stops`) ends a pass after a whole batch of seeds, all their chains run
+//! to their end: the pass counts `1 + chainlength` samples per seed done, and the next pass
+//! goes on at the next seed, as if this pass had been planned at the seeds it did. The
+//! warm-up is never cut short (only cancelled): a wrapped-up first pass still estimates the
+//! quantum and traces one batch of seeds.
 
 use super::mlt::{deposit, frame, trace, trace_stream, ChainStats, Contribution, Frame};
 use super::setup::Renderable;
+use super::stops::{ChainPass, Stops};
 use crate::film::Film;
 use crate::integrator::SampleOut;
 use crate::sampler::erpt::{
@@ -169,18 +176,21 @@ impl ErptState {
     }
 
     /// Runs one pass of `seeds` seeds into `film` (cleared by the caller, the session's
-    /// layout). Returns the invalid contributions, or `None` when cancelled (the partial
-    /// film is to be discarded; the next pass draws the same seeds again).
+    /// layout). A wrap-up (`stops`) ends it after a whole batch of seeds (the warm-up and at
+    /// least one batch first), whose chains have all run to their end: the film is then an
+    /// estimate over the seeds done, and the next pass starts at the next seed. Returns what
+    /// the pass did, or `None` when cancelled (the partial film is to be discarded; the next
+    /// pass draws the same seeds again).
     pub fn run_pass(
         &mut self,
         scene: &Renderable,
         pool: &rayon::ThreadPool,
-        cancel: &AtomicBool,
+        stops: &Stops,
         seeds: u64,
         film: &mut Film,
-    ) -> Option<u64> {
+    ) -> Option<ChainPass> {
         let Some(params) = scene.setup.sampler.erpt().copied() else {
-            return Some(0);
+            return Some(ChainPass::default());
         };
         let fp = &scene.setup.film_params;
         let range = params.range_pixels(fp.x_pixel_count as f32, fp.y_pixel_count as f32);
@@ -192,7 +202,7 @@ impl ErptState {
                 let ed = self.warm_up(
                     scene,
                     pool,
-                    cancel,
+                    stops.cancel,
                     &frame,
                     u64::from(params.init_samples),
                     m,
@@ -206,6 +216,9 @@ impl ErptState {
         let mut invalid = 0;
         let mut first = 0;
         while first < seeds {
+            if first > 0 && stops.wrap_up_due() {
+                break;
+            }
             let last = (first + SEED_BATCH).min(seeds);
             let traced =
                 self.trace_seeds(scene, pool, &frame, params.base, first..last, &mut invalid);
@@ -228,7 +241,7 @@ impl ErptState {
                         values: Vec::new(),
                     })
                     .collect();
-                invalid += run_group(scene, pool, cancel, &frame, m, &mut runs, film)?;
+                invalid += run_group(scene, pool, stops.cancel, &frame, m, &mut runs, film)?;
                 for r in &runs {
                     stats.proposed += r.chain.proposed;
                     stats.accepted += r.chain.accepted;
@@ -236,9 +249,13 @@ impl ErptState {
             }
             first = last;
         }
-        self.next_seed += seeds;
+        self.next_seed += first;
         self.stats = stats;
-        Some(invalid)
+        Some(ChainPass {
+            invalid,
+            samples: first.saturating_mul(samples_per_seed(m)),
+            wrapped_up: first < seeds,
+        })
     }
 
     /// Traces the seeds `range` (indices within this pass) in parallel, in order.

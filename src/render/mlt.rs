@@ -9,13 +9,20 @@
 //! ```
 //!
 //! A pass takes `extent pixels × pixelsamples` steps (`super::extent`), shared among
-//! [`CHAINS`] chains. Chains run in parallel in fixed batches of [`BATCH`] steps; each batch's deposits are added to the
-//! pass film in chain order and the large steps' luminance (the normaliser) is updated in
-//! chain order too, so the film depends only on (seed, stream, pass), never on threads.
+//! [`CHAINS`] chains. Chains run in parallel in fixed batches of [`BATCH`] steps; each
+//! batch's deposits are added to the pass film in chain order and the large steps'
+//! luminance (the normaliser) is updated in chain order too, so the film depends only on
+//! (seed, stream, pass), never on threads.
 //! Within a batch the normaliser is fixed (from the earlier batches and [`BOOTSTRAP`]
 //! uniform samples drawn before the first one).
 //! At the end of a pass every chain's pending weight is deposited, so a pass film is a
 //! complete estimate and films of passes, sessions and farm workers add up exactly.
+//!
+//! A wrap-up (`super::stops`) ends a pass at a batch boundary after at least one batch: the
+//! pending weights are deposited as at a planned end and the pass counts the steps taken
+//! (the per-screen buffer's normaliser), so it estimates the same image; the chains and the
+//! normaliser go on in the next pass. Wrapped up after k batches, a pass is bit for bit one
+//! planned at k × [`BATCH`] steps per chain.
 //!
 //! Under a sampling map (`noiseaware`, or the user's), as in LuxRender, a chain's target is
 //! the luminance times the map's density at the sample's film position, and fresh samples
@@ -33,6 +40,7 @@
 
 use super::buffers::LIGHT_BUFFER;
 use super::setup::Renderable;
+use super::stops::{ChainPass, Stops};
 use crate::film::Film;
 use crate::integrator::SampleOut;
 use crate::sampler::map::SamplingMap;
@@ -42,7 +50,6 @@ use crate::sampler::{combine, unit_f32};
 use crate::sampler::{SampleStream, Sampler};
 use crate::spectrum::rgb_to_xyz;
 use glam::Vec2;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 /// Chains per session (fixed, so that the film does not depend on the thread count).
@@ -266,21 +273,23 @@ impl MltState {
     }
 
     /// Runs one pass of `steps` steps into `film` (cleared by the caller, the session's
-    /// layout), following sampling map `map` (`None`: uniform). Returns the invalid
-    /// contributions, or `None` when cancelled (the chains have then moved on; the partial
-    /// film is to be discarded).
+    /// layout), following sampling map `map` (`None`: uniform). A wrap-up (`stops`) ends it
+    /// at a batch boundary after at least one batch, with the steps taken so far: the
+    /// chains' pending weights are deposited as at a planned end, so the film is an estimate
+    /// over those steps. Returns what the pass did, or `None` when cancelled (the chains have
+    /// then moved on; the partial film is to be discarded).
     pub fn run_pass(
         &mut self,
         scene: &Renderable,
         pool: &rayon::ThreadPool,
-        cancel: &AtomicBool,
+        stops: &Stops,
         steps: u64,
         film: &mut Film,
         map: Option<&Arc<SamplingMap>>,
-    ) -> Option<u64> {
+    ) -> Option<ChainPass> {
         use rayon::prelude::*;
         let Some(params) = scene.setup.sampler.mlt().copied() else {
-            return Some(0);
+            return Some(ChainPass::default());
         };
         let fp = &scene.setup.film_params;
         let range = params.range_pixels(fp.x_pixel_count as f32, fp.y_pixel_count as f32);
@@ -302,14 +311,19 @@ impl MltState {
         if self.large_count == 0.0 {
             self.bootstrap(scene, pool, &frame, &params, pixels);
         }
+        let mut wrapped_up = false;
         loop {
-            if cancel.load(Ordering::Relaxed) {
+            if stops.cancelled() {
                 return None;
             }
             let todo: Vec<u64> = (0..n)
                 .map(|i| share(i).saturating_sub(done[i as usize]).min(BATCH))
                 .collect();
             if todo.iter().all(|&t| t == 0) {
+                break;
+            }
+            if done.iter().any(|&d| d > 0) && stops.wrap_up_due() {
+                wrapped_up = true;
                 break;
             }
             let (sum0, count0) = (self.large_sum, self.large_count);
@@ -350,7 +364,11 @@ impl MltState {
             let d: Vec<_> = slot.current.iter().map(|c| (*c, w)).collect();
             deposit(scene, &frame, film, &d);
         }
-        Some(invalid)
+        Some(ChainPass {
+            invalid,
+            samples: done.iter().sum(),
+            wrapped_up,
+        })
     }
 }
 

@@ -13,7 +13,10 @@
 //! (seed, stream, pass) and the splats of a whole pass are never held at once.
 //!
 //! The `metropolis` and `erpt` samplers do not visit pixels: their passes run the session's
-//! Markov chains ([`mlt`], [`erpt`]) into the film's per-screen buffers.
+//! Markov chains ([`mlt`], [`erpt`]) into the film's per-screen buffers. Such a pass can last
+//! minutes on a big film, so it may be wrapped up early, keeping its work
+//! ([`Session::set_deadline`], [`Session::wrap_up_flag`], [`stops`]); the cancel flag
+//! ([`Session::cancel_flag`]) instead discards the pass it interrupts, tiles or chains.
 //!
 //! A `noiseaware` sampler draws each pixel's samples of a pass by the session's sampling map
 //! (`crate::sampler::map`). Its film keeps each pixel's luminance spread sums
@@ -45,6 +48,7 @@ pub mod mlt;
 pub mod noise;
 mod pass;
 pub mod setup;
+pub mod stops;
 mod tile;
 pub mod usermap;
 
@@ -54,6 +58,7 @@ use crate::sampler::map::{MapError, SamplingMap};
 use setup::{Renderable, SetupError};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
+use std::time::Instant;
 
 pub use buffers::film_buffers;
 pub use extent::SampleExtent;
@@ -96,7 +101,8 @@ pub struct SessionOptions {
 /// What one pass did.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PassStats {
-    /// Camera samples taken (sample extent pixels × pixelsamples, see [`extent`]).
+    /// Camera samples taken (sample extent pixels × pixelsamples, see [`extent`]; fewer for
+    /// a wrapped-up chain pass: those it took).
     pub samples: u64,
     /// Contributions discarded as NaN/Inf/negative.
     pub rejected: u64,
@@ -107,6 +113,9 @@ pub struct PassStats {
     pub passes: u64,
     /// False when the pass was cancelled (its partial work is discarded).
     pub complete: bool,
+    /// True when a chain pass was wrapped up before its planned end ([`stops`]): its work is
+    /// kept and counted (it is `complete` too).
+    pub wrapped_up: bool,
 }
 
 pub struct Session {
@@ -119,6 +128,10 @@ pub struct Session {
     pass: u64,
     pool: rayon::ThreadPool,
     cancel: Arc<AtomicBool>,
+    /// Set: chain passes end at their next batch boundary, keeping their work ([`stops`]).
+    wrap_up: Arc<AtomicBool>,
+    /// Chain passes end at their first batch boundary at or after it ([`stops`]).
+    deadline: Option<Instant>,
     rejected: u64,
     outliers: u64,
     /// The Markov chains of a metropolis sampler.
@@ -197,6 +210,8 @@ impl Session {
             pass: 0,
             pool,
             cancel: Arc::new(AtomicBool::new(false)),
+            wrap_up: Arc::new(AtomicBool::new(false)),
+            deadline: None,
             rejected: 0,
             outliers: 0,
             mlt,
@@ -384,9 +399,37 @@ impl Session {
         self.outliers
     }
 
-    /// Set it to stop the current pass between tiles (the pass is then discarded).
+    /// Set it to stop the current pass between tiles or chain batches (the pass is then
+    /// discarded); it stays set, so every later pass is cancelled at once too.
     pub fn cancel_flag(&self) -> Arc<AtomicBool> {
         self.cancel.clone()
+    }
+
+    /// Set it (from any thread) to wrap up the current pass of a chain sampler (metropolis,
+    /// erpt) at its next batch boundary, keeping its work ([`stops`]); while it stays set
+    /// every chain pass ends after its first batch. Pixel-sampler passes ignore it.
+    pub fn wrap_up_flag(&self) -> Arc<AtomicBool> {
+        self.wrap_up.clone()
+    }
+
+    /// Chain passes (metropolis, erpt) started from now on end at their first batch
+    /// boundary at or after `deadline` (after at least one batch), keeping their work and
+    /// counting the samples they took ([`stops`]); `None` removes it. A caller bound by time
+    /// (`halttime`) gives its end, so a pass of minutes does not run past it. Pixel-sampler
+    /// passes ignore it (their sweeps are bounded by [`Self::passes_within`]).
+    pub fn set_deadline(&mut self, deadline: Option<Instant>) {
+        self.deadline = deadline;
+    }
+
+    /// The deadline of chain passes, if any ([`Self::set_deadline`]).
+    pub fn deadline(&self) -> Option<Instant> {
+        self.deadline
+    }
+
+    /// Whether this session's passes run Markov chains (metropolis, erpt), which a wrap-up
+    /// ends early keeping their work, rather than tiles.
+    pub fn runs_chains(&self) -> bool {
+        self.mlt.is_some() || self.erpt.is_some()
     }
 
     /// Acceptance statistics of the metropolis or erpt chains (`None` for other samplers).

@@ -11,9 +11,14 @@
 //! they are summed differs (tile film before session film). With `pixelsamples` 1 on a small
 //! image a pass is a few tens of milliseconds, and allocating, merging and waiting for the
 //! slowest tile once per pass cost about 5% of the render; a sweep pays them once.
+//!
+//! A pass of the chain samplers may be wrapped up before its planned end ([`super::stops`]:
+//! [`Session::set_deadline`], [`Session::wrap_up_flag`]) and then counts the samples it
+//! took; a tile pass always runs whole (or is cancelled and discarded).
 
 use super::counts::SampleCounts;
 use super::setup::Renderable;
+use super::stops::{ChainPass, Stops};
 use super::tile::Tile;
 use super::{buffers, erpt, tile, tiles, PassStats, Session, SPLAT_BATCH};
 use crate::film::{BufferType, Film, ZBuffer};
@@ -173,42 +178,53 @@ impl Session {
         self.finish_pass(start, samples, rejected, outliers)
     }
 
-    /// A pass of the erpt sampler: seeds for about `extent pixels × pixelsamples` traces and their
-    /// chains into a pass film, merged into the session film once complete.
+    /// A pass of the erpt sampler: seeds for about `extent pixels × pixelsamples` traces and
+    /// their chains into a pass film, merged into the session film once complete or wrapped
+    /// up (then over the seeds done).
     fn render_pass_erpt(&mut self) -> PassStats {
         let start = Instant::now();
         let Some(m) = self.scene.setup.sampler.erpt().map(|p| p.chain_length) else {
             return PassStats::default();
         };
         let seeds = erpt::seeds_per_pass(self.traces_per_pass(), m);
-        let samples = seeds.saturating_mul(erpt::samples_per_seed(m));
         let mut pass_film = self.empty_pass_film();
+        let stops = Stops {
+            cancel: &self.cancel,
+            wrap_up: &self.wrap_up,
+            deadline: self.deadline,
+        };
         let Some(state) = self.erpt.as_mut() else {
             return PassStats::default();
         };
-        let invalid = state.run_pass(&self.scene, &self.pool, &self.cancel, seeds, &mut pass_film);
-        self.merge_chain_pass(start, samples, invalid.map(|i| (pass_film, i)))
+        let out = state.run_pass(&self.scene, &self.pool, &stops, seeds, &mut pass_film);
+        self.merge_chain_pass(start, out.map(|o| (pass_film, o)))
     }
 
-    /// A pass of the metropolis sampler: `extent pixels × pixelsamples` chain steps into a pass
-    /// film, merged into the session film once complete.
+    /// A pass of the metropolis sampler: `extent pixels × pixelsamples` chain steps into a
+    /// pass film, merged into the session film once complete or wrapped up (then over the
+    /// steps taken).
     fn render_pass_mlt(&mut self) -> PassStats {
         let start = Instant::now();
         let steps = self.traces_per_pass();
         let mut pass_film = self.empty_pass_film();
         let map = self.map.clone();
+        let stops = Stops {
+            cancel: &self.cancel,
+            wrap_up: &self.wrap_up,
+            deadline: self.deadline,
+        };
         let Some(state) = self.mlt.as_mut() else {
             return PassStats::default();
         };
-        let invalid = state.run_pass(
+        let out = state.run_pass(
             &self.scene,
             &self.pool,
-            &self.cancel,
+            &stops,
             steps,
             &mut pass_film,
             map.as_ref(),
         );
-        self.merge_chain_pass(start, steps, invalid.map(|i| (pass_film, i)))
+        self.merge_chain_pass(start, out.map(|o| (pass_film, o)))
     }
 
     /// Samples traced per pass of a chain sampler: `extent pixels × pixelsamples`, as many
@@ -225,21 +241,24 @@ impl Session {
         f
     }
 
-    /// Merges a chain sampler's complete pass (its film and invalid count) into the session
-    /// film and counts its `samples`; a cancelled pass (`None`) is discarded.
-    fn merge_chain_pass(
-        &mut self,
-        start: Instant,
-        samples: u64,
-        pass: Option<(Film, u64)>,
-    ) -> PassStats {
-        let Some((pass_film, invalid)) = pass else {
+    /// Merges a chain sampler's pass (its film, complete or wrapped up, and what it did)
+    /// into the session film and counts the samples it took; a cancelled pass (`None`) is
+    /// discarded. A wrapped-up pass counts as a pass; the pace of passes
+    /// ([`Self::passes_within`]) is that of a whole one, extrapolated from its samples.
+    fn merge_chain_pass(&mut self, start: Instant, pass: Option<(Film, ChainPass)>) -> PassStats {
+        let Some((pass_film, out)) = pass else {
             return cancelled(start);
         };
         if let Err(e) = self.film.merge(&pass_film) {
             tracing::error!("pass merge failed: {e}");
         }
-        self.finish_pass(start, samples, invalid, 0)
+        let mut stats = self.finish_pass(start, out.samples, out.invalid, 0);
+        if out.wrapped_up {
+            stats.wrapped_up = true;
+            let whole = self.traces_per_pass() as f64 / out.samples.max(1) as f64;
+            self.pass_seconds = Some(stats.seconds * whole.max(1.0));
+        }
+        stats
     }
 
     /// Counts a completed pass: its samples in the film, its discarded samples; then the
@@ -281,6 +300,7 @@ impl Session {
             seconds,
             passes,
             complete: true,
+            wrapped_up: false,
         }
     }
 }

@@ -5,7 +5,8 @@
 //!
 //! ```text
 //! render thread --(a sweep of passes while rendered < budget, each sweep within the upload
-//!   interval at the last sweep's pace)--> session film
+//!   interval at the last sweep's pace; a chain pass until the uploader asks or a stop,
+//!   then wrapped up)--> session film
 //!   --take (interval, budget spent, stop)--> encoded delta --channel--> upload loop
 //! upload loop: pending (not acknowledged) --ack--> retained (acknowledged, not durable)
 //!   --durable_seq from acks and heartbeats--> dropped
@@ -17,8 +18,16 @@
 //!   user sampling map: the master sends the maps already combined)
 //! ```
 //!
+//! A pass of metropolis or erpt can last minutes on a big film. It is wrapped up
+//! (`luxfarm::render::stops`: ended at its next batch boundary, its work kept and counted)
+//! when the uploader asks for a delta, so a job's preview moves every upload interval, and
+//! when the lease is told to stop, so the partial pass goes out as the last delta instead of
+//! being dropped. A pixel sampler's tile pass is cancelled at a stop instead (it counts only
+//! whole) and the deltas hold the passes done; its sweeps already fit the upload interval.
+//!
 //! An erpt job's energy quantum is estimated by the first lease of the job a worker renders
-//! and remembered for its later ones ([`crate::quanta`]), which skip the warm-up.
+//! and remembered for its later ones ([`crate::quanta`]), which skip the warm-up (a wrapped-up
+//! first pass still runs the whole warm-up, so the memo is filled as before).
 //!
 //! A worker's session never builds a sampling map from its own film (it only holds the
 //! samples since the last delta): a noise-aware job samples uniformly until the master's
@@ -165,10 +174,10 @@ fn render_thread(
     // Over the sample extent, as the film counts them (luxfarm::render::extent).
     let pass = session.pass_samples() as f64;
     store_f64(&flags.pass_samples, pass);
-    *flags.cancel.lock().unwrap_or_else(|p| p.into_inner()) = Some(session.cancel_flag());
-    if flags.stop.load(Ordering::SeqCst) {
-        session.cancel_flag().store(true, Ordering::SeqCst);
-    }
+    // A stop cancels a tile pass and wraps up a chain pass (kept: the last delta carries
+    // it); the uploader's ask for a delta wraps up a chain pass too (`crate::flags`).
+    let chains = session.runs_chains();
+    flags.attach(session.cancel_flag(), session.wrap_up_flag(), chains);
     let send = |session: &mut Session, last: bool| {
         let bytes = encode(&session.take_film());
         tx.blocking_send(Delta { bytes, last }).is_ok()
@@ -180,7 +189,7 @@ fn render_thread(
             send(&mut session, true);
             return Ok(());
         }
-        if flags.want.swap(false, Ordering::Relaxed) {
+        if flags.take_want() {
             unsent = false;
             if !send(&mut session, false) {
                 return Ok(());

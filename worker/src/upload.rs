@@ -99,7 +99,7 @@ pub(crate) async fn upload_loop(
     loop {
         q.update(flags.durable.load(Ordering::SeqCst), &link.instance());
         if !requested && q.pending.is_empty() && last_take.elapsed() >= interval {
-            flags.want.store(true, Ordering::Relaxed);
+            flags.ask_for_delta();
             requested = true;
         }
         if !render_done {

@@ -10,6 +10,12 @@
 //! fraction of pixels that still change perceptibly is at most the threshold). The outputs
 //! are the core's too (`luxfarm::output`): the files the Film asks for, named as on a farm.
 //!
+//! Passes of the pixel samplers are whole, and a sweep of them is sized to end by halttime;
+//! a pass of metropolis or erpt, which can last minutes on a big film, is given halttime as
+//! its deadline (`Session::set_deadline`): it ends at the first batch boundary after it
+//! (after at least one batch) and keeps its work, so the render stops about on time with
+//! the samples it took.
+//!
 //! `--sampling-map IMAGE` is LuxRender's user sampling map: an image of the film's pixel size
 //! (the crop window's, when the Film has one) whose pixels' luminance weigh how many samples
 //! each pixel takes (`luxfarm::render::usermap`); with a noise-aware sampler it multiplies the
@@ -135,6 +141,14 @@ pub fn render(args: Args) -> anyhow::Result<Vec<PathBuf>> {
     let pass_pixels = session.renderable().setup.sample_extent().pixels() as f64;
     let pass_samples = session.pass_samples() as f64;
     let mut samples = 0u64;
+    // A pass of the chain samplers (metropolis, erpt) can last minutes: halttime ends it at
+    // a batch boundary, keeping its work, so the halt check below finds the time reached.
+    // (A halttime too large for a deadline is none.)
+    let deadline = rules
+        .time
+        .and_then(|t| Duration::try_from_secs_f64(t).ok())
+        .and_then(|d| start.checked_add(d));
+    session.set_deadline(deadline);
     loop {
         // A sweep of passes, as many as fit before the next halt check is due.
         let mut max = session.sweep_passes();
