@@ -3,7 +3,8 @@
 //!
 //! The levels are the x86-64 psABI's: `x86-64` (SSE2), `x86-64-v2` (adds SSE3, SSSE3,
 //! SSE4.1/4.2, POPCNT, CMPXCHG16B, LAHF/SAHF), `x86-64-v3` (adds AVX, AVX2, BMI1/2, F16C, FMA,
-//! LZCNT, MOVBE) and `x86-64-v4` (adds AVX-512 F/BW/CD/DQ/VL). A production install carries
+//! LZCNT, MOVBE) and `x86-64-v4` (adds AVX-512 F/BW/CD/DQ/VL). LAHF/SAHF (every v2 CPU has
+//! them) is not tested. A production install carries
 //! the render core built for several levels; the `luxfarm` binary starts the best one the CPU
 //! runs (the client's `isa` module), so every farm node runs the same install at its CPU's
 //! speed. Benchmarks print [`BUILD`] beside their numbers. On other architectures the level is

@@ -11,12 +11,16 @@
 //! when it belongs to another build (a stale sibling left beside a newer binary) it starts its
 //! parent with `LUXFARM_ISA=x86-64` instead of running. The variable
 //! is inherited by the master's and workers' child processes. A `LUXFARM_ISA` set without an
-//! id (e.g. `x86-64`, to keep the baseline binary for an A/B measurement) stops the dispatch.
-//! Without siblings, on a CPU below every sibling's level, or off x86-64 Unix, the binary runs
-//! itself.
+//! id (e.g. `x86-64`, to keep the baseline binary for an A/B measurement) stops the dispatch;
+//! set but empty, it counts as unset. Without siblings, on a CPU below every sibling's level,
+//! or off x86-64 Unix, the binary runs itself. Siblings are looked up beside the file the
+//! running binary resolves to (through symlinks) and named after it, so they are installed
+//! beside the real `luxfarm`; a sibling without execute permission is passed over.
 //!
 //! A binary built above the CPU's level would die of an illegal instruction somewhere in a
-//! render; [`check_start`] stops it at start-up with a message instead.
+//! render; [`check_start`] tries to stop it at start-up with a message instead. That is best
+//! effort: the check itself is compiled for the binary's level, and start-up code before it
+//! may already use the level's instructions.
 
 use luxfarm::isa::{self, Level};
 use std::path::{Path, PathBuf};
@@ -34,7 +38,7 @@ const BUILD_ID: &str = match option_env!("LUXFARM_BUILD_ID") {
 /// Replaces the process with the best sibling binary for this CPU, if there is one; returns
 /// when this binary is the one to run.
 pub fn dispatch() {
-    if std::env::var_os(ENV).is_some() {
+    if std::env::var_os(ENV).is_some_and(|v| !v.is_empty()) {
         return;
     }
     let Some(path) = std::env::current_exe().ok() else {
@@ -56,7 +60,23 @@ fn best_sibling(exe: &Path, cpu: Option<Level>) -> Option<Level> {
         .into_iter()
         .rev()
         .filter(|&l| Some(l) > isa::BUILD && Some(l) <= cpu)
-        .find(|&l| sibling(exe, l).is_file())
+        .find(|&l| runnable(&sibling(exe, l)))
+}
+
+/// Whether `path` is a file this process may start (on Unix: with an execute bit).
+fn runnable(path: &Path) -> bool {
+    let Ok(meta) = std::fs::metadata(path) else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        meta.is_file() && meta.permissions().mode() & 0o111 != 0
+    }
+    #[cfg(not(unix))]
+    {
+        meta.is_file()
+    }
 }
 
 /// The binary beside `exe` built for `level` (`luxfarm` -> `luxfarm-x86-64-v3`).
@@ -87,6 +107,13 @@ fn exec(binary: &Path, isa: &str) {
         .args(args)
         .env(ENV, isa)
         .exec();
+    // Before exec'ing, the standard library set SIGPIPE back to its default for the new
+    // program; this one goes on, and ignores it as Rust programs do (a closed pipe is an
+    // error to report, not a signal to die of).
+    // SAFETY: setting a signal's disposition to SIG_IGN has no preconditions.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_IGN);
+    }
     eprintln!(
         "luxfarm: could not start {} ({err}); running the {} build",
         binary.display(),
@@ -98,8 +125,10 @@ fn exec(binary: &Path, isa: &str) {
 fn exec(_binary: &Path, _isa: &str) {}
 
 /// Checks, before anything else runs, that this binary may run here: a binary built for a
-/// level the CPU lacks exits with a message; a sibling started by another build's binary
-/// (its id differs) starts that build's baseline binary instead.
+/// level the CPU lacks exits with a message (best effort, see the module doc); a sibling
+/// started by another build's binary (its id differs) starts that build's baseline binary
+/// instead.
+#[inline(never)]
 pub fn check_start() {
     if isa::cpu_level() < isa::BUILD {
         eprintln!(
@@ -137,12 +166,29 @@ pub fn check_start() {
 mod tests {
     use super::*;
 
-    fn touch(dir: &std::path::Path, name: &str) {
-        std::fs::write(dir.join(name), b"").unwrap();
+    /// An empty file with an execute bit (or without: `runnable` passes it over).
+    fn touch_mode(dir: &Path, name: &str, mode: u32) {
+        let path = dir.join(name);
+        std::fs::write(&path, b"").unwrap();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            std::fs::set_permissions(&path, std::fs::Permissions::from_mode(mode)).unwrap();
+        }
+        #[cfg(not(unix))]
+        let _ = mode;
+    }
+
+    fn touch(dir: &Path, name: &str) {
+        touch_mode(dir, name, 0o755);
     }
 
     #[test]
     fn picks_the_highest_sibling_the_cpu_runs() {
+        if isa::BUILD >= Some(Level::V3) {
+            // Built for v3 or above (-Ctarget-cpu): nothing above it but v4.
+            return;
+        }
         let dir = tempfile::tempdir().unwrap();
         let exe = dir.path().join("luxfarm");
         touch(dir.path(), "luxfarm");
@@ -155,6 +201,12 @@ mod tests {
         // Below every sibling, or an unknown CPU: this binary.
         assert_eq!(best_sibling(&exe, Some(Level::V2)), None);
         assert_eq!(best_sibling(&exe, None), None);
+        // A sibling this process may not start is passed over.
+        #[cfg(unix)]
+        {
+            touch_mode(dir.path(), "luxfarm-x86-64-v4", 0o644);
+            assert_eq!(best_sibling(&exe, Some(Level::V4)), Some(Level::V3));
+        }
         // A sibling of another name does not count.
         let other = dir.path().join("lf");
         assert_eq!(best_sibling(&other, Some(Level::V4)), None);

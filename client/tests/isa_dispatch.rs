@@ -18,15 +18,20 @@ fn install(tag: &str, level: Option<Level>) -> (tempfile::TempDir, PathBuf) {
         .or_else(|_| std::fs::copy(env!("CARGO_BIN_EXE_luxfarm"), &exe).map(|_| ()))
         .unwrap();
     if let Some(l) = level {
-        let sibling = dir.path().join(format!("luxfarm-{}", l.name()));
-        std::fs::write(
-            &sibling,
-            format!("#!/bin/sh\necho \"{tag} isa=$LUXFARM_ISA args=$*\"\n"),
-        )
-        .unwrap();
-        std::fs::set_permissions(&sibling, std::fs::Permissions::from_mode(0o755)).unwrap();
+        reporter(&dir.path().join(format!("luxfarm-{}", l.name())), tag);
     }
     (dir, exe)
+}
+
+/// A script at `path` that prints `tag` and the `LUXFARM_ISA` and arguments it was started
+/// with.
+fn reporter(path: &Path, tag: &str) {
+    std::fs::write(
+        path,
+        format!("#!/bin/sh\necho \"{tag} isa=$LUXFARM_ISA args=$*\"\n"),
+    )
+    .unwrap();
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755)).unwrap();
 }
 
 fn run(exe: &Path, env: Option<&str>) -> String {
@@ -56,11 +61,18 @@ fn a_runnable_sibling_takes_over_with_the_same_arguments() {
     };
     let (_dir, exe) = install("sibling", Some(level));
     let out = run(&exe, None);
+    // The level and this build's id, which the sibling checks.
+    let id = option_env!("LUXFARM_BUILD_ID").unwrap_or("dev");
     assert!(
-        out.starts_with("sibling ") && out.contains(&format!("isa={}", level.name())),
+        out.starts_with(&format!("sibling isa={}:{id} ", level.name())),
         "{out}"
     );
     assert!(out.trim_end().ends_with("args=parse --help"), "{out}");
+    // Set but empty (as environment lists in deployments often leave it): as unset.
+    assert!(
+        run(&exe, Some("")).starts_with("sibling "),
+        "empty LUXFARM_ISA"
+    );
 }
 
 #[test]
@@ -90,4 +102,28 @@ fn without_siblings_the_binary_runs_itself() {
     let (_dir, exe) = install("none", None);
     let out = run(&exe, None);
     assert!(out.contains("Usage"), "{out}");
+}
+
+/// A sibling started with another build's id hands over to its baseline (here a script named
+/// `luxfarm`), which must not dispatch again; with its own id it runs itself.
+#[test]
+fn a_sibling_of_another_build_hands_back_to_its_baseline() {
+    let dir = tempfile::tempdir_in(env!("CARGO_TARGET_TMPDIR")).unwrap();
+    let level = isa::build_name();
+    let sibling = dir.path().join(format!("luxfarm-{level}"));
+    std::fs::hard_link(env!("CARGO_BIN_EXE_luxfarm"), &sibling)
+        .or_else(|_| std::fs::copy(env!("CARGO_BIN_EXE_luxfarm"), &sibling).map(|_| ()))
+        .unwrap();
+    reporter(&dir.path().join("luxfarm"), "baseline");
+    let out = run(&sibling, Some(&format!("{level}:another-build")));
+    assert!(
+        out.starts_with(&format!(
+            "baseline isa={} args=parse --help",
+            Level::V1.name()
+        )),
+        "{out}"
+    );
+    let id = option_env!("LUXFARM_BUILD_ID").unwrap_or("dev");
+    let out = run(&sibling, Some(&format!("{level}:{id}")));
+    assert!(!out.contains("baseline") && out.contains("Usage"), "{out}");
 }
