@@ -36,6 +36,20 @@ impl Level {
         }
     }
 
+    /// The highest level whose features are all present, given whether v2's, v2's and v3's,
+    /// and all of v4's are (each test includes the ones below it).
+    const fn highest(v2: bool, v3: bool, v4: bool) -> Level {
+        if v4 {
+            Level::V4
+        } else if v3 {
+            Level::V3
+        } else if v2 {
+            Level::V2
+        } else {
+            Level::V1
+        }
+    }
+
     /// The level named `name` (as [`Level::name`] gives it).
     pub fn from_name(name: &str) -> Option<Level> {
         Level::ALL.into_iter().find(|l| l.name() == name)
@@ -75,15 +89,7 @@ const fn build_level() -> Option<Level> {
             target_feature = "avx512dq",
             target_feature = "avx512vl"
         ));
-    Some(if v4 {
-        Level::V4
-    } else if v3 {
-        Level::V3
-    } else if v2 {
-        Level::V2
-    } else {
-        Level::V1
-    })
+    Some(Level::highest(v2, v3, v4))
 }
 
 /// The name of the level this code was compiled for, or the architecture's name off x86-64.
@@ -123,15 +129,7 @@ mod detect {
             && is_x86_feature_detected!("avx512cd")
             && is_x86_feature_detected!("avx512dq")
             && is_x86_feature_detected!("avx512vl");
-        Some(if v4 {
-            Level::V4
-        } else if v3 {
-            Level::V3
-        } else if v2 {
-            Level::V2
-        } else {
-            Level::V1
-        })
+        Some(Level::highest(v2, v3, v4))
     }
 }
 
